@@ -219,7 +219,7 @@ validate rq =
                         ++ num (minimum [abs jMin * dt * dt, jMax * dt * dt, abs aMin * dt, aMax * dt])
                         ++ " m/s (suggested: " ++ num dvAuto ++ " m/s, or 0 for automatic)")
                 else [] ]
-      , check (maxIt > 0) "max_iterations" (fromIntegral maxIt) "" "must be > 0"
+      , check (maxIt > 0) "max_iterations" (fromIntegral maxIt :: Double) "" "must be > 0"
       , checkFinite "time_budget" budget " s" $ check (budget > 0) "time_budget" budget " s" "must be > 0"
       , checkFinite "end_tolerance" tol " m" $ check (tol > 0) "end_tolerance" tol " m" "must be > 0"
       , sizeErrors
@@ -236,7 +236,7 @@ validate rq =
           , concat [ checkFinite (fld i "velocity") v " m/s" $ check (v > 0) (fld i "velocity") v " m/s" "must be > 0"
                    | (i, (_, v)) <- izones ]
           , case zones of
-              ((st, _) : _) | finite st && st /= 0 -> err (fld 0 "start_distance") st " m" "the first zone must start at 0"
+              ((st, _) : _) | finite st && st /= 0 -> err (fld (0 :: Int) "start_distance") st " m" "the first zone must start at 0"
               _ -> []
           , concat [ err (fld i "start_distance") st " m"
                        ("must be greater than the previous zone's start, " ++ num prev ++ " m (zones must be sorted and must not overlap)")

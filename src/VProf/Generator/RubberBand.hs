@@ -1,0 +1,174 @@
+-- | The thesis's rubber band ("kuminauha", sections 3.2.2, 4.3 and 4.5): the profile's
+-- velocities are raised and lowered one velocity step at a time, sample by sample, in
+-- repeated passes, until nothing changes.
+--
+-- One pass ('pass') visits samples 1..N−1 (sample 0 is pinned to the start velocity,
+-- sample N to the end velocity). Each sample looks at its window of five (the two before
+-- and the two after): the two accelerations and three jerks it takes part in and the speed
+-- limits of its two steps at the positions the samples have now. With the section 4.5
+-- corrections:
+--
+-- * one pass changes velocities in one direction only: a /lowering/ pass when the profile
+--   breaks a speed limit somewhere, a /raising/ pass otherwise;
+-- * a sample that raises itself may not raise the samples after it (no chain of raises):
+--   it raises only when its own window stays legal;
+-- * a sample that breaks a limit lowers itself even when that breaks an acceleration or
+--   jerk limit for a while; its neighbours follow (the chain reaction of figure 4.4, in
+--   the lowering direction), each changing at most once per pass.
+--
+-- Beyond the thesis, in 'Guarded' mode (the default generator) a raise is also refused when
+-- it would push a later sample into a lower zone or the route end beyond the tolerance,
+-- because raising a sample moves every later sample forward by dv·dt. Starting from a
+-- legal seed, guarded passes therefore only ever produce legal profiles.
+module VProf.Generator.RubberBand
+  ( Mode (..)
+  , PassResult (..)
+  , pass
+  , violatesSpeed
+  ) where
+
+import Control.Monad (when, forM_)
+import Control.Monad.ST (ST, runST)
+import Data.STRef
+import qualified Data.Vector.Unboxed as U
+import qualified Data.Vector.Unboxed.Mutable as M
+
+import VProf.Request (Problem (..))
+import VProf.SpeedLimit
+
+data Mode
+  = Guarded  -- ^ raises keep the whole profile legal (default generator)
+  | Plain    -- ^ the thesis's local rules only (thesis mode)
+  deriving (Eq, Show)
+
+data PassResult = PassResult
+  { prVel     :: !(U.Vector Double)
+  , prChanged :: !Int
+  , prRaising :: !Bool
+  } deriving (Show)
+
+trapezoid :: Double -> U.Vector Double -> U.Vector Double
+trapezoid dt v
+  | U.null v = U.empty
+  | otherwise = U.scanl' (+) 0 (U.zipWith (\a b -> (a + b) * dt / 2) v (U.tail v))
+
+-- | The speed limit of a step in the band's view: the zones, and past the route end the
+-- end velocity (the thesis's zero limit behind the route end).
+stepLimit :: Problem -> Double -> Double -> Double
+stepLimit pb a b =
+  let z = minLimitOn pb a b
+  in if b > pbLength pb + pbTol pb / 2 then min z (pbVEnd pb) else z
+{-# INLINE stepLimit #-}
+
+-- | Samples whose step before or after breaks its speed limit (band view).
+violatesSpeed :: Problem -> U.Vector Double -> [Int]
+violatesSpeed pb v =
+  [ k | k <- [1 .. n - 1], bad (k - 1) || bad k ]
+  where
+    n = U.length v - 1
+    s = trapezoid (pbDt pb) v
+    bad i = max (v U.! i) (v U.! (i + 1)) > stepLimit pb (s U.! i) (s U.! (i + 1))
+
+-- | One pass over the profile. The frozen mask marks samples that may not change
+-- (cycle settling).
+pass :: Mode -> Problem -> U.Vector Bool -> U.Vector Double -> PassResult
+pass mode pb frozen v0
+  | U.length v0 < 3 = PassResult v0 0 True
+  | null bad = raise mode pb frozen v0
+  | otherwise = lower pb frozen v0 bad
+  where bad = violatesSpeed pb v0
+
+-- | Raising pass.
+raise :: Mode -> Problem -> U.Vector Bool -> U.Vector Double -> PassResult
+raise mode pb frozen v0 = runST $ do
+  v <- U.thaw v0
+  let n = U.length v0 - 1
+      dt = pbDt pb; dv = pbDv pb
+      aMin = pbAMin pb; aMax = pbAMax pb; jMin = pbJMin pb; jMax = pbJMax pb
+      s0 = trapezoid dt v0
+      endBudget = pbLength pb + pbTol pb / 2
+      -- forward margin of each step: how far its end may move before the step touches a
+      -- zone whose limit is below the step's top velocity
+      margin = U.generate n $ \i ->
+        let top = max (v0 U.! i) (v0 U.! (i + 1))
+            e = s0 U.! (i + 1)
+        in case nextLowerZone pb e top of
+             Just z -> z - e
+             Nothing -> 1 / 0
+      sufMin = U.postscanr' min (1 / 0) margin `U.snoc` (1 / 0)
+  shiftRef <- newSTRef (0 :: Double)
+  prevPosRef <- newSTRef (s0 U.! 0)   -- the position of sample k-1 as it is now
+  changed <- newSTRef (0 :: Int)
+  let vAt i = M.unsafeRead v i
+      accAt i -- a_i, with a_{-1} the start and a_N the end acceleration
+        | i < 0 = pure (pbA0 pb)
+        | i >= n = pure (pbAEnd pb)
+        | otherwise = do a <- vAt i; b <- vAt (i + 1); pure ((b - a) / dt)
+  forM_ [1 .. n - 1] $ \k -> do
+   shift <- readSTRef shiftRef
+   sPrev <- readSTRef prevPosRef
+   writeSTRef prevPosRef (s0 U.! k + shift)
+   when (not (frozen U.! k)) $ do
+    vk <- vAt k
+    vkm <- vAt (k - 1)
+    vkp <- vAt (k + 1)
+    am2 <- accAt (k - 2)
+    ap1 <- accAt (k + 1)
+    let v' = vk + dv
+        am1 = (v' - vkm) / dt      -- a_{k-1}
+        a0 = (vkp - v') / dt       -- a_k
+        -- positions now: samples >= k moved by every raise so far (all at indices < k)
+        sK = s0 U.! k + shift + dv * dt / 2
+        sNext = s0 U.! (k + 1) + shift + dv * dt
+        localOk =
+          am1 <= aMax && a0 >= aMin
+            && (am1 - am2) / dt <= jMax
+            && (a0 - am1) / dt >= jMin
+            && (ap1 - a0) / dt <= jMax
+            && max vkm v' <= stepLimit pb sPrev sK
+            && max v' vkp <= stepLimit pb sK sNext
+        globalOk = case mode of
+          Plain -> True
+          Guarded ->
+            U.last s0 + shift + dv * dt <= endBudget
+              && (sufMin U.! (k + 1)) - shift - dv * dt >= 0
+    when (localOk && globalOk) $ do
+      M.unsafeWrite v k v'
+      writeSTRef shiftRef (shift + dv * dt)
+      writeSTRef prevPosRef sK
+      modifySTRef' changed (+ 1)
+  out <- U.freeze v
+  c <- readSTRef changed
+  pure (PassResult out c True)
+
+-- | Lowering pass: every sample next to a broken speed limit lowers by one step (or down
+-- to its limit, whichever is larger, never below zero); then neighbours whose
+-- acceleration it pushed out of range follow, each sample once.
+lower :: Problem -> U.Vector Bool -> U.Vector Double -> [Int] -> PassResult
+lower pb frozen v0 bad = runST $ do
+  v <- U.thaw v0
+  touched <- M.replicate (U.length v0) False
+  let n = U.length v0 - 1
+      dt = pbDt pb; dv = pbDv pb
+      aMin = pbAMin pb; aMax = pbAMax pb
+  changed <- newSTRef (0 :: Int)
+  let lowerTo k target = when (k > 0 && k < n && not (frozen U.! k)) $ do
+        t <- M.unsafeRead touched k
+        vk <- M.unsafeRead v k
+        when (not t && target < vk) $ do
+          let steps = fromIntegral (ceiling ((vk - target) / dv - 1e-9) :: Int)
+              v' = max 0 (vk - max 1 steps * dv)
+          M.unsafeWrite v k v'
+          M.unsafeWrite touched k True
+          modifySTRef' changed (+ 1)
+          -- chain: keep the accelerations into and out of k within range
+          vn <- M.unsafeRead v (k + 1)
+          when ((vn - v') / dt > aMax) $ lowerTo (k + 1) (v' + aMax * dt)
+          vp <- M.unsafeRead v (k - 1)
+          when ((v' - vp) / dt < aMin) $ lowerTo (k - 1) (v' - aMin * dt)
+  forM_ bad $ \k -> do
+    vk <- M.unsafeRead v k
+    lowerTo k (vk - dv)
+  out <- U.freeze v
+  c <- readSTRef changed
+  pure (PassResult out c False)

@@ -1,0 +1,130 @@
+-- | The legality checker: does a sampled profile obey every limit of a problem?
+--
+-- It is independent of the generators: it shares no code with them beyond the
+-- 'Problem' and 'Profile' types (it even does its own zone look-up), and it returns
+-- every violation, not the first. A profile is legal when 'check' returns [].
+--
+-- Rules (profile as defined in "VProf.Profile"):
+--
+-- * @negative_velocity@: v_k >= 0;
+-- * @speed@: for every step, max(v_k, v_{k+1}) <= the lowest speed limit anywhere on
+--   [s_k, s_{k+1}] (for a single-sample profile, v_0 <= the limit at 0);
+-- * @acceleration@: a_min <= a_k <= a_max;
+-- * @jerk@: j_min <= j <= j_max, including the jerk into the first acceleration (from the
+--   start acceleration) and out of the last (into the end acceleration);
+-- * @start_velocity@ / @end_velocity@: v_0 and v_N equal the requested values;
+-- * @route_end@: |s_N − L| <= end tolerance;
+-- * @overshoot@: no s_k beyond L + end tolerance.
+--
+-- Comparisons allow a rounding slack of 1e-9 relative to the limit (at least 1e-9
+-- absolute): profiles travel as decimal text and doubles, and a limit met to nine
+-- digits is met.
+module VProf.Legality
+  ( Rule (..)
+  , Violation (..)
+  , ruleName
+  , check
+  , isLegal
+  , renderViolation
+  , slack
+  ) where
+
+import qualified Data.Vector.Unboxed as U
+import Numeric (showFFloat)
+
+import VProf.Profile
+import VProf.Request (Problem (..))
+
+data Rule
+  = NegativeVelocity | Speed | AccelerationRule | JerkRule
+  | StartVelocity | EndVelocity | RouteEnd | Overshoot | EmptyProfile
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+ruleName :: Rule -> String
+ruleName = \case
+  NegativeVelocity -> "negative_velocity"
+  Speed -> "speed"
+  AccelerationRule -> "acceleration"
+  JerkRule -> "jerk"
+  StartVelocity -> "start_velocity"
+  EndVelocity -> "end_velocity"
+  RouteEnd -> "route_end"
+  Overshoot -> "overshoot"
+  EmptyProfile -> "empty"
+
+data Violation = Violation
+  { vRule   :: !Rule
+  , vSample :: !Int     -- ^ the sample, or the first sample of the offending step
+  , vValue  :: !Double  -- ^ SI
+  , vLimit  :: !Double  -- ^ SI
+  } deriving (Eq, Show)
+
+renderViolation :: Violation -> String
+renderViolation (Violation r k v l) =
+  ruleName r ++ " at sample " ++ show k ++ ": " ++ num v ++ " " ++ unit ++ relation ++ num l ++ " " ++ unit
+  where
+    num x = showFFloat (Just 6) x ""
+    unit = case r of
+      AccelerationRule -> "m/s²"
+      JerkRule -> "m/s³"
+      RouteEnd -> "m"
+      Overshoot -> "m"
+      _ -> "m/s"
+    relation = case r of
+      StartVelocity -> " instead of "
+      EndVelocity -> " instead of "
+      RouteEnd -> " off the route end by more than "
+      NegativeVelocity -> " below "
+      _ -> " beyond the limit "
+
+-- | The rounding slack allowed around a limit.
+slack :: Double -> Double
+slack l = 1e-9 * max 1 (abs l)
+
+isLegal :: Problem -> Profile -> Bool
+isLegal pb = null . check pb
+
+check :: Problem -> Profile -> [Violation]
+check pb p
+  | U.null v = [Violation EmptyProfile 0 0 0]
+  | otherwise = concat
+      [ [ Violation NegativeVelocity k x 0 | (k, x) <- ixs v, x < negate (slack 0) ]
+      , speedViolations
+      , [ Violation AccelerationRule k a (if a > aMax then aMax else aMin)
+        | (k, a) <- ixs acc, a > aMax + slack aMax || a < aMin - slack aMin ]
+      , [ Violation JerkRule k j (if j > jMax then jMax else jMin)
+        | (k, j) <- allJerks, j > jMax + slack jMax || j < jMin - slack jMin ]
+      , [ Violation StartVelocity 0 (U.head v) (pbV0 pb) | abs (U.head v - pbV0 pb) > slack (pbV0 pb) ]
+      , [ Violation EndVelocity n (U.last v) (pbVEnd pb) | abs (U.last v - pbVEnd pb) > slack (pbVEnd pb) ]
+      , [ Violation RouteEnd n (U.last s) (pbTol pb) | abs (U.last s - len) > pbTol pb + slack len ]
+      , [ Violation Overshoot k x (len + pbTol pb) | (k, x) <- ixs s, x > len + pbTol pb + slack len ]
+      ]
+  where
+    dt = prDt p
+    v = prVelocities p
+    n = U.length v - 1
+    s = distances p
+    len = pbLength pb
+    aMin = pbAMin pb; aMax = pbAMax pb; jMin = pbJMin pb; jMax = pbJMax pb
+    acc = U.zipWith (\a b -> (b - a) / dt) v (U.tail v)
+    ixs = zip [0 :: Int ..] . U.toList
+    -- jerk into a_0 is "at sample 0"; j between a_k and a_{k+1} at sample k+1; out of the
+    -- last acceleration at sample N. A single sample: start → end acceleration.
+    accAll = U.toList (U.cons (prStartAcc p) acc) ++ [prEndAcc p]
+    allJerks = zip [0 ..] (zipWith (\a b -> (b - a) / dt) accAll (drop 1 accAll))
+
+    zones = zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb))
+    -- lowest limit on the closed interval [a, b]: every zone that holds somewhere on it
+    lowestOn a b = minimum [ lim | ((st, lim), next) <- zip zones (map (Just . fst) (drop 1 zones) ++ [Nothing])
+                                 , st <= b, maybe True (> a) next ]
+    speedViolations
+      | n == 0 = [ Violation Speed 0 (U.head v) l | let l = lowestOn 0 0, U.head v > l + slack l ]
+      | otherwise =
+          [ Violation Speed k top l
+          | k <- [0 .. n - 1]
+          , let top = max (v U.! k) (v U.! (k + 1))
+                l = lowestOnFast (s U.! k) (s U.! (k + 1))
+          , top > l + slack l ]
+    -- the same rule, with a cursor into the sorted zones (s is non-decreasing when v >= 0;
+    -- fall back to the plain scan otherwise)
+    lowestOnFast a b = if a <= b then lowestOn a b else lowestOn b a
