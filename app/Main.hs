@@ -1,3 +1,24 @@
-module Main where
+-- | The @vprof@ executable: a thin shell over the library's commands.
+module Main (main) where
+
+import Options.Applicative
+import System.Exit
+
+import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
+import VProf.Service (version)
+
 main :: IO ()
-main = pure ()
+main = do
+  action <- customExecParser (prefs showHelpOnEmpty) (info (commands <**> helper <**> versionFlag) desc)
+  action >>= exitWith
+  where
+    versionFlag = infoOption version (long "version" <> help "print the version")
+    desc = fullDesc
+      <> header "vprof - jerk-limited velocity profiles and path compression for robot automation stacks"
+      <> progDesc "vprof REQUEST generates a velocity profile from a ProfileRequest (.pb or .json). \
+                  \Exit codes: 0 ok, 1 illegal/infeasible/not converged, 2 invalid input."
+    commands = hsubparser
+      ( command "generate" (info generateOptions (progDesc "Generate a velocity profile (the default command)"))
+     <> command "check" (info checkCommand (progDesc "Check a profile (CSV, JSON or pb) against a request; exit 1 on any violation"))
+     <> command "encode" (info encodeCommand (progDesc "Write the binary protobuf form of a (JSON) ProfileRequest"))
+      ) <|> generateOptions

@@ -168,7 +168,11 @@ validate rq =
     tol = maybe defaultEndTolerance si (rqEndTolerance rq)
     maxIt = maybe defaultMaxIterations id (rqMaxIterations rq)
     dvGiven = fmap si (rqVelocityStep rq)
-    dvAuto = autoVelocityStep dt aMin aMax jMin jMax
+    -- the thesis mode moves one step per pass, so it takes the thesis's coarser step:
+    -- the largest power of two that fits inside the jerk and acceleration ranges
+    dvAuto = case rqAlgorithm rq of
+      Band -> autoVelocityStep dt aMin aMax jMin jMax
+      Thesis -> 4 * autoVelocityStep dt aMin aMax jMin jMax
     dv = maybe dvAuto id dvGiven
 
     finite x = not (isNaN x || isInfinite x)

@@ -33,6 +33,7 @@ module VProf.Wire.Messages
   , decodeBare
   , nonDefault
   , orDefault
+  , Monoid' (..)
   , enumField
   , getEnum
   ) where
