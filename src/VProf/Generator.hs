@@ -128,7 +128,8 @@ finish pb secs iters done stopReason v =
       vs = check pb prof
       outcome
         | null vs && done = Generated
-        | null vs = Generated   -- legal but stopped early: still legal, reported as not converged
+        | null vs = Failed (NotConverged (maybe "stopped before the fixed point" id stopReason
+                                          ++ "; the best profile so far is legal"))
         | otherwise = Failed (NotConverged (maybe "the fixed point of the iteration breaks limits: "
                                                   (++ "; the best profile breaks limits: ") stopReason
                                            ++ summarise vs))

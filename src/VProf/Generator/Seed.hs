@@ -44,6 +44,9 @@ data Term = Term { tP :: !Double, tV :: !Double }
 data Env = Env
   { ePb :: !Problem
   , eTerm :: !Term
+  , eHard :: !Bool   -- ^ brake to standstill (through every limit) rather than to each limit
+  , eKappa :: !Double  -- ^ the forward pass takes at most this share of the acceleration and
+                       --   jerk ranges upward (a landing knob; the oracle keeps the full ranges)
   }
 
 dtE :: Env -> Double
@@ -63,11 +66,13 @@ stepTo e (St v _ s) a' =
 
 -- | Is the step from one state to the next within the speed limits and the terminal rule?
 stepOk :: Env -> St -> St -> Bool
-stepOk e (St v _ s) (St v' _ s') =
+stepOk e st@(St v _ s) (St v' a' s') =
   v' >= 0
+    && a' >= lo - 1e-12 && a' <= hi + 1e-12
     && max v v' <= minLimitOn pb s (max s s')
     && terminalOk
   where
+    (lo, hi) = accRange e st
     pb = ePb e
     Term p vt = eTerm e
     terminalOk
@@ -136,7 +141,7 @@ brakeTarget e st@(St _ _ s) =
   let (d, _) = brakeBound e st
       Term p vt = eTerm e
       zoneMin = minLimitOn (ePb e) s (s + d)
-  in if s + d >= p then min zoneMin (max 0 vt) else zoneMin
+  in if eHard e then 0 else if s + d >= p then min zoneMin (max 0 vt) else zoneMin
 
 -- | Standing still for good is possible from this state: at rest, and the acceleration
 -- can return to zero within one jerk step.
@@ -156,7 +161,7 @@ brakeBound e (St v a _) =
 
 -- | The oracle: can the robot brake from this state without breaking anything?
 -- On failure, the state at which the braking first breaks a rule.
-brakeCheck :: Env -> St -> Either St ()
+brakeCheck :: Env -> St -> Either (St, St) ()
 brakeCheck e st0 = go st0 (0 :: Int)
   where
     pb = ePb e
@@ -165,10 +170,10 @@ brakeCheck e st0 = go st0 (0 :: Int)
     go st n
       | atRest e st = Right ()
       | quick st = Right ()
-      | n > maxSteps = Left st
+      | n > maxSteps = Left (st, st)
       | otherwise =
           let st' = stepTo e st (brakeAcc e st)
-          in if stepOk e st st' then go st' (n + 1) else Left st'
+          in if stepOk e st st' then go st' (n + 1) else Left (st, st')
     quick st@(St _ _ s) =
       let (d, vPeak) = brakeBound e st
           reachEnd = s + d
@@ -182,7 +187,7 @@ safe e st = either (const False) (const True) (brakeCheck e st)
 brakeStopDistance :: Problem -> Double -> Double -> Double
 brakeStopDistance pb v a = go (St v a 0) (0 :: Int)
   where
-    e = Env pb (Term (1 / 0) (1 / 0))
+    e = Env pb (Term (1 / 0) (1 / 0)) True 1
     go st n
       | atRest e st || n > 10000000 = stS st
       | otherwise = go (stepTo e st (brakeAcc e st)) (n + 1)
@@ -192,7 +197,9 @@ choose :: Env -> St -> St
 choose e st@(St v _ s) =
   let dt = dtE e
       pb = ePb e
-      (lo, hi0) = accRange e st
+      (lo, hiFull) = accRange e st
+      hi0 = if eKappa e >= 1 then hiFull
+            else max lo (min hiFull (min (eKappa e * pbAMax pb) (stA st + eKappa e * pbJMax pb * dt)))
       Term p vt = eTerm e
       capNow = if vt > 0 && s >= p then min vt (limitAt pb s) else limitAt pb s
       hi = max lo (min hi0 ((capNow - v) / dt))
@@ -215,34 +222,40 @@ choose e st@(St v _ s) =
 
 -- | The forward pass from a state until the terminal is reached; the states visited
 -- after the given one, in order. Stops after @limit@ steps.
-forward :: Env -> Double -> Int -> St -> [St]
-forward e landTol limit = go 0
+forward :: Env -> Double -> Double -> Double -> Int -> St -> [St]
+forward e aNext aim landTol limit = go 0
   where
     Term p vt = eTerm e
+    dt = dtE e
+    joinable st = stV st == vt && (aNext - stA st) >= pbJMin (ePb e) * dt && (aNext - stA st) <= pbJMax (ePb e) * dt
     go n st
       | n >= limit = []
       | vt <= 0 && stS st >= p - landTol = finishBraking st (n :: Int)
-      | vt > 0 && stS st >= p + landTol && stV st == vt = []   -- past the aim, cruising
+      | vt > 0 && stS st >= aim + landTol && joinable st = []   -- past the aim, ready for the tail
+      | vt > 0 && stS st >= aim + 4 * vt * dt + 2 * landTol && stV st < vt = []  -- never got up to it
       | otherwise = let st' = choose e st in st' : go (n + 1) st'
     finishBraking st n
       | atRest e st || n >= limit = []
       | otherwise = let st' = stepTo e st (brakeAcc e st) in st' : finishBraking st' (n + 1)
 
 -- | The tail: velocities after the junction sample, ending with v_N = end velocity, whose
--- accelerations ramp from 0 to the end acceleration; and the junction velocity.
+-- accelerations ramp from 0 to the end acceleration as fast as the jerk allows; and the
+-- junction velocity. Coming into the end state at full jerk from a cruise loses (or
+-- gains) the least velocity, so when even this tail would need a negative velocity, no
+-- profile can reach the end state.
 tail' :: Problem -> Either SeedFailure ([Double], Double)
 tail' pb
   | m == 0 = Right ([], vE)
   | vc < -1e-9 = Left (Infeasible "end_acceleration"
       ("end_velocity " ++ num vE ++ " m/s with end_acceleration " ++ num aE
        ++ " m/s² cannot be reached: ramping the acceleration up to it within max_jerk "
-       ++ num (pbJMax pb) ++ " m/s³ needs a velocity below zero before the end"))
+       ++ num (pbJMax pb) ++ " m/s³ gains " ++ num (vE - vc) ++ " m/s, more than the end velocity"))
   | otherwise = Right (drop 1 vs, max 0 vc)
   where
     dt = pbDt pb; aE = pbAEnd pb; vE = pbVEnd pb
-    jLim = if aE > 0 then pbJMax pb else abs (pbJMin pb)
-    m = max 0 (ceiling (abs aE / (jLim * dt) - 1e-9) - 1) :: Int
-    alphas = [aE * fromIntegral i / fromIntegral (m + 1) | i <- [1 .. m]]
+    step = (if aE > 0 then pbJMax pb else pbJMin pb) * dt   -- signed, same sign as aE
+    m = max 0 (ceiling (abs aE / abs step - 1e-9) - 1) :: Int
+    alphas = [aE - fromIntegral k * step | k <- [m, m - 1 .. 1]]
     vc = vE - dt * sum alphas
     vs = scanl (\v a -> v + a * dt) (max 0 vc) alphas
 
@@ -254,63 +267,187 @@ seed :: Problem -> Either SeedFailure (U.Vector Double)
 seed pb = do
   (tailVs, vc) <- tail' pb
   let dt = pbDt pb
+      -- the acceleration right after the junction: the tail's first, or the end one
+      aNext = case tailVs of
+        (v1 : _) -> (v1 - vc) / dt
+        [] -> pbAEnd pb
       tailLen = sum (zipWith (\a b -> (a + b) * dt / 2) (vc : tailVs) tailVs)
       aim = pbLength pb - tailLen
       landTol = pbTol pb / 2
       st0 = St (pbV0 pb) (pbA0 pb) 0
       limit = 8 * 1048576
       finish middle = Right (U.fromList (pbV0 pb : map stV middle ++ tailVs))
-  if aim <= 0 && not (null tailVs)
+  let tailTop = maximum (vc : tailVs)
+      tailLimit = minLimitOn pb (max 0 aim) (pbLength pb)
+  -- even raising the acceleration as fast as the jerk allows, the velocity ends below zero
+  let leastDrop = sum (takeWhile (< 0) [ pbA0 pb + fromIntegral k * pbJMax pb * dt | k <- [1 :: Int ..] ]) * dt
+  if pbV0 pb + leastDrop < -1e-12
+    then Left (Infeasible "start_acceleration"
+           ("start_acceleration " ++ num (pbA0 pb) ++ " m/s² at start_velocity " ++ num (pbV0 pb)
+            ++ " m/s drives the velocity below zero whatever the jerk: raising the acceleration at max_jerk "
+            ++ num (pbJMax pb) ++ " m/s³ still loses " ++ num (negate leastDrop) ++ " m/s"))
+  else if not (null tailVs) && tailTop > tailLimit
+    then Left (Infeasible "end_acceleration"
+           ("end_velocity " ++ num (pbVEnd pb) ++ " m/s with end_acceleration " ++ num (pbAEnd pb)
+            ++ " m/s² needs " ++ num tailTop ++ " m/s just before the end, above the speed limit of "
+            ++ num tailLimit ++ " m/s there"))
+  else if aim <= 0 && not (null tailVs)
     then Left (Infeasible "end_acceleration"
            ("the ramp to end_acceleration " ++ num (pbAEnd pb) ++ " m/s² needs " ++ num tailLen
             ++ " m, more than route_length " ++ num (pbLength pb) ++ " m"))
     else do
-      let e0 = Env pb (Term aim vc)
-      case brakeCheck e0 st0 of
-        Left bad -> Left (startInfeasible pb e0 bad)
-        Right () -> pure ()
+      -- the gentle brake policy (down to each limit, arriving with zero acceleration)
+      -- gives the better profiles; when it cannot save the start state, the hardest one
+      -- (braking through the limits toward standstill) may still; only when that fails
+      -- too is the request infeasible
+      let gentle = Env pb (Term aim vc) False 1
+          hard = gentle { eHard = True }
+      e0 <- case (brakeCheck gentle st0, brakeCheck hard st0) of
+        (Right (), _) -> Right gentle
+        (_, Right ()) -> Right hard
+        (_, Left bad) -> Left (startInfeasible pb hard bad)
       if vc <= 0
         then do
-          let middle = forward e0 landTol limit st0
+          let middle = forward e0 aNext aim landTol limit st0
               sEnd = if null middle then 0 else stS (last middle)
+              aRest = if null middle then pbA0 pb else stA (last middle)
+              -- at rest with an acceleration the tail cannot follow in one jerk step:
+              -- stand still for one more sample
+              settle = let j = (aNext - aRest) / dt in if j >= pbJMin pb && j <= pbJMax pb then [] else [St 0 0 sEnd]
           if abs (sEnd - aim) <= landTol || null middle && aim <= landTol
-            then finish middle
+            then finish (middle ++ settle)
             else Left (LandingFailed ("the forward pass stopped at " ++ num sEnd ++ " m, aiming at " ++ num aim ++ " m"))
-        else landMoving pb e0 st0 vc aim landTol limit >>= finish
+        else landMoving pb e0 st0 vc aNext aim landTol limit >>= finish
 
--- | Landing at a moving terminal: find the point before the aim where the pass must be
--- down to the junction velocity so that a sample falls on the aim.
-landMoving :: Problem -> Env -> St -> Double -> Double -> Double -> Int -> Either SeedFailure [St]
-landMoving pb e0 st0 vc aim landTol limit = attempt (0 :: Int) 0 first
+-- | Landing at a moving terminal: a sample must fall within the landing tolerance of the
+-- aim, at the junction velocity, with an acceleration from which the tail (or the end
+-- acceleration) is one legal jerk away. First by moving the point where the pass must be
+-- down to the junction velocity (cheap, and enough when the robot brakes into the end);
+-- otherwise by a dent: the overshoot is taken out of the profile by lowering a window of
+-- samples along a smooth bump, the first window that keeps every rule.
+landMoving :: Problem -> Env -> St -> Double -> Double -> Double -> Double -> Int -> Either SeedFailure [St]
+landMoving pb e0 st0 vc aNext aim landTol limit = attempt (0 :: Int) 0 first
   where
     dt = pbDt pb
-    first = forward e0 landTol limit st0
+    first = forward e0 aNext aim landTol limit st0
     -- the states before the terminal can matter are shared by every attempt
     rhoMax = 4 * vc * dt + 8 * pbTol pb
     prefixLen = length (takeWhile (\st -> let (d, _) = brakeBound e0 st in stS st + d < aim - rhoMax - 1e-9) first)
     prefix = take prefixLen first
     restart = if prefixLen == 0 then st0 else last prefix
-    runWith rho = prefix ++ forward (Env pb (Term (aim - rho) vc)) landTol (limit - prefixLen) restart
-    landing sts = case dropWhile (\st -> stS st < aim - landTol) sts of
+    runWith rho = prefix ++ forward e0 { eTerm = Term (aim - rho) vc } aNext aim landTol (limit - prefixLen) restart
+    joins st = stV st == vc && (aNext - stA st) >= pbJMin pb * dt && (aNext - stA st) <= pbJMax pb * dt
+    -- the first sample from which the pass could hand over to the tail
+    landing sts = case dropWhile (\st -> stS st < aim - landTol || not (joins st)) sts of
       (st : _) -> Just st
       [] -> Nothing
-    good st = abs (stS st - aim) <= landTol && stV st == vc && abs (stA st) <= min (pbJMax pb) (abs (pbJMin pb)) * dt
-    cut sts = let (before, rest) = span (\st -> stS st < aim - landTol) sts in before ++ take 1 rest
-    attempt n rho sts
-      | n > 60 || rho > rhoMax = Left (LandingFailed ("could not land within " ++ num landTol ++ " m of " ++ num aim ++ " m"))
+    cut sts = let (before, rest) = span (\st -> stS st < aim - landTol || not (joins st)) sts in before ++ take 1 rest
+    -- below the junction velocity at the aim on the fastest approach: nothing can land
+    aimSpeed = case dropWhile (\st -> stS st < aim - landTol) first of
+      (st : _) -> Just (stV st, stS st)
+      [] -> Nothing
+    tooSlow = case (aimSpeed, landing first) of
+      (Just (va, _), Just st) -> va < vc && stS st > aim + landTol
+      _ -> False
+    -- of all runs, the one whose landing sample is closest past the aim: the dent's input
+    better a b = case (landing a, landing b) of
+      (Just x, Just y) -> if abs (stS x - aim) <= abs (stS y - aim) then a else b
+      (Just _, Nothing) -> a
+      _ -> b
+    attempt :: Int -> Double -> [St] -> Either SeedFailure [St]
+    attempt n rho sts = attempt' n rho sts (better sts first)
+    attempt' n rho sts best
+      | tooSlow = Left (Infeasible "end_velocity"
+          ("end_velocity " ++ num (pbVEnd pb) ++ " m/s" ++ (if pbAEnd pb /= 0 then " with end_acceleration " ++ num (pbAEnd pb) ++ " m/s²" else "")
+           ++ " cannot be reached at route_length " ++ num (pbLength pb) ++ " m: the fastest legal approach is at "
+           ++ maybe "?" (num . fst) aimSpeed ++ " m/s there and settles at " ++ num vc ++ " m/s only "
+           ++ maybe "?" (\st -> num (stS st - aim)) (landing first) ++ " m later"))
+      | n > 12 || rho > rhoMax = kappaSearch best
       | otherwise = case landing sts of
-          Nothing -> Left (LandingFailed ("the forward pass never reached " ++ num aim ++ " m"))
+          Nothing -> kappaSearch best
           Just st
-            | good st -> Right (cut sts)
+            | abs (stS st - aim) <= landTol -> Right (cut sts)
             | otherwise ->
-                let g = stS st - aim
-                    shift = if stV st /= vc then max g (vc * dt / 4) else g
-                    rho' = rho + max (landTol / 2) shift
-                in attempt (n + 1) rho' (runWith rho')
+                let rho' = rho + max (landTol / 2) (stS st - aim)
+                    next = runWith rho'
+                in attempt' (n + 1) rho' next (better next best)
+    -- the second knob: from the last place where the pass cruised at a speed limit, take
+    -- only a share kappa of the upward acceleration and jerk: the final approach slows
+    -- down continuously and its samples slide back over the aim
+    cruiseIdx = case [ i | (i, st) <- zip [0 :: Int ..] first, stS st < aim - rhoMax
+                         , abs (stA st) < 1e-9, stV st >= limitAt pb (stS st) - 1e-9 ] of
+      [] -> 0
+      is -> last is + 1
+    kPrefix = take cruiseIdx first
+    kStart = if cruiseIdx == 0 then st0 else last kPrefix
+    runKappa k = kPrefix ++ forward e0 { eKappa = k } aNext aim landTol (limit - cruiseIdx) kStart
+    landIdx sts = case [ (i, st) | (i, st) <- zip [0 :: Int ..] sts, stS st >= aim - landTol, joins st ] of
+      (x : _) -> Just x
+      [] -> Nothing
+    -- the landing moves back a few millimetres per percent of kappa, continuously but
+    -- with jumps where the sample that first settles at the junction velocity changes:
+    -- scan a grid, keep the closest run for the dent
+    kappaSearch best0 = scan (1 :: Int) best0
+    scan i best
+      | i > 60 = dent pb st0 vc aNext aim landTol best
+      | otherwise =
+          let k = 1 - 0.01 * fromIntegral i
+              sts = runKappa k
+          in case landIdx sts of
+               Just (_, st) | abs (stS st - aim) <= landTol -> Right (cut sts)
+               _ -> scan (i + 1) (better sts best)
+
+-- | Take the overshoot out of a pass that reached the junction velocity past the aim.
+dent :: Problem -> St -> Double -> Double -> Double -> Double -> [St] -> Either SeedFailure [St]
+dent pb st0 vc aNext aim landTol sts0 =
+  case [ k | k <- [1 .. n], s U.! k >= aim - landTol, v U.! k == vc, joinsAt k ] of
+    [] -> case [ x | (x, y) <- zip (U.toList v) (U.toList s), y >= aim - landTol ] of
+      (x : _) | x < vc -> Left (Infeasible "end_velocity"
+        ("end_velocity " ++ num (pbVEnd pb) ++ " m/s cannot be reached at route_length " ++ num (pbLength pb)
+         ++ " m: accelerating as hard as the limits allow gets only to " ++ num x ++ " m/s there"
+         ++ (if vc /= pbVEnd pb then " (" ++ num vc ++ " m/s needed before the ramp to end_acceleration)" else "")))
+      _ -> Left (LandingFailed ("the forward pass never reached " ++ num aim ++ " m at the end velocity"))
+    (k : _)
+      | abs (s U.! k - aim) <= landTol -> Right (take k sts0)
+      | otherwise ->
+          let g = s U.! k - aim
+              candidates = [ v' | w <- [8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256, 384, 512, 768, 1024]
+                                , w + 3 < k
+                                , e <- [k - 2, k - 2 - max 1 (w `div` 4) .. w + 1]
+                                , Just v' <- [tryDent k g w e] ]
+          in case candidates of
+               (v' : _) -> Right (rebuild (U.take (k + 1) v'))
+               [] -> Left (LandingFailed ("no smooth dent takes the last " ++ num g ++ " m out of the profile"))
+  where
+    dt = pbDt pb
+    v = U.fromList (stV st0 : map stV sts0)
+    aIn = U.fromList (pbA0 pb : map stA sts0)   -- aIn ! k: acceleration into sample k
+    n = U.length v - 1
+    s = U.scanl' (+) 0 (U.zipWith (\x y -> (x + y) * dt / 2) v (U.tail v))
+    joinsAt k = let j = (aNext - aIn U.! k) / dt in j >= pbJMin pb && j <= pbJMax pb
+    -- lower samples e-w+1..e by c·sin²: removes exactly g from every later position
+    tryDent k g w e =
+      let bump j = let x = sin (pi * fromIntegral j / fromIntegral (w + 1)) in x * x
+          total = sum [ bump j | j <- [1 .. w] ]
+          c = g / (dt * total)
+          lo = e - w + 1
+          v' = U.imap (\i x -> if i >= lo && i <= e then x - c * bump (i - lo + 1) else x) (U.take (k + 1) v)
+      in if legalAround v' (lo - 3) (min k (e + 3)) && limitsHold v' lo k then Just v' else Nothing
+    legalAround v' i0 i1 =
+      let acc i | i < 0 = pbA0 pb
+                | otherwise = (v' U.! (i + 1) - v' U.! i) / dt
+          is = [max 0 i0 .. min (U.length v' - 2) i1]
+      in all (\i -> v' U.! i >= 0) [max 0 i0 .. min (U.length v' - 1) i1]
+         && all (\i -> let a = acc i in a >= pbAMin pb && a <= pbAMax pb) is
+         && all (\i -> let j = (acc i - acc (i - 1)) / dt in j >= pbJMin pb && j <= pbJMax pb) is
+    limitsHold v' lo k =
+      let s' = U.scanl' (+) 0 (U.zipWith (\x y -> (x + y) * dt / 2) v' (U.tail v'))
+      in all (\i -> max (v' U.! i) (v' U.! (i + 1)) <= minLimitOn pb (s' U.! i) (s' U.! (i + 1))) [max 0 (lo - 1) .. k - 1]
+    rebuild vs = [ St x ((x - p) / dt) 0 | (p, x) <- zip (U.toList vs) (drop 1 (U.toList vs)) ]
 
 -- | Explain why the start state cannot be braked legally.
-startInfeasible :: Problem -> Env -> St -> SeedFailure
-startInfeasible pb e (St v _ s)
+startInfeasible :: Problem -> Env -> (St, St) -> SeedFailure
+startInfeasible pb e (St v0' _ s0', St v1 _ s)
   | s > tP (eTerm e) && tV (eTerm e) <= 0 =
       Infeasible "start_velocity"
         ("start_velocity " ++ num (pbV0 pb) ++ " m/s with start_acceleration " ++ num (pbA0 pb)
@@ -320,6 +457,6 @@ startInfeasible pb e (St v _ s)
   | otherwise =
       Infeasible "start_velocity"
         ("start_velocity " ++ num (pbV0 pb) ++ " m/s with start_acceleration " ++ num (pbA0 pb)
-         ++ " m/s² cannot brake in time for the speed limit of " ++ num (minLimitOn pb s s)
-         ++ " m/s at " ++ num s ++ " m: the hardest braking allowed (min_acceleration " ++ num (pbAMin pb)
-         ++ " m/s², min_jerk " ++ num (pbJMin pb) ++ " m/s³) is still at " ++ num v ++ " m/s there")
+         ++ " m/s² cannot brake in time for the speed limit of " ++ num (minLimitOn pb s0' s)
+         ++ " m/s between " ++ num s0' ++ " m and " ++ num s ++ " m: the hardest braking allowed (min_acceleration " ++ num (pbAMin pb)
+         ++ " m/s², min_jerk " ++ num (pbJMin pb) ++ " m/s³) is still at " ++ num (max v0' v1) ++ " m/s there")

@@ -1,0 +1,111 @@
+-- | The checker catches each rule on profiles built to break exactly that rule.
+module VProf.LegalitySpec (spec) where
+
+import qualified Data.Vector.Unboxed as U
+import Test.Hspec
+import Test.QuickCheck
+
+import VProf.Legality
+import VProf.Profile
+import VProf.Request
+import VProf.Units
+
+-- | 10 m at up to 2 m/s, then 1 m/s from 6 m; ±1 m/s², ±2 m/s³; dt = 0.5 s.
+problem :: Problem
+problem = either (error . show) id $ validate defaultRequest
+  { rqRouteLength = 10 *~ meter
+  , rqZones = [SpeedZone (0 *~ meter) (2 *~ mps), SpeedZone (6 *~ meter) (1 *~ mps)]
+  , rqMinJerk = (-2) *~ mps3, rqMaxJerk = 2 *~ mps3
+  , rqTimeStep = Just (0.5 *~ second)
+  }
+
+-- | A hand-made legal profile for 'problem': velocity ramps 0 → 1 m/s with jerk ±2
+-- (a: 0.5, 0.5, …), cruises at 1 m/s, ramps down; landing at exactly 10 m.
+legalV :: [Double]
+legalV = [0, 0.25, 0.75, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0.75, 0.25, 0]
+
+prof :: [Double] -> Profile
+prof vs = Profile 0.5 (U.fromList vs) 0 0
+
+rules :: [Violation] -> [Rule]
+rules = map vRule
+
+spec :: Spec
+spec = do
+  it "the hand-made profile is legal (it lands on 10 m)" $ do
+    finalDistance (prof legalV) `shouldBe` 10
+    check problem (prof legalV) `shouldBe` []
+
+  it "catches a negative velocity" $ do
+    let vs = [0, 0.25, 0.25, 0, -0.125, 0] ++ drop 6 legalV
+    rules (check problem (prof vs)) `shouldContain` [NegativeVelocity]
+
+  it "catches a speed limit broken inside a zone (and only that)" $ do
+    -- 2.25 m/s in the first zone at one sample, jerk-smooth because dt is large: keep
+    -- accelerations and jerks legal by using a different problem with loose a/j
+    let loose = problem { pbAMin = -100, pbAMax = 100, pbJMin = -1000, pbJMax = 1000 }
+        vs = [0, 2.25] ++ replicate 8 0.5 ++ [0.25, 0]
+        p = prof vs
+    [ vRule v | v <- check loose p, vRule v `notElem` [RouteEnd] ] `shouldBe` [Speed, Speed]
+
+  it "catches a step that touches a lower zone only at its end (closed interval)" $ do
+    -- s: 0, .5, 1.5, …, 5.5, 6.0: the last step [5.5, 6.0] touches the 1 m/s zone at 6
+    -- with max(v) = 2; every other step stays inside the 2 m/s zone
+    let loose = problem { pbAMin = -100, pbAMax = 100, pbJMin = -1000, pbJMax = 1000, pbLength = 6 }
+        p = prof [0, 2, 2, 2, 2, 2, 2, 0]
+    finalDistance p `shouldBe` 6
+    [ (vRule v, vSample v) | v <- check loose p ] `shouldBe` [(Speed, 6)]
+
+  it "catches an acceleration above the maximum" $ do
+    let vs = [0, 0.25, 0.75, 1.5] ++ drop 4 legalV
+    rules (check problem (prof vs)) `shouldContain` [AccelerationRule]
+
+  it "catches a deceleration below the minimum" $ do
+    let p = problem { pbJMin = -100, pbJMax = 100 }
+        vs = take 10 legalV ++ [0.25] ++ drop 11 legalV
+    rules (check p (prof vs)) `shouldContain` [AccelerationRule]
+
+  it "catches a jerk beyond the range, including into the first acceleration" $ do
+    -- a_0 = 1 m/s² from a start acceleration of 0 in 0.5 s: jerk 2 is fine, 2.5 is not
+    let vs = [0, 0.625] ++ drop 2 legalV
+        p = prof vs
+    [ vSample v | v <- check problem p, vRule v == JerkRule ] `shouldContain` [0]
+    let p2 = (prof legalV) { prStartAcc = -0.6 }
+    [ (vRule v, vSample v) | v <- check problem p2 ] `shouldBe` [(JerkRule, 0)]
+    let p3 = (prof legalV) { prEndAcc = 0.6 }
+    [ (vRule v, vSample v) | v <- check problem p3 ] `shouldBe` [(JerkRule, length legalV - 1)]
+
+  it "catches a wrong start and end velocity" $ do
+    let p = problem { pbV0 = 0.5 }
+    rules (check p (prof legalV)) `shouldBe` [StartVelocity]
+    let q = problem { pbVEnd = 0.25 }
+    rules (check q (prof legalV)) `shouldBe` [EndVelocity]
+
+  it "catches a profile that stops short of the route end" $ do
+    let p = problem { pbLength = 10.02 }
+    rules (check p (prof legalV)) `shouldBe` [RouteEnd]
+
+  it "catches samples beyond the route end plus tolerance" $ do
+    let r = problem { pbLength = 9.8, pbTol = 0.1 }
+        sN = U.toList (distances (prof legalV))
+        beyond = [ k | (k, x) <- zip [0 :: Int ..] sN, x > 9.9 ]
+        vio = check r (prof legalV)
+    beyond `shouldSatisfy` (not . null)
+    [ vSample v | v <- vio, vRule v == Overshoot ] `shouldBe` beyond
+    [ vRule v | v <- vio, vRule v /= Overshoot ] `shouldBe` [RouteEnd]
+
+  it "allows rounding slack of 1e-9 and no more" $ do
+    let vs = map (* (1 + 1e-12)) legalV
+    check problem (prof vs) `shouldBe` []
+    -- 1 µm/s above the 1 m/s zone (sample 15 lies beyond 6 m) is a violation
+    let ws = [ if k == 15 then x + 1e-6 else x | (k, x) <- zip [0 :: Int ..] legalV ]
+    distances (prof legalV) U.! 14 `shouldSatisfy` (> 6)
+    map vRule (check problem (prof ws)) `shouldBe` [Speed, Speed]
+
+  it "an empty profile is a violation" $
+    rules (check problem (Profile 0.5 U.empty 0 0)) `shouldBe` [EmptyProfile]
+
+  it "property: raising any one cruise sample by a visible amount breaks a rule" $
+    property $ forAll (choose (4, 19)) $ \k -> forAll (choose (0.05, 2)) $ \d ->
+      let vs = [ if i == k then x + d else x | (i, x) <- zip [0 :: Int ..] legalV ]
+      in check problem (prof vs) /= []
