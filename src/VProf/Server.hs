@@ -66,6 +66,7 @@ import System.Timeout (timeout)
 import VProf.Wire.Envelope
 import VProf.Wire.Framing
 import VProf.Wire.Messages
+import VProf.Wire.Validate (MsgType (TRequest), validateWire)
 
 type Handler = RequestMsg -> IO ResponseMsg
 
@@ -201,7 +202,7 @@ processFrame env body bytesIn = do
 -- | Decode and force every field (by re-encoding), so that no exception hides in a thunk.
 safeDecode :: B.ByteString -> IO (Either String RequestMsg)
 safeDecode body = do
-  r <- try $ case decodeBare body of
+  r <- try $ case validateWire TRequest body >> decodeBare body of
     Left e -> pure (Left e)
     Right req -> do
       _ <- evaluate (B.length (encodeBare req))
