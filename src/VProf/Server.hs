@@ -274,8 +274,12 @@ connectionLoop env idleS src send = loop
     reply rid code msg = void . try @SomeException . idle . send . frame . encodeBare $
                            errorResponse rid code "" msg
     loop = do
-      w <- either (const Drain) (maybe Idle Ready) <$>
-             race (atomically (readTVar (envDraining env) >>= check)) (idle (awaitData src))
+      -- bytes already received (pipelined requests) are in flight: answer them even
+      -- when draining; otherwise wait for data, a drain or the idle timeout
+      buffered <- hasBuffered src
+      w <- if buffered then pure (Ready True) else
+             either (const Drain) (maybe Idle Ready) <$>
+               race (atomically (readTVar (envDraining env) >>= check)) (idle (awaitData src))
       case w of
         Drain -> pure ()
         Idle -> connLog "idle_timeout"

@@ -7,6 +7,7 @@ import Control.Concurrent.Async
 import Control.Exception
 import Control.Monad
 import Data.IORef
+import qualified Data.ByteString as B
 import Data.ProtocolBuffers (getField, putField)
 import qualified Data.Text as T
 import Data.Word (Word64)
@@ -18,7 +19,7 @@ import VProf.Server
 import VProf.TestClient
 import VProf.TestHandler
 import VProf.Wire.Envelope (classify, Incoming (..), pongResponse, requestIdOf)
-import VProf.Wire.Framing (FrameResult (..))
+import VProf.Wire.Framing (FrameResult (..), frame)
 import VProf.Wire.Messages
 
 -- | A handler that counts how many calls run at once.
@@ -100,6 +101,19 @@ spec = do
       case res of
         Left (_ :: IOException) -> pure ()
         Right c2 -> closeClient c2 >> expectationFailure "accepted a connection after stop"
+      closeClient c
+
+  describe "drain with pipelined requests" $
+    it "answers every request already received before closing" $ do
+      s <- startServer quietConfig testHandler
+      c <- connectClient (serverPort s)
+      sendRaw c (B.concat (frame (encodeBare (pingMsg 1 "sleep:0.4")) : [frame (encodeBare (pingMsg i "p")) | i <- [2 .. 5]]))
+      threadDelay 150000
+      stopServer s
+      ids <- replicateM 5 (orDefault . getField . rspRequestId <$> recvResponse c)
+      ids `shouldBe` [1 .. 5 :: Word64]
+      recvFrame c `shouldReturn` EndOfInput
+      waitServer s
       closeClient c
 
   describe "idle timeout" $

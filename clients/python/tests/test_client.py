@@ -128,6 +128,16 @@ class StdioTest(unittest.TestCase):
                 self.assertTrue(p.legal)
         self.assertEqual(c.process.returncode, 0)
 
+    @unittest.skipIf(REAL, "[stub] needs the stub's sleep: ping")
+    def test_stdio_sigterm_drains(self):
+        c = Client.spawn(DAEMON)
+        c.send(pb.Request(request_id=3, ping=pb.Ping(payload="sleep:0.5")))
+        time.sleep(0.2)
+        c.process.send_signal(signal.SIGTERM)
+        r = c.receive()
+        self.assertEqual((r.request_id, r.pong.payload), (3, "sleep:0.5"))
+        self.assertEqual(c.process.wait(timeout=10), 0)
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -19,6 +19,7 @@ module VProf.Wire.Framing
   , newSource
   , sourceFromRecv
   , awaitData
+  , hasBuffered
   , FrameResult (..)
   , readFrame
   ) where
@@ -96,6 +97,10 @@ awaitData :: Source -> IO Bool
 awaitData src = do
   buf <- readIORef (srcBuf src)
   if not (B.null buf) then pure True else fill src
+
+-- | Are bytes of a next frame already buffered (received but not yet read)?
+hasBuffered :: Source -> IO Bool
+hasBuffered src = not . B.null <$> readIORef (srcBuf src)
 
 data FrameResult
   = Frame !B.ByteString !Int   -- ^ body, and bytes consumed including the prefix
