@@ -6,8 +6,10 @@
 -- rejects what protoc's parsers reject (bad tags, wire types 3/4/6/7, varints over 10
 -- bytes, lengths past the end, invalid UTF-8 in string fields, packed doubles whose
 -- length is not a multiple of 8) and, more strictly than protoc, a known field sent with
--- the wrong wire type (which the Haskell decoder would misread). Unknown fields are
--- walked and skipped, as protoc does.
+-- the wrong wire type (which the Haskell decoder would misread) and repeated doubles in the
+-- unpacked encoding (legal protobuf, but the Haskell decoder silently drops them; every
+-- proto3 encoder writes them packed). Unknown fields are walked and skipped, as protoc
+-- does.
 module VProf.Wire.Validate
   ( validateWire
   , MsgType (..)
@@ -91,7 +93,9 @@ validateWire = go (0 :: Int) ""
             (Nothing, _) -> Right ()
             (Just KVarint, 0) -> Right ()
             (Just KF64, 1) -> Right ()
-            (Just KPackedF64, 1) -> Right ()
+            (Just KPackedF64, 1) ->
+              Left ("field " ++ here ++ ": unpacked repeated double (wire type 1); this server reads "
+                    ++ "only the packed encoding proto3 writes (the Haskell decoder would drop it)")
             (Just KPackedF64, 2)
               | B.length payload `mod` 8 == 0 -> Right ()
               | otherwise -> Left ("field " ++ here ++ ": packed doubles of " ++ show (B.length payload) ++ " bytes")
