@@ -1,0 +1,401 @@
+{-# LANGUAGE TypeApplications #-}
+{-# LANGUAGE OverloadedStrings #-}
+-- | @vprof serve@: the Protobuf daemon the automation stack talks to (thesis 4.2.2, 4.6.1).
+--
+-- Every message on the stream is a length-delimited @vprof.v1.Request@ (see
+-- "VProf.Wire.Framing"); every request is answered by one @vprof.v1.Response@, in order,
+-- echoing its @request_id@. The server knows nothing about velocity profiles: it takes the
+-- request handler as a parameter (after the merge, @VProf.Service.handleRequest@).
+--
+-- What the server guarantees whatever the handler or the clients do:
+--
+-- * at most 'cfgWorkers' handler calls run at once (a semaphore), so generation never takes
+--   every CPU of the robot computer;
+-- * every handler call is guarded by a hard timeout (the request's @time_budget@, default
+--   1 s, plus 'cfgGrace'); past it the client gets Error INTERNAL instead of a hang;
+-- * a handler exception (or a response that cannot be encoded) is answered with
+--   Error INTERNAL; the connection and the daemon live on;
+-- * a length prefix above 'cfgMaxFrameBytes' is answered with FRAME_TOO_LARGE and the
+--   connection is closed without reading the body; a prefix longer than 10 bytes is
+--   MALFORMED and closes too; at most 'cfgMaxConnections' connections are served at once,
+--   so memory stays bounded by about connections x max frame;
+-- * undecodable bodies are answered with MALFORMED and the connection stays usable;
+-- * idle connections are closed after 'cfgIdleTimeout' seconds;
+-- * 'stopServer' (SIGTERM / SIGINT in 'serve') stops accepting, lets every request whose
+--   bytes have started to arrive finish and be answered, then returns.
+module VProf.Server
+  ( Handler
+  , ServerConfig (..)
+  , defaultServerConfig
+  , resolveWorkers
+    -- * Running
+  , serve
+  , serveStdio
+  , Server
+  , startServer
+  , serverPort
+  , stopServer
+  , waitServer
+  , withServer
+    -- * Internals exposed for tests
+
+  , LogLine (..)
+  , renderLogLine
+  ) where
+
+import Control.Concurrent
+import Control.Concurrent.Async
+import Control.Concurrent.STM
+import Control.Exception hiding (Handler)
+import Control.Monad
+import qualified Data.ByteString as B
+import Data.ProtocolBuffers (getField, putField)
+import Data.Text (Text)
+import qualified Data.Text as T
+import qualified Data.Text.IO as T
+import Data.Word (Word32, Word64)
+import GHC.Clock (getMonotonicTime)
+import GHC.Conc (getNumProcessors)
+import Network.Socket
+import qualified Network.Socket.ByteString as NSB
+import Numeric (showFFloat)
+import System.IO
+import qualified System.Posix.Signals as Sig
+import System.Timeout (timeout)
+
+import VProf.Wire.Envelope
+import VProf.Wire.Framing
+import VProf.Wire.Messages
+import VProf.Wire.Validate (MsgType (TRequest), validateWire)
+
+type Handler = RequestMsg -> IO ResponseMsg
+
+data ServerConfig = ServerConfig
+  { cfgHost           :: String  -- ^ default 127.0.0.1
+  , cfgPort           :: Int     -- ^ default 7450; 0 picks a free port
+  , cfgWorkers        :: Int     -- ^ concurrent handler calls; 0 means the number of cores
+  , cfgMaxFrameBytes  :: Int     -- ^ default 4 MiB
+  , cfgIdleTimeout    :: Double  -- ^ s; 0 or less means never
+  , cfgQuiet          :: Bool    -- ^ no per-request log lines
+  , cfgGrace          :: Double  -- ^ s added to a request's time budget for the hard timeout
+  , cfgCompressTimeout :: Double -- ^ s, budget of a compress request (it has no time_budget)
+  , cfgMaxConnections :: Int     -- ^ connections served at once; more wait in the backlog
+  , cfgVersion        :: Text    -- ^ for logs
+  } deriving (Show)
+
+defaultServerConfig :: ServerConfig
+defaultServerConfig = ServerConfig
+  { cfgHost = "127.0.0.1"
+  , cfgPort = 7450
+  , cfgWorkers = 0
+  , cfgMaxFrameBytes = 4 * 1024 * 1024
+  , cfgIdleTimeout = 60
+  , cfgQuiet = False
+  , cfgGrace = 5
+  , cfgCompressTimeout = 60
+  , cfgMaxConnections = 256
+  , cfgVersion = "0.1.0"
+  }
+
+resolveWorkers :: ServerConfig -> IO Int
+resolveWorkers cfg
+  | cfgWorkers cfg > 0 = pure (cfgWorkers cfg)
+  | otherwise = max 1 <$> getNumProcessors
+
+----------------------------------------------------------------------------- environment
+
+data Env = Env
+  { envCfg      :: ServerConfig
+  , envHandler  :: Handler
+  , envSem      :: QSem
+  , envLog      :: Text -> IO ()
+  , envDraining :: TVar Bool
+  }
+
+newEnv :: ServerConfig -> Handler -> IO Env
+newEnv cfg h = do
+  n <- resolveWorkers cfg
+  sem <- newQSem n
+  lock <- newMVar ()
+  draining <- newTVarIO False
+  let logger line
+        | cfgQuiet cfg = pure ()
+        | otherwise = withMVar lock $ \_ -> T.hPutStrLn stderr line >> hFlush stderr
+  pure (Env cfg h sem logger draining)
+
+----------------------------------------------------------------------------- logging
+
+-- | One structured (logfmt) line per request.
+data LogLine = LogLine
+  { llRequestId :: Word64
+  , llKind      :: Text
+  , llOutcome   :: Text
+  , llMillis    :: Double
+  , llIterations :: Maybe Word64
+  , llConverged :: Maybe Bool
+  , llLegal     :: Maybe Bool
+  , llBytesIn   :: Int
+  , llBytesOut  :: Int
+  } deriving (Eq, Show)
+
+renderLogLine :: LogLine -> Text
+renderLogLine LogLine{..} = T.unwords $
+  [ "vprof"
+  , "request_id=" <> tshow llRequestId
+  , "kind=" <> llKind
+  , "outcome=" <> llOutcome
+  , "ms=" <> T.pack (showFFloat (Just 1) llMillis "")
+  ] ++
+  maybe [] (\i -> ["iterations=" <> tshow i]) llIterations ++
+  maybe [] (\c -> ["converged=" <> bool c]) llConverged ++
+  maybe [] (\l -> ["legal=" <> bool l]) llLegal ++
+  [ "bytes_in=" <> tshow llBytesIn
+  , "bytes_out=" <> tshow llBytesOut
+  ]
+  where bool b = if b then "true" else "false"
+
+tshow :: Show a => a -> Text
+tshow = T.pack . show
+
+-- | The outcome of a response as logged: @ok@ or the lower-case error code.
+outcomeOf :: ResponseMsg -> (Text, Maybe Word64, Maybe Bool, Maybe Bool)
+outcomeOf r
+  | Just p <- getField (rspProfile r) =
+      ( maybe "ok" codeOf (getField (prsError p))
+      , Just (fromIntegral (orDefault (getField (prsIterations p)) :: Word32))
+      , Just (orDefault (getField (prsConverged p)))
+      , Just (orDefault (getField (prsLegal p))) )
+  | Just c <- getField (rspCompressed r) = (maybe "ok" codeOf (getField (cpError c)), Nothing, Nothing, Nothing)
+  | Just e <- getField (rspError r) = (codeOf e, Nothing, Nothing, Nothing)
+  | Just _ <- getField (rspPong r) = ("ok", Nothing, Nothing, Nothing)
+  | otherwise = ("empty", Nothing, Nothing, Nothing)
+  where codeOf e = errorCodeName (getEnum (getField (errCode e)))
+
+----------------------------------------------------------------------------- one frame
+
+-- | Answer one frame body: decode, classify, run the handler under the semaphore and the
+-- hard timeout, encode. Never throws (save asynchronous exceptions). Returns the encoded
+-- response body (without length prefix).
+processFrame :: Env -> B.ByteString -> Int -> IO B.ByteString
+processFrame env body bytesIn = do
+  t0 <- getMonotonicTime
+  decoded <- safeDecode body
+  (rid, kind, resp) <- case decoded of
+    Left err -> pure (0, "unknown", errorResponse 0 ErrMalformed ""
+                        ("bytes do not decode as vprof.v1.Request: " <> T.pack err))
+    Right req -> do
+      let rid = requestIdOf req
+      case classify req of
+        Left e -> pure (rid, "invalid", errorResponse rid (getEnum (getField (errCode e)))
+                                   (orDefault (getField (errField e)))
+                                   (orDefault (getField (errMessage e))))
+        Right inc -> (rid, incomingKind inc,) <$> guarded env (limitFor (envCfg env) inc) rid req
+  out <- encodeOrInternal rid resp
+  t1 <- getMonotonicTime
+  let (outcome, iters, conv, legal) = outcomeOf resp
+  envLog env $ renderLogLine LogLine
+    { llRequestId = rid, llKind = kind, llOutcome = outcome, llMillis = (t1 - t0) * 1000
+    , llIterations = iters, llConverged = conv, llLegal = legal
+    , llBytesIn = bytesIn, llBytesOut = B.length out }
+  pure out
+
+-- | Decode and force every field (by re-encoding), so that no exception hides in a thunk.
+safeDecode :: B.ByteString -> IO (Either String RequestMsg)
+safeDecode body = do
+  r <- try $ case validateWire TRequest body >> decodeBare body of
+    Left e -> pure (Left e)
+    Right req -> do
+      _ <- evaluate (B.length (encodeBare req))
+      pure (Right req)
+  pure $ case r of
+    Left (e :: SomeException) -> Left (show e)
+    Right x -> x
+
+encodeOrInternal :: Word64 -> ResponseMsg -> IO B.ByteString
+encodeOrInternal rid resp = do
+  r <- try (evaluate (encodeBare resp))
+  case r of
+    Right bs -> B.length bs `seq` pure bs
+    Left (e :: SomeException) ->
+      pure (encodeBare (errorResponse rid ErrInternal "" ("response could not be encoded: " <> tshow e)))
+
+-- | The hard timeout of a request, in seconds.
+limitFor :: ServerConfig -> Incoming -> Double
+limitFor cfg = \case
+  InProfile p ->
+    let b = orDefault (getField (prqTimeBudget p)) :: Double
+        budget | isNaN b || isInfinite b || b <= 0 = 1.0
+               | otherwise = min b 3600
+    in budget + cfgGrace cfg
+  InCompress _ -> cfgCompressTimeout cfg + cfgGrace cfg
+  InPing _ -> cfgGrace cfg
+
+-- | Run the handler in a worker thread holding a semaphore slot; answer INTERNAL on an
+-- exception or when the hard timeout passes (the worker is then killed in the background
+-- and gives its slot back only when it has really stopped).
+guarded :: Env -> Double -> Word64 -> RequestMsg -> IO ResponseMsg
+guarded env limitS rid req = do
+  result <- newEmptyMVar
+  tid <- mask_ $ do
+    waitQSem (envSem env)
+    forkIOWithUnmask $ \unmask ->
+      (unmask (try work) >>= putMVar result) `finally` signalQSem (envSem env)
+  r <- timeout (round (limitS * 1e6)) (readMVar result)
+  case r of
+    Nothing -> do
+      _ <- forkIO (killThread tid)
+      pure (errorResponse rid ErrInternal ""
+             ("the handler did not answer within " <> T.pack (showFFloat (Just 1) limitS "")
+              <> " s (time_budget + grace)"))
+    Just (Left (e :: SomeException)) ->
+      pure (errorResponse rid ErrInternal "" ("the handler failed: " <> tshow e))
+    Just (Right resp) -> pure resp
+  where
+    work = do
+      resp <- envHandler env req
+      let resp' = resp { rspRequestId = putField (nonDefault rid) }
+      _ <- evaluate (B.length (encodeBare resp'))  -- force it here, inside the guard
+      pure resp'
+
+----------------------------------------------------------------------------- connections
+
+data Wake = Drain | Idle | Ready Bool
+
+-- | Serve one connection (or stdin/stdout) until end of input, idle timeout, a broken
+-- frame, or a drain.
+connectionLoop :: Env -> Double -> Source -> (B.ByteString -> IO ()) -> IO ()
+connectionLoop env idleS src send = loop
+  where
+    cfg = envCfg env
+    idle :: IO a -> IO (Maybe a)
+    idle act | idleS > 0 = timeout (round (idleS * 1e6)) act
+             | otherwise = Just <$> act
+    connLog msg = envLog env ("vprof event=" <> msg)
+    reply rid code msg = void . try @SomeException . idle . send . frame . encodeBare $
+                           errorResponse rid code "" msg
+    loop = do
+      -- bytes already received (pipelined requests) are in flight: answer them even
+      -- when draining; otherwise wait for data, a drain or the idle timeout
+      buffered <- hasBuffered src
+      w <- if buffered then pure (Ready True) else
+             either (const Drain) (maybe Idle Ready) <$>
+               race (atomically (readTVar (envDraining env) >>= check)) (idle (awaitData src))
+      case w of
+        Drain -> pure ()
+        Idle -> connLog "idle_timeout"
+        Ready False -> pure ()
+        Ready True -> do
+          fr <- idle (readFrame (cfgMaxFrameBytes cfg) src)
+          case fr of
+            Nothing -> connLog "idle_timeout_in_frame"
+            Just EndOfInput -> pure ()
+            Just (Truncated n) -> do
+              connLog ("truncated_frame bytes=" <> tshow n)
+              reply 0 ErrMalformed ("input ended inside a frame after " <> tshow n <> " bytes")
+            Just BadVarint -> do
+              connLog "bad_length_prefix"
+              reply 0 ErrMalformed "length prefix is not a varint of at most 10 bytes; closing"
+            Just (TooLarge n) -> do
+              connLog ("frame_too_large bytes=" <> tshow n)
+              reply 0 ErrFrameTooLarge
+                ("frame of " <> tshow n <> " bytes is above --max-frame-bytes "
+                 <> tshow (cfgMaxFrameBytes cfg) <> "; closing")
+            Just (Frame body n) -> do
+              out <- processFrame env body n
+              sent <- idle (send (frame out))
+              case sent of
+                Nothing -> connLog "send_timeout"
+                Just () -> loop
+
+----------------------------------------------------------------------------- TCP
+
+data Server = Server
+  { srvPort    :: PortNumber
+  , srvSocket  :: Socket
+  , srvAccept  :: Async ()
+  , srvEnv     :: Env
+  , srvActive  :: TVar Int
+  }
+
+serverPort :: Server -> Int
+serverPort = fromIntegral . srvPort
+
+-- | Bind, listen and start accepting in the background.
+startServer :: ServerConfig -> Handler -> IO Server
+startServer cfg handler = do
+  env <- newEnv cfg handler
+  let hints = defaultHints { addrSocketType = Stream, addrFlags = [AI_NUMERICSERV] }
+  addr : _ <- getAddrInfo (Just hints) (Just (cfgHost cfg)) (Just (show (cfgPort cfg)))
+  sock <- socket (addrFamily addr) Stream defaultProtocol
+  setSocketOption sock ReuseAddr 1
+  bind sock (addrAddress addr)
+  listen sock 128
+  port <- socketPort sock
+  active <- newTVarIO 0
+  slots <- newQSem (max 1 (cfgMaxConnections cfg))
+  let acceptLoop = forever $ do
+        waitQSem slots
+        (conn, _peer) <- accept sock `onException` signalQSem slots
+        atomically (modifyTVar' active (+ 1))
+        void $ forkFinally (serveConn env conn)
+          (\_ -> do close conn
+                    atomically (modifyTVar' active (subtract 1))
+                    signalQSem slots)
+  acc <- async acceptLoop
+  pure (Server port sock acc env active)
+
+serveConn :: Env -> Socket -> IO ()
+serveConn env conn = do
+  setSocketOption conn NoDelay 1
+  src <- newSource (NSB.recv conn 65536)
+  connectionLoop env (cfgIdleTimeout (envCfg env)) src (NSB.sendAll conn)
+
+-- | Stop accepting and ask every connection to finish after its in-flight request.
+stopServer :: Server -> IO ()
+stopServer s = do
+  atomically (writeTVar (envDraining (srvEnv s)) True)
+  cancel (srvAccept s)
+  close (srvSocket s)
+
+-- | Wait until the server has been stopped and every connection has finished.
+waitServer :: Server -> IO ()
+waitServer s = atomically $ do
+  d <- readTVar (envDraining (srvEnv s))
+  n <- readTVar (srvActive s)
+  check (d && n == 0)
+
+-- | Run an action with a server on the configured port; stop and drain after.
+withServer :: ServerConfig -> Handler -> (Server -> IO a) -> IO a
+withServer cfg h act = bracket (startServer cfg h) (\s -> stopServer s >> waitServer s) act
+
+-- | @vprof serve@ on TCP: print @listening on HOST:PORT@ on stderr, serve until SIGTERM or
+-- SIGINT, then drain and return.
+serve :: ServerConfig -> Handler -> IO ()
+serve cfg handler = do
+  hSetBuffering stderr LineBuffering
+  s <- startServer cfg handler
+  n <- resolveWorkers cfg
+  hPutStrLn stderr ("listening on " <> cfgHost cfg <> ":" <> show (serverPort s)
+                    <> " workers=" <> show n)
+  hFlush stderr
+  let onSignal = Sig.Catch (stopServer s)
+  _ <- Sig.installHandler Sig.sigTERM onSignal Nothing
+  _ <- Sig.installHandler Sig.sigINT onSignal Nothing
+  waitServer s
+  unless (cfgQuiet cfg) $ hPutStrLn stderr "vprof event=drained"
+
+-- | @vprof serve --stdio@: the same framing on stdin/stdout, for running as a subprocess.
+-- Ends at end of input or, after the in-flight request, on SIGTERM / SIGINT. No idle
+-- timeout unless one is configured explicitly by the caller (pass it in 'cfgIdleTimeout').
+serveStdio :: ServerConfig -> Handler -> IO ()
+serveStdio cfg handler = do
+  hSetBuffering stderr LineBuffering
+  hSetBinaryMode stdin True
+  hSetBinaryMode stdout True
+  hSetBuffering stdout (BlockBuffering Nothing)
+  env <- newEnv cfg handler
+  let onSignal = Sig.Catch (atomically (writeTVar (envDraining env) True))
+  _ <- Sig.installHandler Sig.sigTERM onSignal Nothing
+  _ <- Sig.installHandler Sig.sigINT onSignal Nothing
+  src <- newSource (B.hGetSome stdin 65536)
+  connectionLoop env (cfgIdleTimeout cfg) src (\bs -> B.hPut stdout bs >> hFlush stdout)

@@ -1,0 +1,113 @@
+-- | A strict structural check of protobuf wire bytes against @vprof.proto@.
+--
+-- Debian's @protobuf@ package decodes leniently: a field whose length runs past the end
+-- of the message, or a string that is not UTF-8, is silently dropped, so truncated or
+-- corrupted bytes would decode to a "valid" request with missing fields. This walker
+-- rejects what protoc's parsers reject (bad tags, wire types 3/4/6/7, varints over 10
+-- bytes, lengths past the end, invalid UTF-8 in string fields, packed doubles whose
+-- length is not a multiple of 8) and, more strictly than protoc, a known field sent with
+-- the wrong wire type (which the Haskell decoder would misread) and repeated doubles in the
+-- unpacked encoding (legal protobuf, but the Haskell decoder silently drops them; every
+-- proto3 encoder writes them packed). Unknown fields are walked and skipped, as protoc
+-- does.
+module VProf.Wire.Validate
+  ( validateWire
+  , MsgType (..)
+  ) where
+
+import Data.Bits ((.&.), shiftR)
+import qualified Data.ByteString as B
+import qualified Data.Text.Encoding as TE
+import Data.Word (Word64)
+
+import VProf.Wire.Framing (VarintResult (..), decodeVarint)
+
+data MsgType
+  = TRequest | TResponse | TProfileRequest | TSpeedLimit | TProfileResponse | TViolation
+  | TError | TPoses | TCompressRequest | TCompressMetrics | TCompressedPath | TPing | TPong
+  deriving (Eq, Show, Enum, Bounded)
+
+data Kind = KVarint | KF64 | KStr | KMsg MsgType | KPackedF64
+
+fields :: MsgType -> Word64 -> Maybe Kind
+fields t n = case t of
+  TRequest -> lookup n [(1, KVarint), (2, KMsg TProfileRequest), (3, KMsg TCompressRequest), (4, KMsg TPing)]
+  TResponse -> lookup n [(1, KVarint), (2, KMsg TProfileResponse), (3, KMsg TCompressedPath), (4, KMsg TPong), (5, KMsg TError)]
+  TProfileRequest
+    | n == 1 || n == 14 || n == 17 -> Just KVarint
+    | n == 3 -> Just (KMsg TSpeedLimit)
+    | n >= 2 && n <= 16 -> Just KF64
+    | otherwise -> Nothing
+  TSpeedLimit -> if n == 1 || n == 2 then Just KF64 else Nothing
+  TProfileResponse
+    | n `elem` [1, 9, 10, 11, 17] -> Just KVarint
+    | n `elem` [2, 3, 12, 16] -> Just KF64
+    | n >= 4 && n <= 8 -> Just KPackedF64
+    | n == 13 -> Just (KMsg TViolation)
+    | n == 14 || n == 15 -> Just (KMsg TError)
+    | otherwise -> Nothing
+  TViolation -> lookup n [(1, KStr), (2, KVarint), (3, KF64), (4, KF64), (5, KStr)]
+  TError -> lookup n [(1, KVarint), (2, KStr), (3, KStr)]
+  TPoses -> if n >= 1 && n <= 8 then Just KPackedF64 else Nothing
+  TCompressRequest
+    | n `elem` [1, 3, 4] -> Just KVarint
+    | n == 2 -> Just (KMsg TPoses)
+    | n >= 5 && n <= 9 -> Just KF64
+    | otherwise -> Nothing
+  TCompressMetrics
+    | n == 15 || n == 16 -> Just KVarint
+    | n >= 1 && n <= 17 -> Just KF64
+    | otherwise -> Nothing
+  TCompressedPath -> lookup n [(1, KVarint), (2, KMsg TPoses), (3, KMsg TCompressMetrics), (4, KF64), (5, KMsg TError)]
+  TPing -> lookup n [(1, KStr)]
+  TPong -> lookup n [(1, KStr), (2, KStr)]
+
+-- | @Right ()@ when the bytes are a well-formed encoding of the message type; otherwise a
+-- message saying where (byte offset, field path) and what is wrong.
+validateWire :: MsgType -> B.ByteString -> Either String ()
+validateWire = go (0 :: Int) ""
+  where
+    go depth path t bs
+      | depth > 32 = Left ("nesting deeper than 32 at " ++ path)
+      | B.null bs = Right ()
+      | otherwise = do
+          (tag, used) <- varint path bs
+          let num = tag `shiftR` 3
+              wt = tag .&. 7
+              rest = B.drop used bs
+              here = path ++ "/" ++ show num
+          if num == 0 || num > 536870911 then Left ("bad field number " ++ show num ++ " at " ++ path) else Right ()
+          (payload, rest') <- case wt of
+            0 -> (\(_, u) -> (B.empty, B.drop u rest)) <$> varint here rest
+            1 -> fixed here 8 rest
+            5 -> fixed here 4 rest
+            2 -> do
+              (len, u) <- varint here rest
+              let body = B.drop u rest
+              if len > fromIntegral (B.length body)
+                then Left ("field " ++ here ++ ": length " ++ show len ++ " runs past the end ("
+                           ++ show (B.length body) ++ " bytes left)")
+                else Right (B.splitAt (fromIntegral len) body)
+            _ -> Left ("field " ++ here ++ ": wire type " ++ show wt ++ " is not supported")
+          case (fields t num, wt) of
+            (Nothing, _) -> Right ()
+            (Just KVarint, 0) -> Right ()
+            (Just KF64, 1) -> Right ()
+            (Just KPackedF64, 1) ->
+              Left ("field " ++ here ++ ": unpacked repeated double (wire type 1); this server reads "
+                    ++ "only the packed encoding proto3 writes (the Haskell decoder would drop it)")
+            (Just KPackedF64, 2)
+              | B.length payload `mod` 8 == 0 -> Right ()
+              | otherwise -> Left ("field " ++ here ++ ": packed doubles of " ++ show (B.length payload) ++ " bytes")
+            (Just KStr, 2) -> either (const (Left ("field " ++ here ++ ": string is not valid UTF-8"))) (const (Right ()))
+                                     (TE.decodeUtf8' payload)
+            (Just (KMsg sub), 2) -> go (depth + 1) here sub payload
+            (Just _, _) -> Left ("field " ++ here ++ " of " ++ show t ++ ": wrong wire type " ++ show wt)
+          go depth path t rest'
+    varint path bs = case decodeVarint bs of
+      VarintOk v u -> Right (v, u)
+      VarintIncomplete -> Left ("truncated varint at " ++ path)
+      VarintMalformed -> Left ("varint longer than 10 bytes at " ++ path)
+    fixed path n bs
+      | B.length bs < n = Left ("field " ++ path ++ ": truncated fixed" ++ show (n * 8))
+      | otherwise = Right (B.empty, B.drop n bs)

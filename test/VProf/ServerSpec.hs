@@ -1,0 +1,132 @@
+{-# LANGUAGE TypeFamilies #-}
+{-# LANGUAGE OverloadedStrings #-}
+module VProf.ServerSpec (spec) where
+
+import Control.Concurrent
+import Control.Concurrent.Async
+import Control.Exception
+import Control.Monad
+import Data.IORef
+import qualified Data.ByteString as B
+import Data.ProtocolBuffers (getField, putField)
+import qualified Data.Text as T
+import Data.Word (Word64)
+import GHC.Clock (getMonotonicTime)
+import Test.Hspec
+
+import VProf.Robustness
+import VProf.Server
+import VProf.TestClient
+import VProf.TestHandler
+import VProf.Wire.Envelope (classify, Incoming (..), pongResponse, requestIdOf)
+import VProf.Wire.Framing (FrameResult (..), frame)
+import VProf.Wire.Messages
+
+-- | A handler that counts how many calls run at once.
+countingHandler :: IORef (Int, Int) -> Double -> RequestMsg -> IO ResponseMsg
+countingHandler ref secs req = do
+  atomicModifyIORef' ref (\(cur, hi) -> ((cur + 1, max hi (cur + 1)), ()))
+  threadDelay (round (secs * 1e6)) `finally` atomicModifyIORef' ref (\(cur, hi) -> ((cur - 1, hi), ()))
+  testHandler req
+
+spec :: Spec
+spec = do
+  describe "robustness (test handler)" $
+    robustnessSpec (HandlerUnderTest testHandler False)
+
+  describe "bounded concurrency" $
+    it "never runs more than --workers handler calls at once" $ do
+      ref <- newIORef (0, 0)
+      withServer quietConfig { cfgWorkers = 2 } (countingHandler ref 0.1) $ \s -> do
+        _ <- forConcurrently [1 .. 8 :: Word64] $ \i -> withClient (serverPort s) $ \c ->
+          roundTrip c (pingMsg i "w")
+        snd <$> readIORef ref `shouldReturn` 2
+
+  describe "hard timeout" $
+    it "answers INTERNAL after time_budget + grace and stays usable" $ do
+      let stuck req = case classify req of
+            Right (InProfile _) -> forever (threadDelay 1000000) >> testHandler req
+            _ -> testHandler req
+      withServer quietConfig { cfgGrace = 0.3, cfgWorkers = 1 } stuck $ \s -> withClient (serverPort s) $ \c -> do
+        t0 <- getMonotonicTime
+        let p = (simpleProfileRequest 3) { prqTimeBudget = putField' 0.2 }
+        r <- roundTrip c (profileMsg 3 p)
+        t1 <- getMonotonicTime
+        fst <$> errorOf r `shouldBe` Just ErrInternal
+        (t1 - t0) `shouldSatisfy` (\d -> d >= 0.45 && d < 3)
+        -- the stuck worker was killed: its only slot is free again
+        r2 <- roundTrip c (pingMsg 4 "after")
+        orDefault (getField (rspRequestId r2)) `shouldBe` (4 :: Word64)
+
+  describe "handler failures" $ do
+    it "answers INTERNAL when the handler throws, and the connection lives on" $ do
+      let bad req = case classify req of
+            Right (InProfile _) -> throwIO (userError "boom")
+            _ -> testHandler req
+      withServer quietConfig bad $ \s -> withClient (serverPort s) $ \c -> do
+        r <- roundTrip c (profileMsg 8 (simpleProfileRequest 8))
+        fst <$> errorOf r `shouldBe` Just ErrInternal
+        orDefault (getField (rspRequestId r)) `shouldBe` (8 :: Word64)
+        r2 <- roundTrip c (pingMsg 9 "p")
+        orDefault (getField (rspRequestId r2)) `shouldBe` (9 :: Word64)
+    it "answers INTERNAL when the response hides an exception in a lazy field" $ do
+      let lazyBad req = pure (pongResponse (requestIdOf req) (error "lazy bomb") "v")
+      withServer quietConfig lazyBad $ \s -> withClient (serverPort s) $ \c -> do
+        r <- roundTrip c (pingMsg 10 "p")
+        fst <$> errorOf r `shouldBe` Just ErrInternal
+        r2 <- roundTrip c (pingMsg 11 "p")
+        fst <$> errorOf r2 `shouldBe` Just ErrInternal  -- same handler, still answered
+    it "echoes the envelope's request_id even when the handler does not" $ do
+      let forgetful req = testHandler req >>= \r -> pure r { rspRequestId = putField' 0 `asTypeOf` rspRequestId r }
+      withServer quietConfig forgetful $ \s -> withClient (serverPort s) $ \c -> do
+        r <- roundTrip c (pingMsg 12345678901234 "p")
+        orDefault (getField (rspRequestId r)) `shouldBe` (12345678901234 :: Word64)
+
+  describe "drain" $
+    it "stops accepting, answers the in-flight request, then returns" $ do
+      s <- startServer quietConfig testHandler
+      let port = serverPort s
+      c <- connectClient port
+      sendRequest c (pingMsg 1 "sleep:0.5")
+      threadDelay 150000
+      t0 <- getMonotonicTime
+      stopServer s
+      r <- recvResponse c
+      orDefault (getField (rspRequestId r)) `shouldBe` (1 :: Word64)
+      recvFrame c `shouldReturn` EndOfInput
+      waitServer s
+      t1 <- getMonotonicTime
+      (t1 - t0) `shouldSatisfy` (< 2)
+      res <- try (connectClient port)
+      case res of
+        Left (_ :: IOException) -> pure ()
+        Right c2 -> closeClient c2 >> expectationFailure "accepted a connection after stop"
+      closeClient c
+
+  describe "drain with pipelined requests" $
+    it "answers every request already received before closing" $ do
+      s <- startServer quietConfig testHandler
+      c <- connectClient (serverPort s)
+      sendRaw c (B.concat (frame (encodeBare (pingMsg 1 "sleep:0.4")) : [frame (encodeBare (pingMsg i "p")) | i <- [2 .. 5]]))
+      threadDelay 150000
+      stopServer s
+      ids <- replicateM 5 (orDefault . getField . rspRequestId <$> recvResponse c)
+      ids `shouldBe` [1 .. 5 :: Word64]
+      recvFrame c `shouldReturn` EndOfInput
+      waitServer s
+      closeClient c
+
+  describe "idle timeout" $
+    it "closes an idle connection" $
+      withServer quietConfig { cfgIdleTimeout = 0.3 } testHandler $ \s -> withClient (serverPort s) $ \c -> do
+        r <- roundTrip c (pingMsg 1 "a")
+        orDefault (getField (rspRequestId r)) `shouldBe` (1 :: Word64)
+        threadDelay 700000
+        recvFrame c `shouldReturn` EndOfInput
+
+  describe "log lines" $
+    it "renders one logfmt line with the required keys" $
+      renderLogLine (LogLine 7 "profile" "ok" 3.14 (Just 12) (Just True) (Just True) 120 8000)
+        `shouldBe` T.pack "vprof request_id=7 kind=profile outcome=ok ms=3.1 iterations=12 converged=true legal=true bytes_in=120 bytes_out=8000"
+  where
+    putField' x = putField (Just x)

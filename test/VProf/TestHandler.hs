@@ -1,0 +1,87 @@
+{-# LANGUAGE OverloadedStrings #-}
+-- | Request handlers for the daemon's own tests (the real one is VProf.Service after the
+-- merge). 'testHandler': ping -> pong echoing the payload (a payload @sleep:SECONDS@ makes
+-- it sleep first, for drain tests); profile -> a trivial ProfileResponse echoing
+-- request_id (no samples: it is NOT a generator); compress -> CompressedPath with Error
+-- UNSUPPORTED.
+module VProf.TestHandler
+  ( testHandler
+  , pingMsg
+  , profileMsg
+  , requestWith
+  , simpleProfileRequest
+  ) where
+
+import Control.Concurrent (threadDelay)
+import Data.ProtocolBuffers (getField, putField)
+import Data.Text (Text)
+import qualified Data.Text as T
+import Data.Word (Word64)
+
+import VProf.Wire.Envelope
+import VProf.Wire.Messages
+
+testHandler :: RequestMsg -> IO ResponseMsg
+testHandler req = case classify req of
+  Left e -> pure (errorResponse rid (getEnum (getField (errCode e)))
+                    (orDefault (getField (errField e))) (orDefault (getField (errMessage e))))
+  Right (InPing p) -> do
+    let payload = orDefault (getField (pingPayload p)) :: Text
+    case T.stripPrefix "sleep:" payload of
+      Just s | [(secs, "")] <- reads (T.unpack s) -> threadDelay (round ((secs :: Double) * 1e6))
+      _ -> pure ()
+    pure (pongResponse rid payload "stub")
+  Right (InProfile p) -> pure . profileResponse rid $ ProfileResponseMsg
+    { prsRequestId = putField (getField (prqRequestId p))
+    , prsTimeStep = putField (Just 0.125)
+    , prsVelocityStep = putField Nothing
+    , prsTime = putField [], prsDistance = putField [], prsVelocity = putField []
+    , prsAcceleration = putField [], prsJerk = putField []
+    , prsIterations = putField (Just 1)
+    , prsConverged = putField (Just True)
+    , prsLegal = putField (Just True)
+    , prsComputeTime = putField Nothing
+    , prsViolations = putField []
+    , prsError = putField Nothing
+    , prsErrors = putField []
+    , prsDuration = putField Nothing
+    , prsAlgorithm = putField (enumField AlgorithmBand)
+    }
+  Right (InCompress c) -> pure . compressedResponse rid $ CompressedPathMsg
+    { cpRequestId = putField (getField (crqRequestId c))
+    , cpPath = putField Nothing, cpMetrics = putField Nothing, cpComputeTime = putField Nothing
+    , cpError = putField (Just (mkError ErrUnsupported "compress" "the test handler does not compress"))
+    }
+  where rid = requestIdOf req
+
+-- | An envelope with the given bodies set.
+requestWith :: Word64 -> Maybe ProfileRequestMsg -> Maybe CompressRequestMsg -> Maybe PingMsg -> RequestMsg
+requestWith rid p c g = RequestMsg (putField (nonDefault rid)) (putField p) (putField c) (putField g)
+
+pingMsg :: Word64 -> Text -> RequestMsg
+pingMsg rid payload = requestWith rid Nothing Nothing (Just (PingMsg (putField (nonDefault payload))))
+
+profileMsg :: Word64 -> ProfileRequestMsg -> RequestMsg
+profileMsg rid p = requestWith rid (Just p) Nothing Nothing
+
+-- | The thesis's "simple" case (4.4.1): 10 m, 4 m/s, |a| <= 1, |j| <= 2.
+simpleProfileRequest :: Word64 -> ProfileRequestMsg
+simpleProfileRequest rid = ProfileRequestMsg
+  { prqRequestId = putField (nonDefault rid)
+  , prqRouteLength = putField (Just 10)
+  , prqSpeedLimits = putField [SpeedLimitMsg (putField Nothing) (putField (Just 4))]
+  , prqMinAcceleration = putField (Just (-1))
+  , prqMaxAcceleration = putField (Just 1)
+  , prqMinJerk = putField (Just (-2))
+  , prqMaxJerk = putField (Just 2)
+  , prqStartVelocity = putField Nothing
+  , prqStartAcceleration = putField Nothing
+  , prqEndVelocity = putField Nothing
+  , prqEndAcceleration = putField Nothing
+  , prqTimeStep = putField Nothing
+  , prqVelocityStep = putField Nothing
+  , prqMaxIterations = putField Nothing
+  , prqTimeBudget = putField Nothing
+  , prqEndTolerance = putField Nothing
+  , prqAlgorithm = putField Nothing
+  }
