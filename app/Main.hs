@@ -5,7 +5,8 @@ import Options.Applicative
 import System.Exit
 
 import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
-import VProf.Service (version)
+import VProf.Cli.Serve (serveCommand)
+import VProf.Service (handleRequest, unsupportedCompress, version)
 
 main :: IO ()
 main = do
@@ -21,4 +22,5 @@ main = do
       ( command "generate" (info generateOptions (progDesc "Generate a velocity profile (the default command)"))
      <> command "check" (info checkCommand (progDesc "Check a profile (CSV, JSON or pb) against a request; exit 1 on any violation"))
      <> command "encode" (info encodeCommand (progDesc "Write the binary protobuf form of a (JSON) ProfileRequest"))
+     <> command "serve" (info (serveCommand (handleRequest unsupportedCompress)) (progDesc "Serve length-delimited Request/Response messages over TCP or --stdio"))
       ) <|> generateOptions

@@ -5,6 +5,7 @@ module VProf.Service
   ( handleRequest
   , serveProfile
   , version
+  , unsupportedCompress
   ) where
 
 import Control.Exception (SomeException, evaluate, try)
@@ -53,3 +54,13 @@ handleRequest compress m = do
   pure $ case r of
     Right resp -> resp
     Left (e :: SomeException) -> err ErrInternal "" ("internal error: " ++ show e)
+
+-- | Until a compression service is plugged in: answer UNSUPPORTED.
+unsupportedCompress :: CompressRequestMsg -> IO CompressedPathMsg
+unsupportedCompress m = pure CompressedPathMsg
+  { cpRequestId = putField (getField (crqRequestId m))
+  , cpPath = putField Nothing
+  , cpMetrics = putField Nothing
+  , cpComputeTime = putField Nothing
+  , cpError = putField (Just (errorMsg ErrUnsupported "" "path compression is not served by this build"))
+  }

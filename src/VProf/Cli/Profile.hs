@@ -38,6 +38,7 @@ import VProf.Request
 import VProf.Units
 import VProf.Wire.Convert
 import VProf.Wire.Messages
+import VProf.Wire.Validate (MsgType (..), validateWire)
 
 data Format = FPb | FCsv | FJson | FTable deriving (Eq, Show)
 
@@ -85,7 +86,7 @@ readRequest path = do
     Right bytes
       | map toLower (takeExtension path) == ".json" ->
           either (\e -> Left (path ++ ": not a valid JSON ProfileRequest: " ++ e)) Right (requestFromJson (BL.fromStrict bytes))
-      | otherwise -> case decodeBare bytes of
+      | otherwise -> case validateWire TProfileRequest bytes >> decodeBare bytes of
           Left e -> Left (path ++ ": not a valid binary ProfileRequest: " ++ e)
           Right m -> Right (requestFromMsg m)
 

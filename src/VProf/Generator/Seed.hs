@@ -277,25 +277,37 @@ seed pb = do
       st0 = St (pbV0 pb) (pbA0 pb) 0
       limit = 8 * 1048576
       finish middle = Right (U.fromList (pbV0 pb : map stV middle ++ tailVs))
-  let tailTop = maximum (vc : tailVs)
-      tailLimit = minLimitOn pb (max 0 aim) (pbLength pb)
-  -- even raising the acceleration as fast as the jerk allows, the velocity ends below zero
-  let leastDrop = sum (takeWhile (< 0) [ pbA0 pb + fromIntegral k * pbJMax pb * dt | k <- [1 :: Int ..] ]) * dt
+  -- the tail's steps, at their own positions before the end
+  let tailPts = zip (vc : tailVs) tailVs
+      tailPos = scanl (\acc (x, y) -> acc + (x + y) * dt / 2) (pbLength pb - tailLen) tailPts
+      tailBad = [ (i, max x y, lim)
+                | (i, ((x, y), (p0, p1))) <- zip [0 :: Int ..] (zip tailPts (zip tailPos (drop 1 tailPos)))
+                , let lim = minLimitOn pb (max 0 p0) p1, max x y > lim ]
+      lastStep = length tailPts - 1
+      -- even raising the acceleration as fast as the jerk allows, the velocity ends below zero
+      leastDrop = sum (takeWhile (< 0) [ pbA0 pb + fromIntegral k * pbJMax pb * dt | k <- [1 :: Int ..] ]) * dt
   if pbV0 pb + leastDrop < -1e-12
     then Left (Infeasible "start_acceleration"
            ("start_acceleration " ++ num (pbA0 pb) ++ " m/s² at start_velocity " ++ num (pbV0 pb)
             ++ " m/s drives the velocity below zero whatever the jerk: raising the acceleration at max_jerk "
             ++ num (pbJMax pb) ++ " m/s³ still loses " ++ num (negate leastDrop) ++ " m/s"))
-  else if not (null tailVs) && tailTop > tailLimit
-    then Left (Infeasible "end_acceleration"
-           ("end_velocity " ++ num (pbVEnd pb) ++ " m/s with end_acceleration " ++ num (pbAEnd pb)
-            ++ " m/s² needs " ++ num tailTop ++ " m/s just before the end, above the speed limit of "
-            ++ num tailLimit ++ " m/s there"))
   else if aim <= 0 && not (null tailVs)
     then Left (Infeasible "end_acceleration"
            ("the ramp to end_acceleration " ++ num (pbAEnd pb) ++ " m/s² needs " ++ num tailLen
             ++ " m, more than route_length " ++ num (pbLength pb) ++ " m"))
-    else do
+  else case tailBad of
+    ((i, top, _) : _)
+      | i == lastStep && pbAEnd pb < 0 && top > limitAt pb (pbLength pb) ->
+          -- the step into the end touches the end's zone; coming in while still braking
+          -- at end_acceleration it is faster than the end velocity: provably too fast
+          Left (Infeasible "end_acceleration"
+            ("end_velocity " ++ num (pbVEnd pb) ++ " m/s with end_acceleration " ++ num (pbAEnd pb)
+             ++ " m/s² needs " ++ num top ++ " m/s in the last step, above the speed limit of "
+             ++ num (limitAt pb (pbLength pb)) ++ " m/s at the route end"))
+    ((_, top, lim) : _) ->
+      Left (LandingFailed ("the ramp to end_acceleration meets the speed limit of " ++ num lim
+                           ++ " m/s at " ++ num top ++ " m/s"))
+    [] -> do
       -- the gentle brake policy (down to each limit, arriving with zero acceleration)
       -- gives the better profiles; when it cannot save the start state, the hardest one
       -- (braking through the limits toward standstill) may still; only when that fails

@@ -57,15 +57,21 @@ decodeBare = runGet decodeMessage
 -- | proto3 writes a scalar only when it is not the default; so do we, so that
 -- our bytes equal protoc's.
 nonDefault :: (Eq a, Monoid' a) => a -> Maybe a
-nonDefault x = if x == zero' then Nothing else Just x
+nonDefault x = if isZero' x then Nothing else Just x
 
 -- | An absent proto3 scalar is its default.
 orDefault :: Monoid' a => Maybe a -> a
 orDefault = maybe zero' id
 
 -- | The defaults of proto3 scalars.
-class Monoid' a where zero' :: a
-instance Monoid' Double where zero' = 0
+class Eq a => Monoid' a where
+  zero' :: a
+  -- | Is this the value proto3 leaves out? For doubles, -0.0 is not: protoc writes it.
+  isZero' :: a -> Bool
+  isZero' = (== zero')
+instance Monoid' Double where
+  zero' = 0
+  isZero' x = x == 0 && not (isNegativeZero x)
 instance Monoid' Word32 where zero' = 0
 instance Monoid' Word64 where zero' = 0
 instance Monoid' Int32 where zero' = 0
