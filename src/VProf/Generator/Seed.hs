@@ -292,8 +292,8 @@ seed pb = do
             ++ " m/s drives the velocity below zero whatever the jerk: raising the acceleration at max_jerk "
             ++ num (pbJMax pb) ++ " m/s³ still loses " ++ num (negate leastDrop) ++ " m/s"))
   else if aim <= 0 && not (null tailVs)
-    then Left (Infeasible "end_acceleration"
-           ("the ramp to end_acceleration " ++ num (pbAEnd pb) ++ " m/s² needs " ++ num tailLen
+    then Left (LandingFailed
+           ("the ramp to end_acceleration " ++ num (pbAEnd pb) ++ " m/s² from a cruise needs " ++ num tailLen
             ++ " m, more than route_length " ++ num (pbLength pb) ++ " m"))
   else case tailBad of
     ((i, top, _) : _)
