@@ -113,18 +113,23 @@ check pb p
     accAll = U.toList (U.cons (prStartAcc p) acc) ++ [prEndAcc p]
     allJerks = zip [0 ..] (zipWith (\a b -> (b - a) / dt) accAll (drop 1 accAll))
 
-    zones = zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb))
+    starts = pbZoneStarts pb
+    speeds = pbZoneSpeeds pb
+    nz = U.length starts
+    -- the zone holding at x: the last whose start is <= x (the first zone before 0)
+    zoneAt x = go 0 (nz - 1)
+      where go lo hi | lo >= hi = lo
+                     | otherwise = let mid = (lo + hi + 1) `div` 2
+                                   in if starts U.! mid <= x then go mid hi else go lo (mid - 1)
     -- lowest limit on the closed interval [a, b]: every zone that holds somewhere on it
-    lowestOn a b = minimum [ lim | ((st, lim), next) <- zip zones (map (Just . fst) (drop 1 zones) ++ [Nothing])
-                                 , st <= b, maybe True (> a) next ]
+    lowestOn a b = let i = zoneAt a; j = zoneAt b in U.minimum (U.slice i (j - i + 1) speeds)
     speedViolations
       | n == 0 = [ Violation Speed 0 (U.head v) l | let l = lowestOn 0 0, U.head v > l + slack l ]
       | otherwise =
           [ Violation Speed k top l
           | k <- [0 .. n - 1]
           , let top = max (v U.! k) (v U.! (k + 1))
-                l = lowestOnFast (s U.! k) (s U.! (k + 1))
+                a = s U.! k
+                b = s U.! (k + 1)
+                l = if a <= b then lowestOn a b else lowestOn b a
           , top > l + slack l ]
-    -- the same rule, with a cursor into the sorted zones (s is non-decreasing when v >= 0;
-    -- fall back to the plain scan otherwise)
-    lowestOnFast a b = if a <= b then lowestOn a b else lowestOn b a

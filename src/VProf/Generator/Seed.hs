@@ -102,7 +102,12 @@ rampDrop e x
 -- | The brake policy: the next acceleration of the hardest braking that still ends at
 -- rest without going below zero.
 brakeAcc :: Env -> St -> Double
-brakeAcc e st@(St v _ _)
+brakeAcc e st = brakeAccTo e st (brakeTarget e st)
+{-# INLINE brakeAcc #-}
+
+-- | The brake policy toward a given target velocity.
+brakeAccTo :: Env -> St -> Double -> Double
+brakeAccTo e st@(St v _ _) tau
   | v <= 0 || w <= 0 = hold
   | not (ok hi) = hold
   | ok lo = lo
@@ -111,7 +116,6 @@ brakeAcc e st@(St v _ _)
     dt = dtE e
     j = pbJMax (ePb e) * dt
     (lo, hi) = accRange e st
-    tau = brakeTarget e st
     w = v - tau
     hold = max lo (min hi 0)
     ok x = w + x * dt + rampDrop e x >= 0
@@ -121,12 +125,14 @@ brakeAcc e st@(St v _ _)
     root m = negate (w / dt + j * m * (m + 1) / 2) / (m + 1)
     fits m = let x = root m in x > negate (m + 1) * j - 1e-15 && x <= negate m * j + 1e-15
     m0 = let g = fromIntegral (floor (sqrt (2 * w / (dt * j))) :: Int) :: Double
-             cands = filter (>= 0) [g, g - 1, g + 1, g - 2, g + 2, g - 3, g + 3]
-         in case filter fits cands of
-              (m : _) -> m
-              [] -> case filter fits [0 .. 4 * g + 16] of
-                (m : _) -> m
-                [] -> 0   -- unreachable: some m always fits; 0 is then nudged to feasibility
+             near k | k > 3 = far 0
+                    | fits (g - k) && g - k >= 0 = g - k
+                    | fits (g + k) = g + k
+                    | otherwise = near (k + 1)
+             far m | m > 4 * g + 16 = 0   -- unreachable: some m always fits; 0 is then nudged
+                   | fits m = m
+                   | otherwise = far (m + 1)
+         in near 0
     -- the root may sit a rounding error below the feasible set: nudge up until ok
     exact m = nudge (root m) (8 :: Int)
     nudge x 0 = x
@@ -147,6 +153,7 @@ brakeTarget e st@(St _ _ s) =
 -- can return to zero within one jerk step.
 atRest :: Env -> St -> Bool
 atRest e (St v a _) = v == 0 && a >= negate (pbJMax (ePb e) * dtE e) && a <= negate (pbJMin (ePb e) * dtE e)
+{-# INLINE atRest #-}
 
 -- | An upper bound on the distance the brake policy needs from a state, and on the
 -- highest velocity it reaches on the way.
@@ -156,29 +163,83 @@ brakeBound e (St v a _) =
       ap = max 0 a
       jm = abs (pbJMin pb); am = abs (pbAMin pb)
       vPeak = v + ap * ap / (2 * jm) + ap * dt
-      t = ap / jm + am / jm + vPeak / am + am / pbJMax pb + 6 * dt
-  in (vPeak * t, vPeak)
+      -- ramping down to a_min and back up to zero take at most these times, at no more
+      -- than vPeak; holding a_min from at most vPeak covers at most vPeak²/(2|a_min|)
+      tRamps = ap / jm + am / jm + am / pbJMax pb + 6 * dt
+  in (vPeak * tRamps + vPeak * vPeak / (2 * am), vPeak)
+{-# INLINE brakeBound #-}
+
+-- | The continuous-time distance to bring (v, a >= 0) down to velocity l with the
+-- acceleration back at zero: first a down to 0, then an S-curve to a_min (or a
+-- triangle short of it) and back.
+brakeNeed :: Problem -> Double -> Double -> Double -> Double
+brakeNeed pb v a l =
+  let j1 = abs (pbJMin pb); j2 = pbJMax pb; am = abs (pbAMin pb)
+      t0 = a / j1
+      d0 = v * t0 + a * t0 * t0 / 2 - j1 * t0 * t0 * t0 / 6
+      v1 = v + a * a / (2 * j1)
+      dv = v1 - l
+      full = am * am / (2 * j1) + am * am / (2 * j2)
+      (ap, t2) = if dv >= full then (am, (dv - full) / am) else (sqrt (2 * dv / (1 / j1 + 1 / j2)), 0)
+      t1 = ap / j1; t3 = ap / j2
+      d1 = v1 * t1 - j1 * t1 * t1 * t1 / 6
+      v2 = v1 - j1 * t1 * t1 / 2
+      d2 = v2 * t2 - ap * t2 * t2 / 2
+      v3 = v2 - ap * t2
+      d3 = v3 * t3 - ap * t3 * t3 / 2 + j2 * t3 * t3 * t3 / 6
+  in if dv <= 0 then d0 else d0 + d1 + d2 + d3
+
+-- | A fast sufficient test for states that cruise or accelerate: every lower limit within
+-- reach (and the terminal) is further away than the continuous braking distance plus a
+-- margin of four steps at the peak velocity.
+quickNeed :: Env -> St -> Bool
+quickNeed e st@(St v a s)
+  | a < 0 || eHard e = False
+  | otherwise =
+      vPeak <= limitAt pb s
+        && all zoneOk (zonesIn s (s + d))
+        && terminalOk
+  where
+    pb = ePb e
+    (d, vPeak) = brakeBound e st
+    margin = vPeak * 4 * pbDt pb + 1e-3
+    Term p vt = eTerm e
+    zoneOk (z, l) = l >= vPeak || brakeNeed pb v a l + margin <= z - s
+    terminalOk
+      | vt <= 0 = s + d <= p || brakeNeed pb v a 0 + margin <= p - s
+      | otherwise = s + d < p || vPeak <= vt || brakeNeed pb v a vt + margin <= p - s
+    zonesIn lo hi =
+      let starts = pbZoneStarts pb; speeds = pbZoneSpeeds pb
+          i0 = zoneIndex pb lo + 1
+          go i | i >= U.length starts || U.unsafeIndex starts i > hi = []
+               | otherwise = (U.unsafeIndex starts i, U.unsafeIndex speeds i) : go (i + 1)
+      in go i0
 
 -- | The oracle: can the robot brake from this state without breaking anything?
 -- On failure, the state at which the braking first breaks a rule.
 brakeCheck :: Env -> St -> Either (St, St) ()
-brakeCheck e st0 = go st0 (0 :: Int)
+brakeCheck e st0
+  | quickNeed e st0 = Right ()
+  | otherwise = go st0 (0 :: Int)
   where
     pb = ePb e
     Term p vt = eTerm e
     maxSteps = let (d, vp) = brakeBound e st0 in ceiling (d / max 1e-9 vp / dtE e) + 64 :: Int
-    go st n
+    go !st n
       | atRest e st = Right ()
-      | quick st = Right ()
-      | n > maxSteps = Left (st, st)
       | otherwise =
-          let st' = stepTo e st (brakeAcc e st)
-          in if stepOk e st st' then go st' (n + 1) else Left (st, st')
-    quick st@(St _ _ s) =
-      let (d, vPeak) = brakeBound e st
-          reachEnd = s + d
-      in vPeak <= minLimitOn pb s reachEnd
-           && (if vt <= 0 then reachEnd <= p else reachEnd < p || vPeak <= vt)
+          let s = stS st
+              (d, vPeak) = brakeBound e st
+              reachEnd = s + d
+              zoneMin = minLimitOn pb s reachEnd
+              quick = vPeak <= zoneMin && (if vt <= 0 then reachEnd <= p else reachEnd < p || vPeak <= vt)
+              tau | eHard e = 0
+                  | reachEnd >= p = min zoneMin (max 0 vt)
+                  | otherwise = zoneMin
+          in if quick then Right ()
+             else if n > maxSteps then Left (st, st)
+             else let st' = stepTo e st (brakeAccTo e st tau)
+                  in if stepOk e st st' then go st' (n + 1) else Left (st, st')
 
 safe :: Env -> St -> Bool
 safe e st = either (const False) (const True) (brakeCheck e st)
@@ -218,7 +279,7 @@ choose e st@(St v _ s) =
              Nothing -> search a m bestSt (n - 1)
   in case try hi of
        Just st' -> st'
-       Nothing -> search aB hi fallback (24 :: Int)
+       Nothing -> search aB hi fallback (8 :: Int)
 
 -- | The forward pass from a state until the terminal is reached; the states visited
 -- after the given one, in order. Stops after @limit@ steps.
