@@ -74,9 +74,84 @@ violatesSpeed pb v =
 pass :: Mode -> Problem -> U.Vector Bool -> U.Vector Double -> PassResult
 pass mode pb frozen v0
   | U.length v0 < 3 = PassResult v0 0 True
+  | mode == Plain = if null bad then blockPass True pb frozen v0 [1 .. U.length v0 - 2]
+                                 else blockPass False pb frozen v0 bad
   | null bad = raise mode pb frozen v0
   | otherwise = lower pb frozen v0 bad
   where bad = violatesSpeed pb v0
+
+-- | The thesis's pass with its chain reaction (figure 4.4, with the section 4.5
+-- corrections): a sample that moves asks the next one whether it may move too; the
+-- samples k..m move together by one velocity step, m being the first whose step to the
+-- unmoved sample m+1 stays within the acceleration and jerk limits. Inside the block the
+-- accelerations do not change, so only its two ends are checked (and, raising, the speed
+-- limits of its samples where they are now). Every sample moves at most once per pass and
+-- only in the pass's direction. Raising visits every sample; lowering starts from the
+-- samples next to a broken speed limit.
+blockPass :: Bool -> Problem -> U.Vector Bool -> U.Vector Double -> [Int] -> PassResult
+blockPass raising pb frozen v0 starts = runST $ do
+  v <- U.thaw v0
+  moved <- M.replicate (U.length v0) False
+  changed <- newSTRef (0 :: Int)
+  shiftRef <- newSTRef (0 :: Double)
+  let n = U.length v0 - 1
+      s0 = trapezoid (pbDt pb) v0
+      dt = pbDt pb; dv = if raising then pbDv pb else negate (pbDv pb)
+      aMin = pbAMin pb; aMax = pbAMax pb; jMin = pbJMin pb; jMax = pbJMax pb
+      vAt i = M.unsafeRead v i
+      accAt i | i < 0 = pure (pbA0 pb)
+              | i >= n = pure (pbAEnd pb)
+              | otherwise = do a <- vAt i; b <- vAt (i + 1); pure ((b - a) / dt)
+      okA a = a >= aMin && a <= aMax
+      okJ j = j >= jMin * dt && j <= jMax * dt
+      -- the left end of a block at k: a_{k-1} changes by dv/dt
+      leftOk k = do
+        am2 <- accAt (k - 2); am1 <- accAt (k - 1); a0 <- accAt k
+        let am1' = am1 + dv / dt
+        pure (okA am1' && okJ (am1' - am2) && okJ (a0 - am1'))
+      -- the right end of a block at m: a_m changes by -dv/dt
+      rightOk m = do
+        am1 <- accAt (m - 1); a0 <- accAt m; ap1 <- accAt (m + 1)
+        let a0' = a0 - dv / dt
+        pure (okA a0' && okJ (a0' - am1) && okJ (ap1 - a0'))
+      free i = do mv <- M.unsafeRead moved i; pure (i >= 1 && i <= n - 1 && not mv && not (frozen U.! i))
+      findRight m limit
+        | m > limit = pure Nothing
+        | otherwise = do
+            f <- free m
+            if not f then pure Nothing else do
+              ok <- rightOk m
+              if ok then pure (Just m) else findRight (m + 1) limit
+      tryBlock k = do
+        f <- free k
+        when f $ do
+          lok <- leftOk k
+          when lok $ do
+            mr <- findRight k (n - 1)
+            case mr of
+              Nothing -> pure ()
+              Just m -> do
+                vs <- mapM vAt [k .. m]
+                let vs' = map (+ dv) vs
+                posOk <- if raising then speedOk k m vs' else pure True
+                when (all (>= 0) vs' && posOk) $ do
+                  forM_ (zip [k .. m] vs') $ \(i, x) -> M.unsafeWrite v i x >> M.unsafeWrite moved i True
+                  modifySTRef' changed (+ (m - k + 1))
+                  modifySTRef' shiftRef (+ fromIntegral (m - k + 1) * dv * dt)
+      -- raising: the block's samples stay within the limits where they are now
+      -- (positions as at the start of the pass, moved on by the blocks raised before)
+      speedOk k m vs' = do
+        shift <- readSTRef shiftRef
+        before <- vAt (k - 1)
+        after <- vAt (m + 1)
+        let pos i = s0 U.! i + shift
+            prevOf i x = if i == k then before else x
+            tops = zip3 [k .. m] vs' (drop 1 vs' ++ [after])
+        pure (and [ max (prevOf i x) (max x nx) <= stepLimit pb (pos (i - 1)) (pos (i + 1)) | (i, x, nx) <- tops ])
+  forM_ starts tryBlock
+  out <- U.freeze v
+  c <- readSTRef changed
+  pure (PassResult out c raising)
 
 -- | Raising pass.
 raise :: Mode -> Problem -> U.Vector Bool -> U.Vector Double -> PassResult
