@@ -12,6 +12,7 @@ oversized length prefix, truncated frame) after which the daemon closes the conn
 Reports how many frames were answered, by outcome, and whether the daemon survived:
 "alive, N errors answered, 0 crashes".
 """
+internal_samples = []
 import argparse
 import collections
 import os
@@ -127,6 +128,8 @@ def main():
                 kind = r.WhichOneof("body")
                 if kind == "error":
                     outcomes["error:" + pb.ErrorCode.Name(r.error.code)] += 1
+                    if r.error.code == pb.ERROR_CODE_INTERNAL and len(internal_samples) < 5:
+                        internal_samples.append(r.error.message[:300])
                 elif kind == "profile" and r.profile.HasField("error"):
                     outcomes["profile-error:" + pb.ErrorCode.Name(r.profile.error.code)] += 1
                 else:
@@ -164,6 +167,8 @@ def main():
           % (sent, answered, time.time() - t0, closes))
     for k, v in sorted(outcomes.items()):
         print("  %-40s %d" % (k, v))
+    for m in internal_samples:
+        print("  INTERNAL: " + m)
     print("%s, %d errors answered, %d crashes" % ("alive" if alive else "NOT ALIVE", errors, crashes))
     return 0 if alive and crashes == 0 and answered == sent else 1
 
