@@ -1,0 +1,339 @@
+{-# LANGUAGE BangPatterns #-}
+-- | The thesis's compression algorithm (section 4, appendix A: @initP2@, @updateP@,
+-- @increaseP@, @decreaseP@, @Algoritme5@), pure, with exact least-squares updates:
+--
+-- * start: split the samples into consecutive groups in time (about 10 % of the samples
+--   become waypoints), first and last waypoint pinned to the first and last sample;
+-- * update ('updatePath'): with the waypoint times fixed, all positions at once by linear
+--   least squares (band normal equations, "VProf.Compress.Banded"), orientations by
+--   Gauss–Newton steps in the tangent space (same band structure), then each waypoint's
+--   time by golden-section search between its neighbours; repeated until the improvement
+--   stops (at most 40 rounds);
+-- * grow by 50 % (insert where it lowers the error most), then shrink 5 % at a time
+--   (remove where it raises the error least, then update) until the requested number of
+--   points, or the error passes margin × the grown path's error, or the largest position
+--   error would pass the tolerance.
+module VProf.Compress.Fit
+  ( FitConfig (..)
+  , defaultFitConfig
+  , StopReason (..)
+  , FitResult (..)
+  , fitThesis
+  , initialPath
+  , updatePath
+  , growPath
+  , shrinkStep
+  , solvePositions
+  , solveOrientations
+  , updateTimes
+  ) where
+
+import Control.Monad (forM_, when)
+import Control.Monad.ST (runST)
+import Data.List (sortBy)
+import Data.Ord (comparing)
+import qualified Data.IntSet as IS
+import qualified Data.Vector.Unboxed as U
+import Linear (Quaternion, V3 (..), quadrance, (*^), (^+^), (^-^))
+
+import VProf.Compress.Banded
+import VProf.Compress.Geometry
+import VProf.Compress.Objective
+import VProf.Compress.Types
+
+data FitConfig = FitConfig
+  { fcWeights      :: !Weights
+  , fcPoints       :: !(Maybe Int)     -- ^ waypoints wanted
+  , fcMargin       :: !(Maybe Double)  -- ^ stop when E > margin × E(grown path)
+  , fcTolerance    :: !(Maybe Double)  -- ^ m, largest time-synchronous position error
+  , fcMaxRounds    :: !Int             -- ^ update rounds after start and growth (thesis: 40)
+  , fcShrinkRounds :: !Int             -- ^ update rounds after each removal step
+  , fcInitFraction :: !Double          -- ^ waypoints of the first draft / samples (thesis: 0.10)
+  } deriving (Show, Eq)
+
+defaultFitConfig :: FitConfig
+defaultFitConfig = FitConfig defaultWeights Nothing Nothing Nothing 40 8 0.10
+
+data StopReason = ReachedPoints | ReachedMargin | ReachedTolerance | ReachedMinimum
+  deriving (Show, Eq)
+
+data FitResult = FitResult
+  { frPath        :: !PathA
+  , frCost        :: !Double     -- ^ weighted objective of the result
+  , frGrownCost   :: !Double     -- ^ weighted objective of the grown path
+  , frGrownPoints :: !Int
+  , frStop        :: !StopReason
+  , frToleranceMet :: !Bool
+  , frHistory     :: ![(Int, Double)]  -- ^ (points, objective) after each shrink step
+  } deriving (Show)
+
+----------------------------------------------------------------------------- start
+
+-- | K waypoints at the sample times that split the recording into K−1 equal groups.
+initialPath :: Prepared -> Int -> PathA
+initialPath pr k0 = PathA (U.map (prT pr U.!) idx) (U.map (prP pr U.!) idx) (U.map (prQ pr U.!) idx)
+  where
+    n = U.length (prT pr)
+    k = max 2 (min n k0)
+    idx = U.generate k (\j -> round (fromIntegral j * fromIntegral (n - 1) / fromIntegral (k - 1) :: Double))
+
+----------------------------------------------------------------------------- update
+
+-- | Rounds of (positions, orientations, times) until the objective stops improving.
+updatePath :: Prepared -> Weights -> Int -> PathA -> PathA
+updatePath pr w maxRounds pa0 = go 0 pa0 (totalCost pr w pa0)
+  where
+    go r pa c
+      | r >= maxRounds = pa
+      | otherwise =
+          let pa1 = updateTimes pr w (solveOrientations pr w (solvePositions pr w pa))
+              c1 = totalCost pr w pa1
+          in if c1 >= c then pa
+             else if c - c1 <= 1e-6 * c then pa1
+             else go (r + 1) pa1 c1
+
+-- | With waypoint times fixed, the positions of all waypoints minimising
+-- wp Σ|p_i − p̂(t_i)|² + wv Σ|v_i − v̂_i|², endpoints pinned. Exact linear least squares.
+solvePositions :: Prepared -> Weights -> PathA -> PathA
+solvePositions pr (Weights wp _ wv) pa@(PathA ts ps qs)
+  | wp == 0 && wv == 0 = pa
+  | otherwise = case sol of
+      Right ps' -> PathA ts ps' qs
+      Left _ -> pa
+  where
+    st = prT pr
+    n = U.length st
+    k = U.length ts
+    seg = segmentIndices ts st
+    alpha i = let j = seg U.! i
+                  t0 = ts U.! j; t1 = ts U.! (j + 1)
+              in max 0 (min 1 ((st U.! i - t0) / (t1 - t0)))
+    band | wv == 0 = 1
+         | otherwise = max 1 (U.maximum (U.generate (n - 1) (\i -> seg U.! (i + 1) + 1 - seg U.! i)))
+    lam = 1e-9 * (wp + wv) * fromIntegral n / fromIntegral k
+    sol = runST $ do
+      bs <- newBand k band
+      forM_ [0 .. n - 1] $ \i -> do
+        let a = alpha i
+        addObs2 bs wp (seg U.! i) (1 - a) a (prP pr U.! i)
+      when (wv > 0) $ forM_ [0 .. n - 2] $ \i -> do
+        let d = prDt pr U.! i
+            j0 = seg U.! i; a0 = alpha i
+            j1 = seg U.! (i + 1); a1 = alpha (i + 1)
+        addObs bs wv [(j1, (1 - a1) / d), (j1 + 1, a1 / d), (j0, negate (1 - a0) / d), (j0 + 1, negate a0 / d)]
+               (prV pr U.! i)
+      forM_ [0 .. k - 1] $ \j -> addObs bs lam [(j, 1)] (ps U.! j)
+      pinValue bs 0 (U.head (prP pr))
+      pinValue bs (k - 1) (U.last (prP pr))
+      solveBand bs
+
+-- | Gauss–Newton steps for the orientations: the error of sample i is the rotation vector
+-- e_i = log(q_i q̂_iᶜ); a correction δ_j at each waypoint moves q̂(t_i) by about
+-- (1−a)δ_j + aδ_{j+1}; the δ minimising Σ|e_i − δ(t_i)|² is a band least-squares problem.
+-- A step is kept only if it lowers the orientation error (halved up to twice otherwise).
+-- With orientation weight 0 the waypoints take the recording's orientation at their time.
+solveOrientations :: Prepared -> Weights -> PathA -> PathA
+solveOrientations pr (Weights _ wo _) pa@(PathA ts ps qs)
+  | wo == 0 = PathA ts ps (U.map (\t -> snd (interpolate (prT pr) (prP pr) (prQ pr) t)) ts)
+  | otherwise = iter (2 :: Int) pa
+  where
+    st = prT pr
+    n = U.length st
+    k = U.length ts
+    oriCost (PathA t p q) = rangeCost pr (Weights 0 1 0) (interpolate t p q) 0 (n - 1)
+    iter 0 x = x
+    iter m x@(PathA _ _ q0) =
+      let c0 = oriCost x
+          seg = segmentIndices ts st
+          alpha i = let j = seg U.! i
+                        t0 = ts U.! j; t1 = ts U.! (j + 1)
+                    in max 0 (min 1 ((st U.! i - t0) / (t1 - t0)))
+          deltas = runST $ do
+            bs <- newBand k 1
+            forM_ [0 .. n - 1] $ \i -> do
+              let j = seg U.! i
+                  a = alpha i
+                  qh = slerpShort (q0 U.! j) (q0 U.! (j + 1)) a
+                  e = qlog (qmul (prQ pr U.! i) (qconj qh))
+              addObs2 bs 1 j (1 - a) a e
+            forM_ [0 .. k - 1] $ \j -> addObs bs (1e-9 * fromIntegral n / fromIntegral k) [(j, 1)] (V3 0 0 0)
+            pinValue bs 0 (V3 0 0 0)
+            pinValue bs (k - 1) (V3 0 0 0)
+            solveBand bs
+          apply s ds = PathA ts ps (U.zipWith (\d q -> normQ (qmul (qexp (s *^ d)) q)) ds q0)
+          tryStep ds = case [x' | s <- [1, 0.5, 0.25], let x' = apply s ds, oriCost x' < c0] of
+            (x' : _) -> Just x'
+            [] -> Nothing
+      in case deltas of
+           Left _ -> x
+           Right ds -> case tryStep ds of
+             Just x' -> iter (m - 1) (pinQ x')
+             Nothing -> x
+    pinQ (PathA t p q) = PathA t p (q U.// [(0, U.head (prQ pr)), (k - 1, U.last (prQ pr))])
+    _unused = qs
+
+normQ :: Quaternion Double -> Quaternion Double
+normQ q = let n = sqrt (qdot q q) in fmap (/ n) q
+
+-- | One Gauss–Seidel sweep over the interior waypoints: each time moves, by golden-section
+-- search between its neighbours, to where the error of the samples of its two segments is
+-- least (position and orientation of the waypoint held).
+updateTimes :: Prepared -> Weights -> PathA -> PathA
+updateTimes pr w (PathA ts0 ps qs) = PathA (U.fromList (go 1 ts0List)) ps qs
+  where
+    k = U.length ts0
+    ts0List = U.toList ts0
+    go _ l | k <= 2 = l
+    go j l = U.toList (sweep 1 ts0)
+      where _ = (j, l)
+    sweep j ts
+      | j >= k - 1 = ts
+      | otherwise =
+          let lo = ts U.! (j - 1); hi = ts U.! (j + 1); cur = ts U.! j
+              (i0, i1) = samplesIn pr lo hi
+              f tau = rangeCost pr w (localInterp ts j tau) i0 i1
+              gap = 1e-3 * (hi - lo)
+              best = golden f (lo + gap) (hi - gap) 18
+              tnew = if f best < f cur then best else cur
+          in sweep (j + 1) (if tnew == cur then ts else ts U.// [(j, tnew)])
+    localInterp ts j tau t
+      | t >= tj1 = interpolate ts ps qs t
+      | t < tjm1 = interpolate ts ps qs t
+      | t < tau = lin (ts U.! (j - 1)) tau (j - 1) j t
+      | otherwise = lin tau tj1 j (j + 1) t
+      where tjm1 = ts U.! (j - 1); tj1 = ts U.! (j + 1)
+    lin t0 t1 a b t =
+      let s = max 0 (min 1 ((t - t0) / (t1 - t0)))
+          p0 = ps U.! a; p1 = ps U.! b
+      in (p0 ^+^ s *^ (p1 ^-^ p0), slerpShort (qs U.! a) (qs U.! b) s)
+
+golden :: (Double -> Double) -> Double -> Double -> Int -> Double
+golden f a0 b0 iters = loop a0 b0 x1 x2 (f x1) (f x2) iters
+  where
+    r = (sqrt 5 - 1) / 2
+    x1 = b0 - r * (b0 - a0)
+    x2 = a0 + r * (b0 - a0)
+    loop a b c d fc fd m
+      | m <= 0 = if fc < fd then c else d
+      | fc < fd = let b' = d; d' = c; c' = b' - r * (b' - a) in loop a b' c' d' (f c') fc (m - 1)
+      | otherwise = let a' = c; c' = d; d' = a' + r * (b - a') in loop a' b c' d' fd (f d') (m - 1)
+
+----------------------------------------------------------------------------- grow / shrink
+
+-- | Insert up to m waypoints, each in a different segment, at the interior sample whose
+-- error is largest, choosing the segments where the insertion lowers the error most.
+growPath :: Prepared -> Weights -> Int -> PathA -> PathA
+growPath pr w m pa@(PathA ts ps qs)
+  | m <= 0 = pa
+  | otherwise = PathA (U.fromList (map fst3 merged)) (U.fromList (map snd3 merged)) (U.fromList (map thd3 merged))
+  where
+    k = U.length ts
+    cands = [ (gain, i) | j <- [0 .. k - 2], Just (gain, i) <- [candidate j], gain > 0 ]
+    chosen = take m (sortBy (comparing (negate . fst)) cands)
+    newPts = [ (prT pr U.! i, prP pr U.! i, prQ pr U.! i) | (_, i) <- chosen ]
+    old = zip3 (U.toList ts) (U.toList ps) (U.toList qs)
+    merged = mergeOn fst3 old (sortBy (comparing fst3) newPts)
+    candidate j =
+      let t0 = ts U.! j; t1 = ts U.! (j + 1)
+          (i0, i1) = samplesIn pr t0 t1
+          inner = [ i | i <- [i0 .. i1], prT pr U.! i > t0, prT pr U.! i < t1 ]
+          errAt i = let (ph, qh) = interpolateAt ts ps qs j (prT pr U.! i)
+                        a = qangle (prQ pr U.! i) qh
+                    in wPosition w * quadrance (prP pr U.! i ^-^ ph) + wOrientation w * a * a
+      in case inner of
+           [] -> Nothing
+           _ -> let i = snd (maximum [ (errAt x, x) | x <- inner ])
+                    before = rangeCost pr w (interpolate ts ps qs) i0 i1
+                    ti = prT pr U.! i
+                    f t | t < ti = lin t0 ti (ps U.! j) (prP pr U.! i) (qs U.! j) (prQ pr U.! i) t
+                        | otherwise = lin ti t1 (prP pr U.! i) (ps U.! (j + 1)) (prQ pr U.! i) (qs U.! (j + 1)) t
+                    g t | t < t0 || t > t1 = interpolate ts ps qs t
+                        | otherwise = f t
+                    after = rangeCost pr w g i0 i1
+                in Just (before - after, i)
+    lin ta tb pa' pb qa qb t =
+      let s = max 0 (min 1 ((t - ta) / (tb - ta)))
+      in (pa' ^+^ s *^ (pb ^-^ pa'), slerpShort qa qb s)
+    fst3 (a, _, _) = a
+    snd3 (_, b, _) = b
+    thd3 (_, _, c) = c
+
+mergeOn :: Ord b => (a -> b) -> [a] -> [a] -> [a]
+mergeOn _ [] ys = ys
+mergeOn _ xs [] = xs
+mergeOn f (x : xs) (y : ys)
+  | f x <= f y = x : mergeOn f xs (y : ys)
+  | otherwise = y : mergeOn f (x : xs) ys
+
+-- | Remove up to m interior waypoints (no two neighbours), those whose removal raises the
+-- error least.
+shrinkStep :: Prepared -> Weights -> Int -> PathA -> PathA
+shrinkStep pr w m pa@(PathA ts ps qs)
+  | k <= 2 || m <= 0 = pa
+  | otherwise = PathA (keep ts) (keep ps) (keep qs)
+  where
+    k = U.length ts
+    cost j =
+      let t0 = ts U.! (j - 1); t1 = ts U.! (j + 1)
+          (i0, i1) = samplesIn pr t0 t1
+          before = rangeCost pr w (interpolate ts ps qs) i0 i1
+          g t | t < t0 || t > t1 = interpolate ts ps qs t
+              | otherwise = let s = (t - t0) / (t1 - t0)
+                                p0 = ps U.! (j - 1); p1 = ps U.! (j + 1)
+                            in (p0 ^+^ s *^ (p1 ^-^ p0), slerpShort (qs U.! (j - 1)) (qs U.! (j + 1)) s)
+      in rangeCost pr w g i0 i1 - before
+    ranked = map snd (sortBy (comparing fst) [ (cost j, j) | j <- [1 .. k - 2] ])
+    pick !s !c [] = s
+    pick !s !c (j : js)
+      | c >= m = s
+      | IS.member (j - 1) s || IS.member (j + 1) s = pick s c js
+      | otherwise = pick (IS.insert j s) (c + 1) js
+    removed = pick IS.empty (0 :: Int) ranked
+    keep :: U.Unbox a => U.Vector a -> U.Vector a
+    keep v = U.ifilter (\j _ -> not (IS.member j removed)) v
+
+----------------------------------------------------------------------------- driver
+
+maxPositionError :: Prepared -> PathA -> Double
+maxPositionError pr pa = let (ep, _, _) = pointErrors pr pa in U.maximum ep
+
+-- | The whole algorithm. The number of points defaults to about 3 % of the samples when
+-- neither a margin nor a tolerance is given.
+fitThesis :: FitConfig -> Prepared -> FitResult
+fitThesis cfg pr
+  | target >= n = let pa = PathA (prT pr) (prP pr) (prQ pr); c = totalCost pr w pa
+                  in FitResult pa c c n ReachedPoints (tolOk pa) [(n, c)]
+  | otherwise = shrinkLoop grown cg [(U.length (paT grown), cg)] False
+  where
+    w = fcWeights cfg
+    n = U.length (prT pr)
+    target = case (fcPoints cfg, fcMargin cfg, fcTolerance cfg) of
+      (Just p, _, _) -> max 2 p
+      (Nothing, Nothing, Nothing) -> max 2 (round (0.03 * fromIntegral n :: Double))
+      _ -> 2
+    k0 = min n (max (max 2 (round (fcInitFraction cfg * fromIntegral n)))
+                    (ceiling (fromIntegral target / 1.5 :: Double)))
+    start = updatePath pr w (fcMaxRounds cfg) (initialPath pr k0)
+    mGrow = min (n - k0) (max 1 (round (0.5 * fromIntegral k0 :: Double)))
+    grown = updatePath pr w (fcMaxRounds cfg) (growPath pr w mGrow start)
+    cg = totalCost pr w grown
+    tolOk pa = maybe True (\tol -> maxPositionError pr pa <= tol) (fcTolerance cfg)
+    grownTolOk = tolOk grown
+    result pa c why hist = FitResult pa c cg (U.length (paT grown)) why (tolOk pa) (reverse hist)
+    shrinkLoop pa c hist single
+      | kk <= target = result pa c (if target > 2 || fcPoints cfg /= Nothing then ReachedPoints else ReachedMinimum) hist
+      | not grownTolOk = result pa c ReachedTolerance hist
+      | otherwise =
+          let m0 = if single then 1 else max 1 (round (0.05 * fromIntegral kk :: Double))
+              m = min m0 (kk - target)
+              pa' = updatePath pr w (fcShrinkRounds cfg) (shrinkStep pr w m pa)
+              c' = totalCost pr w pa'
+              marginBad = maybe False (\mg -> c' > mg * cg) (fcMargin cfg)
+              tolBad = not (tolOk pa')
+              kk' = U.length (paT pa')
+          in if kk' == kk then result pa c ReachedMinimum hist
+             else if marginBad || tolBad
+               then if m > 1 then shrinkLoop pa c hist True
+                    else result pa c (if marginBad then ReachedMargin else ReachedTolerance) hist
+             else shrinkLoop pa' c' ((kk', c') : hist) single
+      where kk = U.length (paT pa)
