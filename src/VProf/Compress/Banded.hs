@@ -18,15 +18,32 @@ import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as MU
 import Linear (V3 (..), (*^), (^+^), (^-^))
 
+import VProf.Compress.Vec (V3s (..))
+
 data BandSystem s = BandSystem
   { bsN :: !Int
   , bsB :: !Int                        -- ^ half bandwidth
   , bsA :: !(MU.MVector s Double)      -- ^ lower band: (i, j), i-b <= j <= i, at i*(b+1) + j-i+b
-  , bsR :: !(MU.MVector s (V3 Double))
+  , bsR :: !(MU.MVector s Double)      -- ^ right-hand sides, x y z interleaved
   }
 
 newBand :: Int -> Int -> ST s (BandSystem s)
-newBand n b = BandSystem n b <$> MU.replicate (n * (b + 1)) 0 <*> MU.replicate n (V3 0 0 0)
+newBand n b = BandSystem n b <$> MU.replicate (n * (b + 1)) 0 <*> MU.replicate (3 * n) 0
+
+rdR :: BandSystem s -> Int -> ST s (V3 Double)
+rdR bs i = V3 <$> MU.unsafeRead (bsR bs) (3 * i) <*> MU.unsafeRead (bsR bs) (3 * i + 1) <*> MU.unsafeRead (bsR bs) (3 * i + 2)
+{-# INLINE rdR #-}
+
+wrR :: BandSystem s -> Int -> V3 Double -> ST s ()
+wrR bs i (V3 x y z) = do
+  MU.unsafeWrite (bsR bs) (3 * i) x
+  MU.unsafeWrite (bsR bs) (3 * i + 1) y
+  MU.unsafeWrite (bsR bs) (3 * i + 2) z
+{-# INLINE wrR #-}
+
+modR :: BandSystem s -> (V3 Double -> V3 Double) -> Int -> ST s ()
+modR bs f i = rdR bs i >>= wrR bs i . f
+{-# INLINE modR #-}
 
 ix :: BandSystem s -> Int -> Int -> Int
 ix bs i j = i * (bsB bs + 1) + j - i + bsB bs
@@ -36,7 +53,7 @@ ix bs i j = i * (bsB bs + 1) + j - i + bsB bs
 addObs :: BandSystem s -> Double -> [(Int, Double)] -> V3 Double -> ST s ()
 addObs bs w cs target =
   forM_ cs $ \(i, ci) -> do
-    MU.unsafeModify (bsR bs) (^+^ (w * ci) *^ target) i
+    modR bs (^+^ (w * ci) *^ target) i
     forM_ cs $ \(j, cj) ->
       when (j <= i) $ MU.unsafeModify (bsA bs) (+ w * ci * cj) (ix bs i j)
 {-# INLINE addObs #-}
@@ -44,8 +61,8 @@ addObs bs w cs target =
 -- | 'addObs' for the common two-unknown observation (i, ci), (i+1, cj).
 addObs2 :: BandSystem s -> Double -> Int -> Double -> Double -> V3 Double -> ST s ()
 addObs2 bs w i ci cj target = do
-  MU.unsafeModify (bsR bs) (^+^ (w * ci) *^ target) i
-  MU.unsafeModify (bsR bs) (^+^ (w * cj) *^ target) (i + 1)
+  modR bs (^+^ (w * ci) *^ target) i
+  modR bs (^+^ (w * cj) *^ target) (i + 1)
   MU.unsafeModify (bsA bs) (+ w * ci * ci) (ix bs i i)
   MU.unsafeModify (bsA bs) (+ w * cj * cj) (ix bs (i + 1) (i + 1))
   MU.unsafeModify (bsA bs) (+ w * ci * cj) (ix bs (i + 1) i)
@@ -58,13 +75,13 @@ pinValue bs p v = do
   forM_ [max 0 (p - b) .. min (n - 1) (p + b)] $ \r -> when (r /= p) $ do
     let k = if r > p then ix bs r p else ix bs p r
     a <- MU.unsafeRead (bsA bs) k
-    MU.unsafeModify (bsR bs) (^-^ a *^ v) r
+    modR bs (^-^ a *^ v) r
     MU.unsafeWrite (bsA bs) k 0
   MU.unsafeWrite (bsA bs) (ix bs p p) 1
-  MU.unsafeWrite (bsR bs) p v
+  wrR bs p v
 
 -- | Solve by band Cholesky; Left when the matrix is not positive definite.
-solveBand :: BandSystem s -> ST s (Either String (U.Vector (V3 Double)))
+solveBand :: BandSystem s -> ST s (Either String V3s)
 solveBand bs = do
   let n = bsN bs; b = bsB bs; a = bsA bs
   okRef <- MU.replicate 1 (-1 :: Int)
@@ -87,25 +104,24 @@ solveBand bs = do
   if bad >= 0
     then pure (Left ("least-squares system is singular at unknown " ++ show bad))
     else do
-      let r = bsR bs
       forM_ [0 .. n - 1] $ \i -> do
         let go !k !s | k >= i = pure s
                      | otherwise = do
                          lik <- MU.unsafeRead a (ix bs i k)
-                         yk <- MU.unsafeRead r k
+                         yk <- rdR bs k
                          go (k + 1) (s ^-^ lik *^ yk)
-        ri <- MU.unsafeRead r i
+        ri <- rdR bs i
         s <- go (max 0 (i - b)) ri
         lii <- MU.unsafeRead a (ix bs i i)
-        MU.unsafeWrite r i ((1 / lii) *^ s)
+        wrR bs i ((1 / lii) *^ s)
       forM_ [n - 1, n - 2 .. 0] $ \i -> do
         let go !k !s | k > min (n - 1) (i + b) = pure s
                      | otherwise = do
                          lki <- MU.unsafeRead a (ix bs k i)
-                         xk <- MU.unsafeRead r k
+                         xk <- rdR bs k
                          go (k + 1) (s ^-^ lki *^ xk)
-        yi <- MU.unsafeRead r i
+        yi <- rdR bs i
         s <- go (i + 1) yi
         lii <- MU.unsafeRead a (ix bs i i)
-        MU.unsafeWrite r i ((1 / lii) *^ s)
-      Right <$> U.freeze r
+        wrR bs i ((1 / lii) *^ s)
+      Right . V3s <$> U.freeze (bsR bs)

@@ -1,3 +1,6 @@
+{-# LANGUAGE FlexibleContexts #-}
+{-# OPTIONS_GHC -fno-spec-constr #-}
+-- (-fno-spec-constr: GHC 9.0.2 panics in SpecConstr on the shrink loop, "Template variable unbound in rewrite rule")
 {-# LANGUAGE BangPatterns #-}
 -- | The thesis's compression algorithm (section 4, appendix A: @initP2@, @updateP@,
 -- @increaseP@, @decreaseP@, @Algoritme5@), pure, with exact least-squares updates:
@@ -26,6 +29,9 @@ module VProf.Compress.Fit
   , solvePositions
   , solveOrientations
   , updateTimes
+  , TimeMode (..)
+  , updatePathWith
+  , shrinkStepN
   ) where
 
 import Control.Monad (forM_, when)
@@ -40,6 +46,7 @@ import VProf.Compress.Banded
 import VProf.Compress.Geometry
 import VProf.Compress.Objective
 import VProf.Compress.Types
+import VProf.Compress.Vec
 
 data FitConfig = FitConfig
   { fcWeights      :: !Weights
@@ -71,7 +78,7 @@ data FitResult = FitResult
 
 -- | K waypoints at the sample times that split the recording into K−1 equal groups.
 initialPath :: Prepared -> Int -> PathA
-initialPath pr k0 = PathA (U.map (prT pr U.!) idx) (U.map (prP pr U.!) idx) (U.map (prQ pr U.!) idx)
+initialPath pr k0 = PathA (pbackpermute (prT pr) idx) (pbackpermute (prP pr) idx) (pbackpermute (prQ pr) idx)
   where
     n = U.length (prT pr)
     k = max 2 (min n k0)
@@ -81,12 +88,23 @@ initialPath pr k0 = PathA (U.map (prT pr U.!) idx) (U.map (prP pr U.!) idx) (U.m
 
 -- | Rounds of (positions, orientations, times) until the objective stops improving.
 updatePath :: Prepared -> Weights -> Int -> PathA -> PathA
-updatePath pr w maxRounds pa0 = go 0 pa0 (totalCost pr w pa0)
+updatePath pr w = updatePathWith pr w TimesAll
+
+-- | Which waypoint times an update round moves.
+data TimeMode = TimesAll | TimesNone | TimesOf IS.IntSet
+
+-- | 'updatePath' with a choice of which waypoint times move.
+updatePathWith :: Prepared -> Weights -> TimeMode -> Int -> PathA -> PathA
+updatePathWith pr w mode maxRounds pa0 = go 0 pa0 (totalCost pr w pa0)
   where
+    times pa = case mode of
+      TimesAll -> updateTimes pr w (const True) pa
+      TimesNone -> pa
+      TimesOf set -> updateTimes pr w (`IS.member` set) pa
     go r pa c
       | r >= maxRounds = pa
       | otherwise =
-          let pa1 = updateTimes pr w (solveOrientations pr w (solvePositions pr w pa))
+          let pa1 = times (solveOrientations pr w (solvePositions pr w pa))
               c1 = totalCost pr w pa1
           in if c1 >= c then pa
              else if c - c1 <= 1e-6 * c then pa1
@@ -115,16 +133,16 @@ solvePositions pr (Weights wp _ wv) pa@(PathA ts ps qs)
       bs <- newBand k band
       forM_ [0 .. n - 1] $ \i -> do
         let a = alpha i
-        addObs2 bs wp (seg U.! i) (1 - a) a (prP pr U.! i)
+        addObs2 bs wp (seg U.! i) (1 - a) a (pindex (prP pr) i)
       when (wv > 0) $ forM_ [0 .. n - 2] $ \i -> do
         let d = prDt pr U.! i
             j0 = seg U.! i; a0 = alpha i
             j1 = seg U.! (i + 1); a1 = alpha (i + 1)
         addObs bs wv [(j1, (1 - a1) / d), (j1 + 1, a1 / d), (j0, negate (1 - a0) / d), (j0 + 1, negate a0 / d)]
-               (prV pr U.! i)
-      forM_ [0 .. k - 1] $ \j -> addObs bs lam [(j, 1)] (ps U.! j)
-      pinValue bs 0 (U.head (prP pr))
-      pinValue bs (k - 1) (U.last (prP pr))
+               (pindex (prV pr) i)
+      forM_ [0 .. k - 1] $ \j -> addObs bs lam [(j, 1)] (pindex ps j)
+      pinValue bs 0 (phead (prP pr))
+      pinValue bs (k - 1) (plast (prP pr))
       solveBand bs
 
 -- | Gauss–Newton steps for the orientations: the error of sample i is the rotation vector
@@ -134,7 +152,7 @@ solvePositions pr (Weights wp _ wv) pa@(PathA ts ps qs)
 -- With orientation weight 0 the waypoints take the recording's orientation at their time.
 solveOrientations :: Prepared -> Weights -> PathA -> PathA
 solveOrientations pr (Weights _ wo _) pa@(PathA ts ps qs)
-  | wo == 0 = PathA ts ps (U.map (\t -> snd (interpolate (prT pr) (prP pr) (prQ pr) t)) ts)
+  | wo == 0 = PathA ts ps (pgenerate (U.length ts) (\j -> snd (interpolate (prT pr) (prP pr) (prQ pr) (ts U.! j))))
   | otherwise = iter (2 :: Int) pa
   where
     st = prT pr
@@ -153,14 +171,14 @@ solveOrientations pr (Weights _ wo _) pa@(PathA ts ps qs)
             forM_ [0 .. n - 1] $ \i -> do
               let j = seg U.! i
                   a = alpha i
-                  qh = slerpShort (q0 U.! j) (q0 U.! (j + 1)) a
-                  e = qlog (qmul (prQ pr U.! i) (qconj qh))
+                  qh = slerpShort (pindex q0 j) (pindex q0 (j + 1)) a
+                  e = qlog (qmul (pindex (prQ pr) i) (qconj qh))
               addObs2 bs 1 j (1 - a) a e
             forM_ [0 .. k - 1] $ \j -> addObs bs (1e-9 * fromIntegral n / fromIntegral k) [(j, 1)] (V3 0 0 0)
             pinValue bs 0 (V3 0 0 0)
             pinValue bs (k - 1) (V3 0 0 0)
             solveBand bs
-          apply s ds = PathA ts ps (U.zipWith (\d q -> normQ (qmul (qexp (s *^ d)) q)) ds q0)
+          apply s ds = PathA ts ps (pgenerate k (\j -> normQ (qmul (qexp (s *^ pindex ds j)) (pindex q0 j))))
           tryStep ds = case [x' | s <- [1, 0.5, 0.25], let x' = apply s ds, oriCost x' < c0] of
             (x' : _) -> Just x'
             [] -> Nothing
@@ -169,7 +187,7 @@ solveOrientations pr (Weights _ wo _) pa@(PathA ts ps qs)
            Right ds -> case tryStep ds of
              Just x' -> iter (m - 1) (pinQ x')
              Nothing -> x
-    pinQ (PathA t p q) = PathA t p (q U.// [(0, U.head (prQ pr)), (k - 1, U.last (prQ pr))])
+    pinQ (PathA t p q) = PathA t p (pupdate q [(0, phead (prQ pr)), (k - 1, plast (prQ pr))])
     _unused = qs
 
 normQ :: Quaternion Double -> Quaternion Double
@@ -178,22 +196,23 @@ normQ q = let n = sqrt (qdot q q) in fmap (/ n) q
 -- | One Gauss–Seidel sweep over the interior waypoints: each time moves, by golden-section
 -- search between its neighbours, to where the error of the samples of its two segments is
 -- least (position and orientation of the waypoint held).
-updateTimes :: Prepared -> Weights -> PathA -> PathA
-updateTimes pr w (PathA ts0 ps qs) = PathA (U.fromList (go 1 ts0List)) ps qs
+updateTimes :: Prepared -> Weights -> (Int -> Bool) -> PathA -> PathA
+updateTimes pr w which (PathA ts0 ps qs)
+  | k <= 2 = PathA ts0 ps qs
+  | otherwise = PathA (sweep 1 ts0) ps qs
   where
     k = U.length ts0
-    ts0List = U.toList ts0
-    go _ l | k <= 2 = l
-    go j l = U.toList (sweep 1 ts0)
-      where _ = (j, l)
     sweep j ts
       | j >= k - 1 = ts
+      | not (which j) = sweep (j + 1) ts
       | otherwise =
           let lo = ts U.! (j - 1); hi = ts U.! (j + 1); cur = ts U.! j
               (i0, i1) = samplesIn pr lo hi
-              f tau = rangeCost pr w (localInterp ts j tau) i0 i1
+              f tau = twoSegmentCost pr w (interpolate ts ps qs) lo tau hi
+                        (pindex ps (j - 1)) (pindex ps j) (pindex ps (j + 1))
+                        (pindex qs (j - 1)) (pindex qs j) (pindex qs (j + 1)) i0 i1
               gap = 1e-3 * (hi - lo)
-              best = golden f (lo + gap) (hi - gap) 18
+              best = golden f (lo + gap) (hi - gap) 14
               tnew = if f best < f cur then best else cur
           in sweep (j + 1) (if tnew == cur then ts else ts U.// [(j, tnew)])
     localInterp ts j tau t
@@ -204,8 +223,8 @@ updateTimes pr w (PathA ts0 ps qs) = PathA (U.fromList (go 1 ts0List)) ps qs
       where tjm1 = ts U.! (j - 1); tj1 = ts U.! (j + 1)
     lin t0 t1 a b t =
       let s = max 0 (min 1 ((t - t0) / (t1 - t0)))
-          p0 = ps U.! a; p1 = ps U.! b
-      in (p0 ^+^ s *^ (p1 ^-^ p0), slerpShort (qs U.! a) (qs U.! b) s)
+          p0 = pindex ps a; p1 = pindex ps b
+      in (p0 ^+^ s *^ (p1 ^-^ p0), slerpShort (pindex qs a) (pindex qs b) s)
 
 golden :: (Double -> Double) -> Double -> Double -> Int -> Double
 golden f a0 b0 iters = loop a0 b0 x1 x2 (f x1) (f x2) iters
@@ -225,28 +244,28 @@ golden f a0 b0 iters = loop a0 b0 x1 x2 (f x1) (f x2) iters
 growPath :: Prepared -> Weights -> Int -> PathA -> PathA
 growPath pr w m pa@(PathA ts ps qs)
   | m <= 0 = pa
-  | otherwise = PathA (U.fromList (map fst3 merged)) (U.fromList (map snd3 merged)) (U.fromList (map thd3 merged))
+  | otherwise = PathA (U.fromList (map fst3 merged)) (pfromList (map snd3 merged)) (pfromList (map thd3 merged))
   where
     k = U.length ts
     cands = [ (gain, i) | j <- [0 .. k - 2], Just (gain, i) <- [candidate j], gain > 0 ]
     chosen = take m (sortBy (comparing (negate . fst)) cands)
-    newPts = [ (prT pr U.! i, prP pr U.! i, prQ pr U.! i) | (_, i) <- chosen ]
-    old = zip3 (U.toList ts) (U.toList ps) (U.toList qs)
+    newPts = [ (prT pr U.! i, pindex (prP pr) i, pindex (prQ pr) i) | (_, i) <- chosen ]
+    old = zip3 (U.toList ts) (ptoList ps) (ptoList qs)
     merged = mergeOn fst3 old (sortBy (comparing fst3) newPts)
     candidate j =
       let t0 = ts U.! j; t1 = ts U.! (j + 1)
           (i0, i1) = samplesIn pr t0 t1
           inner = [ i | i <- [i0 .. i1], prT pr U.! i > t0, prT pr U.! i < t1 ]
           errAt i = let (ph, qh) = interpolateAt ts ps qs j (prT pr U.! i)
-                        a = qangle (prQ pr U.! i) qh
-                    in wPosition w * quadrance (prP pr U.! i ^-^ ph) + wOrientation w * a * a
+                        a = qangle (pindex (prQ pr) i) qh
+                    in wPosition w * quadrance (pindex (prP pr) i ^-^ ph) + wOrientation w * a * a
       in case inner of
            [] -> Nothing
            _ -> let i = snd (maximum [ (errAt x, x) | x <- inner ])
                     before = rangeCost pr w (interpolate ts ps qs) i0 i1
                     ti = prT pr U.! i
-                    f t | t < ti = lin t0 ti (ps U.! j) (prP pr U.! i) (qs U.! j) (prQ pr U.! i) t
-                        | otherwise = lin ti t1 (prP pr U.! i) (ps U.! (j + 1)) (prQ pr U.! i) (qs U.! (j + 1)) t
+                    f t | t < ti = lin t0 ti (pindex ps j) (pindex (prP pr) i) (pindex qs j) (pindex (prQ pr) i) t
+                        | otherwise = lin ti t1 (pindex (prP pr) i) (pindex ps (j + 1)) (pindex (prQ pr) i) (pindex qs (j + 1)) t
                     g t | t < t0 || t > t1 = interpolate ts ps qs t
                         | otherwise = f t
                     after = rangeCost pr w g i0 i1
@@ -268,10 +287,17 @@ mergeOn f (x : xs) (y : ys)
 -- | Remove up to m interior waypoints (no two neighbours), those whose removal raises the
 -- error least.
 shrinkStep :: Prepared -> Weights -> Int -> PathA -> PathA
-shrinkStep pr w m pa@(PathA ts ps qs)
-  | k <= 2 || m <= 0 = pa
-  | otherwise = PathA (keep ts) (keep ps) (keep qs)
+shrinkStep pr w m pa = fst (shrinkStepN pr w m pa)
+
+-- | 'shrinkStep', also giving the new indices of the neighbours of removed waypoints.
+shrinkStepN :: Prepared -> Weights -> Int -> PathA -> (PathA, IS.IntSet)
+shrinkStepN pr w m pa@(PathA ts ps qs)
+  | k <= 2 || m <= 0 = (pa, IS.empty)
+  | otherwise = (PathA (keep ts) (keep ps) (keep qs), touched)
   where
+    newIndex j = j - IS.size (fst (IS.split j removed))
+    touched = IS.fromList [ newIndex x | r <- IS.toList removed, x <- [r - 1, r + 1]
+                                       , x > 0, x < k - 1, not (IS.member x removed) ]
     k = U.length ts
     cost j =
       let t0 = ts U.! (j - 1); t1 = ts U.! (j + 1)
@@ -279,18 +305,18 @@ shrinkStep pr w m pa@(PathA ts ps qs)
           before = rangeCost pr w (interpolate ts ps qs) i0 i1
           g t | t < t0 || t > t1 = interpolate ts ps qs t
               | otherwise = let s = (t - t0) / (t1 - t0)
-                                p0 = ps U.! (j - 1); p1 = ps U.! (j + 1)
-                            in (p0 ^+^ s *^ (p1 ^-^ p0), slerpShort (qs U.! (j - 1)) (qs U.! (j + 1)) s)
+                                p0 = pindex ps (j - 1); p1 = pindex ps (j + 1)
+                            in (p0 ^+^ s *^ (p1 ^-^ p0), slerpShort (pindex qs (j - 1)) (pindex qs (j + 1)) s)
       in rangeCost pr w g i0 i1 - before
     ranked = map snd (sortBy (comparing fst) [ (cost j, j) | j <- [1 .. k - 2] ])
-    pick !s !c [] = s
+    pick !s _ [] = s
     pick !s !c (j : js)
       | c >= m = s
       | IS.member (j - 1) s || IS.member (j + 1) s = pick s c js
       | otherwise = pick (IS.insert j s) (c + 1) js
     removed = pick IS.empty (0 :: Int) ranked
-    keep :: U.Unbox a => U.Vector a -> U.Vector a
-    keep v = U.ifilter (\j _ -> not (IS.member j removed)) v
+    keep :: Packed v e => v -> v
+    keep = pifilter (\j -> not (IS.member j removed))
 
 ----------------------------------------------------------------------------- driver
 
@@ -313,20 +339,25 @@ fitThesis cfg pr
       _ -> 2
     k0 = min n (max (max 2 (round (fcInitFraction cfg * fromIntegral n)))
                     (ceiling (fromIntegral target / 1.5 :: Double)))
-    start = updatePath pr w (fcMaxRounds cfg) (initialPath pr k0)
+    start = updatePathWith pr w TimesNone (fcMaxRounds cfg) (initialPath pr k0)
     mGrow = min (n - k0) (max 1 (round (0.5 * fromIntegral k0 :: Double)))
-    grown = updatePath pr w (fcMaxRounds cfg) (growPath pr w mGrow start)
+    grown = updatePathWith pr w TimesAll 2 (updatePathWith pr w TimesNone (fcMaxRounds cfg) (growPath pr w mGrow start))
     cg = totalCost pr w grown
     tolOk pa = maybe True (\tol -> maxPositionError pr pa <= tol) (fcTolerance cfg)
     grownTolOk = tolOk grown
-    result pa c why hist = FitResult pa c cg (U.length (paT grown)) why (tolOk pa) (reverse hist)
+    -- final polish: full update rounds (all times move); kept unless it breaks the tolerance
+    result pa0 _ why hist =
+      let pol = updatePath pr w (fcMaxRounds cfg) pa0
+          pa = if tolOk pol || not (tolOk pa0) then pol else pa0
+      in FitResult pa (totalCost pr w pa) cg (U.length (paT grown)) why (tolOk pa) (reverse hist)
     shrinkLoop pa c hist single
       | kk <= target = result pa c (if target > 2 || fcPoints cfg /= Nothing then ReachedPoints else ReachedMinimum) hist
       | not grownTolOk = result pa c ReachedTolerance hist
       | otherwise =
           let m0 = if single then 1 else max 1 (round (0.05 * fromIntegral kk :: Double))
               m = min m0 (kk - target)
-              pa' = updatePath pr w (fcShrinkRounds cfg) (shrinkStep pr w m pa)
+              (removedPa, touched) = shrinkStepN pr w m pa
+              pa' = updatePathWith pr w (TimesOf touched) (fcShrinkRounds cfg) removedPa
               c' = totalCost pr w pa'
               marginBad = maybe False (\mg -> c' > mg * cg) (fcMargin cfg)
               tolBad = not (tolOk pa')

@@ -19,6 +19,8 @@ module VProf.Compress.Geometry
 import qualified Data.Vector.Unboxed as U
 import Linear (Quaternion (..), V3 (..), dot, norm, quadrance, (*^), (^+^), (^-^), (^/))
 
+import VProf.Compress.Vec
+
 qdot :: Quaternion Double -> Quaternion Double -> Double
 qdot (Quaternion a u) (Quaternion b v) = a * b + dot u v
 {-# INLINE qdot #-}
@@ -76,12 +78,11 @@ slerpShort q1@(Quaternion a1 u1) (Quaternion b0 v0) t =
 
 -- | Flip signs so that consecutive quaternions lie in the same hemisphere
 -- (removes sign flips such as the one in EuRoC V1_01).
-alignHemisphere :: U.Vector (Quaternion Double) -> U.Vector (Quaternion Double)
+alignHemisphere :: Qs -> Qs
 alignHemisphere qs
-  | U.null qs = qs
-  | otherwise = U.scanl1 step qs
-  where step prev q = if qdot prev q < 0 then negate <$> q' else q where q' = q
-        -- negate via fmap on Quaternion negates all four components
+  | plength qs == 0 = qs
+  | otherwise = pfromList (scanl1 step (ptoList qs))
+  where step prev q = if qdot prev q < 0 then negate <$> q else q
 
 -- | Segment of a time in a sorted array of waypoint times: the j in [0, K-2] with
 -- T_j <= t < T_{j+1} (clamped at both ends).
@@ -108,21 +109,22 @@ segmentIndices wts sts = U.unfoldrExactN (U.length sts) step (0, 0)
       | otherwise = j
 
 -- | Pose of a path (times, positions, orientations) at time t, given its segment j.
-interpolateAt :: U.Vector Double -> U.Vector (V3 Double) -> U.Vector (Quaternion Double)
+interpolateAt :: U.Vector Double -> V3s -> Qs
               -> Int -> Double -> (V3 Double, Quaternion Double)
 interpolateAt ts ps qs j t =
   let t0 = U.unsafeIndex ts j
       t1 = U.unsafeIndex ts (j + 1)
       a = max 0 (min 1 ((t - t0) / (t1 - t0)))
-      p0 = U.unsafeIndex ps j
-      p1 = U.unsafeIndex ps (j + 1)
-  in (p0 ^+^ a *^ (p1 ^-^ p0), slerpShort (U.unsafeIndex qs j) (U.unsafeIndex qs (j + 1)) a)
+      p0 = pindex ps j
+      p1 = pindex ps (j + 1)
+  in (p0 ^+^ a *^ (p1 ^-^ p0), slerpShort (pindex qs j) (pindex qs (j + 1)) a)
 {-# INLINE interpolateAt #-}
 
 -- | Pose of a path at time t (clamped to its time span).
-interpolate :: U.Vector Double -> U.Vector (V3 Double) -> U.Vector (Quaternion Double)
+interpolate :: U.Vector Double -> V3s -> Qs
             -> Double -> (V3 Double, Quaternion Double)
 interpolate ts ps qs t = interpolateAt ts ps qs (segmentIndex ts t) t
+{-# INLINE interpolate #-}
 
 -- | Euclidean distance of a point to a segment.
 pointSegmentDistance :: V3 Double -> V3 Double -> V3 Double -> Double

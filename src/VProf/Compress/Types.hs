@@ -29,6 +29,7 @@ module VProf.Compress.Types
 
 import qualified Data.Vector.Unboxed as U
 import Linear (Quaternion (..), V3 (..), norm, (^/))
+import VProf.Compress.Vec
 import Numeric.Units.Dimensional.Prelude (Length, Time, (*~), (/~), metre, second)
 import Prelude
 
@@ -42,8 +43,8 @@ data Pose = Pose
 -- | Parallel arrays, SI units: time (s), position (m), orientation (unit quaternion).
 data Track = Track
   { tTime :: !(U.Vector Double)
-  , tPos  :: !(U.Vector (V3 Double))
-  , tRot  :: !(U.Vector (Quaternion Double))
+  , tPos  :: !V3s
+  , tRot  :: !Qs
   } deriving (Show, Eq)
 
 newtype Recording = Recording { recTrack :: Track } deriving (Show, Eq)
@@ -53,7 +54,7 @@ trackLength :: Track -> Int
 trackLength = U.length . tTime
 
 poseAt :: Track -> Int -> Pose
-poseAt tr i = Pose (tTime tr U.! i *~ second) (fmap (*~ metre) (tPos tr U.! i)) (tRot tr U.! i)
+poseAt tr i = Pose (tTime tr U.! i *~ second) (fmap (*~ metre) (pindex (tPos tr) i)) (pindex (tRot tr) i)
 
 trackPoses :: Track -> [Pose]
 trackPoses tr = map (poseAt tr) [0 .. trackLength tr - 1]
@@ -65,8 +66,8 @@ mkTrack :: String -> [Pose] -> Either String Track
 mkTrack what ps = recordingFromArraysT what ts xs qs
   where
     ts = U.fromList [poseTime p /~ second | p <- ps]
-    xs = U.fromList [fmap (/~ metre) (posePosition p) | p <- ps]
-    qs = U.fromList (map poseOrientation ps)
+    xs = pfromList [fmap (/~ metre) (posePosition p) | p <- ps]
+    qs = pfromList (map poseOrientation ps)
 
 mkRecording :: [Pose] -> Either String Recording
 mkRecording = fmap Recording . mkTrack "sample"
@@ -74,26 +75,26 @@ mkRecording = fmap Recording . mkTrack "sample"
 mkPath :: [Pose] -> Either String Path
 mkPath = fmap Path . mkTrack "waypoint"
 
-recordingFromArrays :: U.Vector Double -> U.Vector (V3 Double) -> U.Vector (Quaternion Double)
+recordingFromArrays :: U.Vector Double -> V3s -> Qs
                     -> Either String Recording
 recordingFromArrays t p q = Recording <$> recordingFromArraysT "sample" t p q
 
-pathFromArrays :: U.Vector Double -> U.Vector (V3 Double) -> U.Vector (Quaternion Double)
+pathFromArrays :: U.Vector Double -> V3s -> Qs
                -> Either String Path
 pathFromArrays t p q = Path <$> recordingFromArraysT "waypoint" t p q
 
-recordingFromArraysT :: String -> U.Vector Double -> U.Vector (V3 Double) -> U.Vector (Quaternion Double)
+recordingFromArraysT :: String -> U.Vector Double -> V3s -> Qs
                      -> Either String Track
 recordingFromArraysT what ts xs qs
-  | U.length ts /= U.length xs || U.length ts /= U.length qs =
+  | U.length ts /= plength xs || U.length ts /= plength qs =
       Left ("time, position and orientation arrays differ in length: "
-            ++ show (U.length ts) ++ ", " ++ show (U.length xs) ++ ", " ++ show (U.length qs))
+            ++ show (U.length ts) ++ ", " ++ show (plength xs) ++ ", " ++ show (plength qs))
   | U.length ts < 2 = Left ("need at least 2 " ++ what ++ "s, got " ++ show (U.length ts))
   | otherwise = do
       mapM_ checkT [0 .. U.length ts - 1]
       mapM_ checkP [0 .. U.length ts - 1]
-      qs' <- U.generateM (U.length qs) checkQ
-      pure (Track ts xs qs')
+      qs' <- traverse checkQ [0 .. U.length ts - 1]
+      pure (Track ts xs (pfromList qs'))
   where
     bad x = isNaN x || isInfinite x
     checkT i
@@ -103,12 +104,12 @@ recordingFromArraysT what ts xs qs
                 ++ show (ts U.! (i - 1)) ++ " s (times must be strictly increasing)")
       | otherwise = Right ()
       where t = ts U.! i
-    checkP i = case xs U.! i of
+    checkP i = case pindex xs i of
       V3 x y z | any bad [x, y, z] ->
         Left (what ++ " " ++ show i ++ ": position is not finite: " ++ show (x, y, z))
       _ -> Right ()
     checkQ i =
-      let q@(Quaternion w (V3 a b c)) = qs U.! i
+      let q@(Quaternion w (V3 a b c)) = pindex qs i
           n = norm q
       in if any bad [w, a, b, c] || n < 0.5 || n > 2
            then Left (what ++ " " ++ show i ++ ": orientation quaternion (w,x,y,z) = "
