@@ -16,9 +16,9 @@ import Control.Monad (forM_, when)
 import Control.Monad.ST (ST)
 import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as MU
-import Linear (V3 (..), (*^), (^+^), (^-^))
 
-import VProf.Compress.Vec (V3s (..))
+
+import VProf.Compress.Vec (P3 (..), V3s (..), (*^), (^+^), (^-^))
 
 data BandSystem s = BandSystem
   { bsN :: !Int
@@ -30,18 +30,18 @@ data BandSystem s = BandSystem
 newBand :: Int -> Int -> ST s (BandSystem s)
 newBand n b = BandSystem n b <$> MU.replicate (n * (b + 1)) 0 <*> MU.replicate (3 * n) 0
 
-rdR :: BandSystem s -> Int -> ST s (V3 Double)
-rdR bs i = V3 <$> MU.unsafeRead (bsR bs) (3 * i) <*> MU.unsafeRead (bsR bs) (3 * i + 1) <*> MU.unsafeRead (bsR bs) (3 * i + 2)
+rdR :: BandSystem s -> Int -> ST s (P3)
+rdR bs i = P3 <$> MU.unsafeRead (bsR bs) (3 * i) <*> MU.unsafeRead (bsR bs) (3 * i + 1) <*> MU.unsafeRead (bsR bs) (3 * i + 2)
 {-# INLINE rdR #-}
 
-wrR :: BandSystem s -> Int -> V3 Double -> ST s ()
-wrR bs i (V3 x y z) = do
+wrR :: BandSystem s -> Int -> P3 -> ST s ()
+wrR bs i (P3 x y z) = do
   MU.unsafeWrite (bsR bs) (3 * i) x
   MU.unsafeWrite (bsR bs) (3 * i + 1) y
   MU.unsafeWrite (bsR bs) (3 * i + 2) z
 {-# INLINE wrR #-}
 
-modR :: BandSystem s -> (V3 Double -> V3 Double) -> Int -> ST s ()
+modR :: BandSystem s -> (P3 -> P3) -> Int -> ST s ()
 modR bs f i = rdR bs i >>= wrR bs i . f
 {-# INLINE modR #-}
 
@@ -50,7 +50,7 @@ ix bs i j = i * (bsB bs + 1) + j - i + bsB bs
 {-# INLINE ix #-}
 
 -- | Add the observation  w · |Σ c_k x_{i_k} − target|²  (indices within the band).
-addObs :: BandSystem s -> Double -> [(Int, Double)] -> V3 Double -> ST s ()
+addObs :: BandSystem s -> Double -> [(Int, Double)] -> P3 -> ST s ()
 addObs bs w cs target =
   forM_ cs $ \(i, ci) -> do
     modR bs (^+^ (w * ci) *^ target) i
@@ -59,7 +59,7 @@ addObs bs w cs target =
 {-# INLINE addObs #-}
 
 -- | 'addObs' for the common two-unknown observation (i, ci), (i+1, cj).
-addObs2 :: BandSystem s -> Double -> Int -> Double -> Double -> V3 Double -> ST s ()
+addObs2 :: BandSystem s -> Double -> Int -> Double -> Double -> P3 -> ST s ()
 addObs2 bs w i ci cj target = do
   modR bs (^+^ (w * ci) *^ target) i
   modR bs (^+^ (w * cj) *^ target) (i + 1)
@@ -69,7 +69,7 @@ addObs2 bs w i ci cj target = do
 {-# INLINE addObs2 #-}
 
 -- | Fix unknown p to value v (eliminated exactly; the matrix stays symmetric).
-pinValue :: BandSystem s -> Int -> V3 Double -> ST s ()
+pinValue :: BandSystem s -> Int -> P3 -> ST s ()
 pinValue bs p v = do
   let n = bsN bs; b = bsB bs
   forM_ [max 0 (p - b) .. min (n - 1) (p + b)] $ \r -> when (r /= p) $ do

@@ -40,7 +40,7 @@ import Data.List (sortBy)
 import Data.Ord (comparing)
 import qualified Data.IntSet as IS
 import qualified Data.Vector.Unboxed as U
-import Linear (Quaternion, V3 (..), quadrance, (*^), (^+^), (^-^))
+
 
 import VProf.Compress.Banded
 import VProf.Compress.Geometry
@@ -59,7 +59,7 @@ data FitConfig = FitConfig
   } deriving (Show, Eq)
 
 defaultFitConfig :: FitConfig
-defaultFitConfig = FitConfig defaultWeights Nothing Nothing Nothing 40 8 0.10
+defaultFitConfig = FitConfig defaultWeights Nothing Nothing Nothing 40 1 0.10
 
 data StopReason = ReachedPoints | ReachedMargin | ReachedTolerance | ReachedMinimum
   deriving (Show, Eq)
@@ -95,8 +95,14 @@ data TimeMode = TimesAll | TimesNone | TimesOf IS.IntSet
 
 -- | 'updatePath' with a choice of which waypoint times move.
 updatePathWith :: Prepared -> Weights -> TimeMode -> Int -> PathA -> PathA
-updatePathWith pr w mode maxRounds pa0 = go 0 pa0 (totalCost pr w pa0)
+updatePathWith pr w mode maxRounds pa0
+  | maxRounds <= 0 = pa0
+  -- a round never raises the error (the position solve is exact, the orientation step and
+  -- every waypoint move are kept only when they lower it), so one round needs no check
+  | maxRounds == 1 = step pa0
+  | otherwise = go 0 pa0 (totalCost pr w pa0)
   where
+    step pa = times (solveOrientations pr w (solvePositions pr w pa))
     times pa = case mode of
       TimesAll -> updateTimes pr w (const True) pa
       TimesNone -> pa
@@ -104,10 +110,10 @@ updatePathWith pr w mode maxRounds pa0 = go 0 pa0 (totalCost pr w pa0)
     go r pa c
       | r >= maxRounds = pa
       | otherwise =
-          let pa1 = times (solveOrientations pr w (solvePositions pr w pa))
+          let pa1 = step pa
               c1 = totalCost pr w pa1
           in if c1 >= c then pa
-             else if c - c1 <= 1e-6 * c then pa1
+             else if c - c1 <= 1e-3 * c then pa1
              else go (r + 1) pa1 c1
 
 -- | With waypoint times fixed, the positions of all waypoints minimising
@@ -153,12 +159,12 @@ solvePositions pr (Weights wp _ wv) pa@(PathA ts ps qs)
 solveOrientations :: Prepared -> Weights -> PathA -> PathA
 solveOrientations pr (Weights _ wo _) pa@(PathA ts ps qs)
   | wo == 0 = PathA ts ps (pgenerate (U.length ts) (\j -> snd (interpolate (prT pr) (prP pr) (prQ pr) (ts U.! j))))
-  | otherwise = iter (2 :: Int) pa
+  | otherwise = iter (1 :: Int) pa
   where
     st = prT pr
     n = U.length st
     k = U.length ts
-    oriCost (PathA t p q) = rangeCost pr (Weights 0 1 0) (interpolate t p q) 0 (n - 1)
+    oriCost x = rangeCost pr (Weights 0 1 0) (pathInterp x) 0 (n - 1)
     iter 0 x = x
     iter m x@(PathA _ _ q0) =
       let c0 = oriCost x
@@ -166,17 +172,18 @@ solveOrientations pr (Weights _ wo _) pa@(PathA ts ps qs)
           alpha i = let j = seg U.! i
                         t0 = ts U.! j; t1 = ts U.! (j + 1)
                     in max 0 (min 1 ((st U.! i - t0) / (t1 - t0)))
+          tbl = mkSegTable ts ps q0
           deltas = runST $ do
             bs <- newBand k 1
             forM_ [0 .. n - 1] $ \i -> do
               let j = seg U.! i
                   a = alpha i
-                  qh = slerpShort (pindex q0 j) (pindex q0 (j + 1)) a
+                  qh = snd (tableAt tbl j (pindex (prT pr) i))
                   e = qlog (qmul (pindex (prQ pr) i) (qconj qh))
               addObs2 bs 1 j (1 - a) a e
-            forM_ [0 .. k - 1] $ \j -> addObs bs (1e-9 * fromIntegral n / fromIntegral k) [(j, 1)] (V3 0 0 0)
-            pinValue bs 0 (V3 0 0 0)
-            pinValue bs (k - 1) (V3 0 0 0)
+            forM_ [0 .. k - 1] $ \j -> addObs bs (1e-9 * fromIntegral n / fromIntegral k) [(j, 1)] (P3 0 0 0)
+            pinValue bs 0 (P3 0 0 0)
+            pinValue bs (k - 1) (P3 0 0 0)
             solveBand bs
           apply s ds = PathA ts ps (pgenerate k (\j -> normQ (qmul (qexp (s *^ pindex ds j)) (pindex q0 j))))
           tryStep ds = case [x' | s <- [1, 0.5, 0.25], let x' = apply s ds, oriCost x' < c0] of
@@ -190,41 +197,65 @@ solveOrientations pr (Weights _ wo _) pa@(PathA ts ps qs)
     pinQ (PathA t p q) = PathA t p (pupdate q [(0, phead (prQ pr)), (k - 1, plast (prQ pr))])
     _unused = qs
 
-normQ :: Quaternion Double -> Quaternion Double
-normQ q = let n = sqrt (qdot q q) in fmap (/ n) q
+normQ :: Q4 -> Q4
+normQ = qnormalize
 
 -- | One Gauss–Seidel sweep over the interior waypoints: each time moves, by golden-section
 -- search between its neighbours, to where the error of the samples of its two segments is
 -- least (position and orientation of the waypoint held).
 updateTimes :: Prepared -> Weights -> (Int -> Bool) -> PathA -> PathA
-updateTimes pr w which (PathA ts0 ps qs)
-  | k <= 2 = PathA ts0 ps qs
-  | otherwise = PathA (sweep 1 ts0) ps qs
+updateTimes pr w which pa0@(PathA ts0 _ _)
+  | k <= 2 = pa0
+  | otherwise = sweep 1 pa0
   where
     k = U.length ts0
-    sweep j ts
-      | j >= k - 1 = ts
-      | not (which j) = sweep (j + 1) ts
+    sweep j pa@(PathA ts ps qs)
+      | j >= k - 1 = pa
+      | not (which j) = sweep (j + 1) pa
       | otherwise =
           let lo = ts U.! (j - 1); hi = ts U.! (j + 1); cur = ts U.! j
               (i0, i1) = samplesIn pr lo hi
-              f tau = twoSegmentCost pr w (interpolate ts ps qs) lo tau hi
-                        (pindex ps (j - 1)) (pindex ps j) (pindex ps (j + 1))
-                        (pindex qs (j - 1)) (pindex qs j) (pindex qs (j + 1)) i0 i1
+              pA = pindex ps (j - 1); pC = pindex ps (j + 1)
+              qA = pindex qs (j - 1); qC = pindex qs (j + 1)
+              costAt tau pj qj = twoSegmentCost pr w (interpolate ts ps qs) lo tau hi pA pj pC qA qj qC i0 i1
+              -- best position and orientation of waypoint j for a time tau
+              fitAt tau = fitMiddle pr w lo tau hi pA (pindex ps j) pC qA (pindex qs j) qC i0 i1
+              f tau = let (pj, qj) = fitAt tau in costAt tau pj qj
               gap = 1e-3 * (hi - lo)
-              best = golden f (lo + gap) (hi - gap) 14
-              tnew = if f best < f cur then best else cur
-          in sweep (j + 1) (if tnew == cur then ts else ts U.// [(j, tnew)])
-    localInterp ts j tau t
-      | t >= tj1 = interpolate ts ps qs t
-      | t < tjm1 = interpolate ts ps qs t
-      | t < tau = lin (ts U.! (j - 1)) tau (j - 1) j t
-      | otherwise = lin tau tj1 j (j + 1) t
-      where tjm1 = ts U.! (j - 1); tj1 = ts U.! (j + 1)
-    lin t0 t1 a b t =
-      let s = max 0 (min 1 ((t - t0) / (t1 - t0)))
-          p0 = pindex ps a; p1 = pindex ps b
-      in (p0 ^+^ s *^ (p1 ^-^ p0), slerpShort (pindex qs a) (pindex qs b) s)
+              -- search near the current time: a third of the way to each neighbour
+              best = golden f (max (lo + gap) (cur - (cur - lo) / 3)) (min (hi - gap) (cur + (hi - cur) / 3)) 8
+              (pb, qb) = fitAt best
+              cNew = costAt best pb qb
+              cOld = costAt cur (pindex ps j) (pindex qs j)
+              pa' = if cNew < cOld
+                      then PathA (ts U.// [(j, best)]) (pupdate ps [(j, pb)]) (pupdate qs [(j, qb)])
+                      else pa
+          in sweep (j + 1) pa'
+
+-- | The thesis's @fitMiddle@: with the neighbours fixed and waypoint j at time tau, the
+-- position minimising the position error of the samples i0..i1 (closed-form weighted
+-- least squares in one 3-vector) and one Gauss–Newton step for its orientation.
+fitMiddle :: Prepared -> Weights -> Double -> Double -> Double -> P3 -> P3 -> P3 -> Q4 -> Q4 -> Q4
+          -> Int -> Int -> (P3, Q4)
+fitMiddle pr (Weights wp wo _) ta tb tc pA pB pC qA qB qC i0 i1 = go i0 (P3 0 0 0) 0 (P3 0 0 0) 0
+  where
+    s1 = mkSeg ta tb pA pB qA qB
+    s2 = mkSeg tb tc pB pC qB qC
+    go !i !accP !accC !accQ !accCq
+      | i > i1 =
+          let pB' = if wp > 0 && accC > 1e-12 then accP ^/ accC else pB
+              qB' = if wo > 0 && accCq > 1e-12 then qnormalize (qmul (qexp (accQ ^/ accCq)) qB) else qB
+          in (pB', qB')
+      | otherwise =
+          let t = U.unsafeIndex (prT pr) i
+              pi' = pindex (prP pr) i
+              (c, base, qh)
+                | t <= tb = let a = max 0 (min 1 ((t - ta) / (tb - ta)))
+                            in (a, (1 - a) *^ pA, snd (segPose s1 t))
+                | otherwise = let b = max 0 (min 1 ((t - tb) / (tc - tb)))
+                              in (1 - b, b *^ pC, snd (segPose s2 t))
+              e = if wo > 0 then qlog (qmul (pindex (prQ pr) i) (qconj qh)) else P3 0 0 0
+          in go (i + 1) (accP ^+^ c *^ (pi' ^-^ base)) (accC + c * c) (accQ ^+^ c *^ e) (accCq + c * c)
 
 golden :: (Double -> Double) -> Double -> Double -> Int -> Double
 golden f a0 b0 iters = loop a0 b0 x1 x2 (f x1) (f x2) iters
@@ -246,6 +277,7 @@ growPath pr w m pa@(PathA ts ps qs)
   | m <= 0 = pa
   | otherwise = PathA (U.fromList (map fst3 merged)) (pfromList (map snd3 merged)) (pfromList (map thd3 merged))
   where
+    tbl = mkSegTable ts ps qs
     k = U.length ts
     cands = [ (gain, i) | j <- [0 .. k - 2], Just (gain, i) <- [candidate j], gain > 0 ]
     chosen = take m (sortBy (comparing (negate . fst)) cands)
@@ -262,11 +294,11 @@ growPath pr w m pa@(PathA ts ps qs)
       in case inner of
            [] -> Nothing
            _ -> let i = snd (maximum [ (errAt x, x) | x <- inner ])
-                    before = rangeCost pr w (interpolate ts ps qs) i0 i1
+                    before = rangeCost pr w (tableInterp tbl) i0 i1
                     ti = prT pr U.! i
                     f t | t < ti = lin t0 ti (pindex ps j) (pindex (prP pr) i) (pindex qs j) (pindex (prQ pr) i) t
                         | otherwise = lin ti t1 (pindex (prP pr) i) (pindex ps (j + 1)) (pindex (prQ pr) i) (pindex qs (j + 1)) t
-                    g t | t < t0 || t > t1 = interpolate ts ps qs t
+                    g t | t < t0 || t > t1 = tableInterp tbl t
                         | otherwise = f t
                     after = rangeCost pr w g i0 i1
                 in Just (before - after, i)
@@ -295,6 +327,7 @@ shrinkStepN pr w m pa@(PathA ts ps qs)
   | k <= 2 || m <= 0 = (pa, IS.empty)
   | otherwise = (PathA (keep ts) (keep ps) (keep qs), touched)
   where
+    tbl = mkSegTable ts ps qs
     newIndex j = j - IS.size (fst (IS.split j removed))
     touched = IS.fromList [ newIndex x | r <- IS.toList removed, x <- [r - 1, r + 1]
                                        , x > 0, x < k - 1, not (IS.member x removed) ]
@@ -302,8 +335,8 @@ shrinkStepN pr w m pa@(PathA ts ps qs)
     cost j =
       let t0 = ts U.! (j - 1); t1 = ts U.! (j + 1)
           (i0, i1) = samplesIn pr t0 t1
-          before = rangeCost pr w (interpolate ts ps qs) i0 i1
-          g t | t < t0 || t > t1 = interpolate ts ps qs t
+          before = rangeCost pr w (tableInterp tbl) i0 i1
+          g t | t < t0 || t > t1 = tableInterp tbl t
               | otherwise = let s = (t - t0) / (t1 - t0)
                                 p0 = pindex ps (j - 1); p1 = pindex ps (j + 1)
                             in (p0 ^+^ s *^ (p1 ^-^ p0), slerpShort (pindex qs (j - 1)) (pindex qs (j + 1)) s)
@@ -341,7 +374,7 @@ fitThesis cfg pr
                     (ceiling (fromIntegral target / 1.5 :: Double)))
     start = updatePathWith pr w TimesNone (fcMaxRounds cfg) (initialPath pr k0)
     mGrow = min (n - k0) (max 1 (round (0.5 * fromIntegral k0 :: Double)))
-    grown = updatePathWith pr w TimesAll 2 (updatePathWith pr w TimesNone (fcMaxRounds cfg) (growPath pr w mGrow start))
+    grown = updatePathWith pr w TimesAll 1 (updatePathWith pr w TimesNone (fcMaxRounds cfg) (growPath pr w mGrow start))
     cg = totalCost pr w grown
     tolOk pa = maybe True (\tol -> maxPositionError pr pa <= tol) (fcTolerance cfg)
     grownTolOk = tolOk grown

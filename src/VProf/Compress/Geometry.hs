@@ -7,6 +7,8 @@ module VProf.Compress.Geometry
   , qexp
   , qmul
   , qconj
+  , qneg
+  , qnormalize
   , slerpShort
   , alignHemisphere
   , segmentIndex
@@ -14,66 +16,100 @@ module VProf.Compress.Geometry
   , interpolate
   , interpolateAt
   , pointSegmentDistance
+  , SegTable
+  , mkSegTable
+  , tableAt
+  , tableInterp
+  , sinF
+  , atan2F
   ) where
 
 import qualified Data.Vector.Unboxed as U
-import Linear (Quaternion (..), V3 (..), dot, norm, quadrance, (*^), (^+^), (^-^), (^/))
 
 import VProf.Compress.Vec
 
-qdot :: Quaternion Double -> Quaternion Double -> Double
-qdot (Quaternion a u) (Quaternion b v) = a * b + dot u v
+-- | sin, by its Taylor series for |x| <= 0.5 (relative error below 1e-11), else libm.
+-- The compressor evaluates millions of small-angle sines per run.
+sinF :: Double -> Double
+sinF x
+  | abs x <= 0.5 = let x2 = x * x
+                   in x + x * x2 * (-0.16666666666666666 + x2 * (8.333333333333333e-3
+                        + x2 * (-1.984126984126984e-4 + x2 * (2.7557319223985893e-6 - x2 * 2.505210838544172e-8))))
+  | otherwise = sin x
+{-# INLINE sinF #-}
+
+-- | atan2 y x for y >= 0, x > 0, by the arctangent series when y/x <= 0.1 (error below
+-- 1e-14), else libm.
+atan2F :: Double -> Double -> Double
+atan2F y x
+  | x > 0 && y <= 0.1 * x =
+      let r = y / x; r2 = r * r
+      in r + r * r2 * (-0.3333333333333333 + r2 * (0.2 + r2 * (-0.14285714285714285
+           + r2 * (0.1111111111111111 - r2 * 9.090909090909091e-2))))
+  | otherwise = atan2 y x
+{-# INLINE atan2F #-}
+
+qdot :: Q4 -> Q4 -> Double
+qdot (Q4 a b c d) (Q4 e f g h) = a * e + b * f + c * g + d * h
 {-# INLINE qdot #-}
 
-qconj :: Quaternion Double -> Quaternion Double
-qconj (Quaternion w v) = Quaternion w (negate <$> v)
+qconj :: Q4 -> Q4
+qconj (Q4 w x y z) = Q4 w (negate x) (negate y) (negate z)
 {-# INLINE qconj #-}
 
-qmul :: Quaternion Double -> Quaternion Double -> Quaternion Double
-qmul (Quaternion a u) (Quaternion b v) =
-  Quaternion (a * b - dot u v) (a *^ v ^+^ b *^ u ^+^ cross u v)
-  where cross (V3 x1 y1 z1) (V3 x2 y2 z2) = V3 (y1 * z2 - z1 * y2) (z1 * x2 - x1 * z2) (x1 * y2 - y1 * x2)
+qneg :: Q4 -> Q4
+qneg (Q4 w x y z) = Q4 (negate w) (negate x) (negate y) (negate z)
+{-# INLINE qneg #-}
+
+qnormalize :: Q4 -> Q4
+qnormalize q@(Q4 w x y z) = let n = sqrt (qdot q q) in Q4 (w / n) (x / n) (y / n) (z / n)
+{-# INLINE qnormalize #-}
+
+qmul :: Q4 -> Q4 -> Q4
+qmul (Q4 a b c d) (Q4 e f g h) =
+  Q4 (a * e - b * f - c * g - d * h)
+     (a * f + b * e + c * h - d * g)
+     (a * g - b * h + c * e + d * f)
+     (a * h + b * g - c * f + d * e)
 {-# INLINE qmul #-}
 
 -- | Rotation angle between two orientations, in [0, pi] rad: 2·acos |<q1,q2>|, computed
 -- with atan2 so that it stays accurate for tiny angles.
-qangle :: Quaternion Double -> Quaternion Double -> Double
+qangle :: Q4 -> Q4 -> Double
 qangle a b =
-  let Quaternion w v = qmul (qconj a) b
-  in 2 * atan2 (norm v) (abs w)
+  let Q4 w x y z = qmul (qconj a) b
+  in 2 * atan2F (sqrt (x * x + y * y + z * z)) (abs w)
 {-# INLINE qangle #-}
 
 -- | Rotation vector (axis·angle, rad) of a unit quaternion, taking the short way.
-qlog :: Quaternion Double -> V3 Double
-qlog (Quaternion w0 v0) =
-  let (w, v) = if w0 < 0 then (negate w0, negate <$> v0) else (w0, v0)
+qlog :: Q4 -> P3
+qlog (Q4 w0 x0 y0 z0) =
+  let (w, v) = if w0 < 0 then (negate w0, P3 (negate x0) (negate y0) (negate z0)) else (w0, P3 x0 y0 z0)
       s = norm v
-  in if s < 1e-12 then 2 *^ v else (2 * atan2 s w / s) *^ v
+  in if s < 1e-12 then 2 *^ v else (2 * atan2F s w / s) *^ v
 {-# INLINE qlog #-}
 
 -- | Unit quaternion of a rotation vector.
-qexp :: V3 Double -> Quaternion Double
-qexp r =
+qexp :: P3 -> Q4
+qexp r@(P3 x y z) =
   let th = norm r
-  in if th < 1e-12 then Quaternion 1 (0.5 *^ r)
-     else Quaternion (cos (th / 2)) ((sin (th / 2) / th) *^ r)
+  in if th < 1e-12 then qnormalize (Q4 1 (0.5 * x) (0.5 * y) (0.5 * z))
+     else let k = sin (th / 2) / th in Q4 (cos (th / 2)) (k * x) (k * y) (k * z)
 {-# INLINE qexp #-}
 
 -- | Spherical linear interpolation the short way (q2 is negated when <q1,q2> < 0).
-slerpShort :: Quaternion Double -> Quaternion Double -> Double -> Quaternion Double
-slerpShort q1@(Quaternion a1 u1) (Quaternion b0 v0) t =
-  let d0 = qdot q1 (Quaternion b0 v0)
-      (d, b, v) = if d0 < 0 then (negate d0, negate b0, negate <$> v0) else (d0, b0, v0)
+slerpShort :: Q4 -> Q4 -> Double -> Q4
+slerpShort q1@(Q4 a1 b1 c1 d1) q2raw t =
+  let d0 = qdot q1 q2raw
+      (d, Q4 a2 b2 c2 d2) = if d0 < 0 then (negate d0, qneg q2raw) else (d0, q2raw)
   in if d > 0.9999995
-       then let w = (1 - t) * a1 + t * b
-                x = (1 - t) *^ u1 ^+^ t *^ v
-                n = sqrt (w * w + quadrance x)
-            in Quaternion (w / n) (x ^/ n)
+       then qnormalize (Q4 ((1 - t) * a1 + t * a2) ((1 - t) * b1 + t * b2)
+                           ((1 - t) * c1 + t * c2) ((1 - t) * d1 + t * d2))
        else let th = acos d
                 s = sin th
-                c1 = sin ((1 - t) * th) / s
-                c2 = sin (t * th) / s
-            in Quaternion (c1 * a1 + c2 * b) (c1 *^ u1 ^+^ c2 *^ v)
+                k1 = sinF ((1 - t) * th) / s
+                k2 = sinF (t * th) / s
+            in Q4 (k1 * a1 + k2 * a2) (k1 * b1 + k2 * b2) (k1 * c1 + k2 * c2) (k1 * d1 + k2 * d2)
 {-# INLINE slerpShort #-}
 
 -- | Flip signs so that consecutive quaternions lie in the same hemisphere
@@ -82,14 +118,13 @@ alignHemisphere :: Qs -> Qs
 alignHemisphere qs
   | plength qs == 0 = qs
   | otherwise = pfromList (scanl1 step (ptoList qs))
-  where step prev q = if qdot prev q < 0 then negate <$> q else q
+  where step prev q = if qdot prev q < 0 then qneg q else q
 
 -- | Segment of a time in a sorted array of waypoint times: the j in [0, K-2] with
 -- T_j <= t < T_{j+1} (clamped at both ends).
 segmentIndex :: U.Vector Double -> Double -> Int
 segmentIndex ts t = go 0 (U.length ts - 1)
   where
-    -- invariant: ts[lo] <= t (or lo == 0), t < ts[hi] (or hi == K-1)
     go lo hi
       | hi - lo <= 1 = lo
       | otherwise = let m = (lo + hi) `div` 2
@@ -109,8 +144,7 @@ segmentIndices wts sts = U.unfoldrExactN (U.length sts) step (0, 0)
       | otherwise = j
 
 -- | Pose of a path (times, positions, orientations) at time t, given its segment j.
-interpolateAt :: U.Vector Double -> V3s -> Qs
-              -> Int -> Double -> (V3 Double, Quaternion Double)
+interpolateAt :: U.Vector Double -> V3s -> Qs -> Int -> Double -> (P3, Q4)
 interpolateAt ts ps qs j t =
   let t0 = U.unsafeIndex ts j
       t1 = U.unsafeIndex ts (j + 1)
@@ -121,13 +155,47 @@ interpolateAt ts ps qs j t =
 {-# INLINE interpolateAt #-}
 
 -- | Pose of a path at time t (clamped to its time span).
-interpolate :: U.Vector Double -> V3s -> Qs
-            -> Double -> (V3 Double, Quaternion Double)
+interpolate :: U.Vector Double -> V3s -> Qs -> Double -> (P3, Q4)
 interpolate ts ps qs t = interpolateAt ts ps qs (segmentIndex ts t) t
 {-# INLINE interpolate #-}
 
+-- | A path with its per-segment slerp constants computed once (sign-aligned end
+-- quaternion, angle, 1/sin angle), for passes that interpolate at every sample.
+data SegTable = SegTable !(U.Vector Double) !V3s !Qs !Qs !(U.Vector Double) !(U.Vector Double) !(U.Vector Double)
+
+mkSegTable :: U.Vector Double -> V3s -> Qs -> SegTable
+mkSegTable ts ps qs = SegTable ts ps qs q1s ths invs invdt
+  where
+    k = U.length ts
+    m = max 0 (k - 1)
+    q1s = pgenerate m (\j -> let a = pindex qs j; b = pindex qs (j + 1) in if qdot a b < 0 then qneg b else b)
+    ths = U.generate m (\j -> let d = qdot (pindex qs j) (pindex q1s j)
+                              in if d > 0.9999995 then 0 else acos (min 1 d))
+    invs = U.map (\th -> if th == 0 then 0 else 1 / sin th) ths
+    invdt = U.generate m (\j -> 1 / (U.unsafeIndex ts (j + 1) - U.unsafeIndex ts j))
+
+-- | Pose at time t in segment j of a table.
+tableAt :: SegTable -> Int -> Double -> (P3, Q4)
+tableAt (SegTable ts ps q0s q1s ths invs invdt) j t =
+  let t0 = U.unsafeIndex ts j
+      s = max 0 (min 1 ((t - t0) * U.unsafeIndex invdt j))
+      p0 = pindex ps j
+      p = p0 ^+^ s *^ (pindex ps (j + 1) ^-^ p0)
+      th = U.unsafeIndex ths j
+      Q4 a1 b1 c1 d1 = pindex q0s j
+      Q4 a2 b2 c2 d2 = pindex q1s j
+      is = U.unsafeIndex invs j
+      (k1, k2) = if th == 0 then (1 - s, s) else (sinF ((1 - s) * th) * is, sinF (s * th) * is)
+      q = Q4 (k1 * a1 + k2 * a2) (k1 * b1 + k2 * b2) (k1 * c1 + k2 * c2) (k1 * d1 + k2 * d2)
+  in (p, if th == 0 then qnormalize q else q)
+{-# INLINE tableAt #-}
+
+tableInterp :: SegTable -> Double -> (P3, Q4)
+tableInterp tb@(SegTable ts _ _ _ _ _ _) t = tableAt tb (segmentIndex ts t) t
+{-# INLINE tableInterp #-}
+
 -- | Euclidean distance of a point to a segment.
-pointSegmentDistance :: V3 Double -> V3 Double -> V3 Double -> Double
+pointSegmentDistance :: P3 -> P3 -> P3 -> Double
 pointSegmentDistance a b p =
   let d = b ^-^ a
       l2 = quadrance d

@@ -12,7 +12,7 @@ module VProf.Compress.Metrics
 import Data.Aeson (ToJSON)
 import qualified Data.Vector.Unboxed as U
 import GHC.Generics (Generic)
-import Linear (distance)
+
 
 import VProf.Compress.Geometry
 import VProf.Compress.Objective

@@ -21,10 +21,13 @@ module VProf.Compress.Objective
   , samplesIn
   , pointErrors
   , twoSegmentCost
+  , Seg
+  , mkSeg
+  , segPose
   ) where
 
 import qualified Data.Vector.Unboxed as U
-import Linear (Quaternion (..), V3 (..), quadrance, (*^), (^+^), (^-^), (^/))
+
 
 import VProf.Compress.Geometry
 import VProf.Compress.Types
@@ -37,10 +40,11 @@ data Prepared = Prepared
   , prQ  :: !Qs
   , prV  :: !V3s                      -- ^ length N−1
   , prDt :: !(U.Vector Double)        -- ^ length N−1
+  , prInvDt :: !(U.Vector Double)     -- ^ 1 / dt
   }
 
 prepare :: Recording -> Prepared
-prepare (Recording (Track t p q)) = Prepared t p (alignHemisphere q) v dt
+prepare (Recording (Track t p q)) = Prepared t p (alignHemisphere q) v dt (U.map (1 /) dt)
   where
     n = U.length t
     dt = U.generate (n - 1) (\i -> t U.! (i + 1) - t U.! i)
@@ -60,10 +64,10 @@ fromPathA :: PathA -> Path
 fromPathA (PathA t p q) = Path (Track t p q)
 
 -- | Pose of a (possibly locally modified) path at a time.
-type Interp = Double -> (V3 Double, Quaternion Double)
+type Interp = Double -> (P3, Q4)
 
 pathInterp :: PathA -> Interp
-pathInterp (PathA t p q) = interpolate t p q
+pathInterp (PathA t p q) = tableInterp (mkSegTable t p q)
 
 -- | Indices [i0, i1] of the samples with lo <= t <= hi (empty when i1 < i0).
 samplesIn :: Prepared -> Double -> Double -> (Int, Int)
@@ -85,7 +89,7 @@ samplesIn pr lo hi = (lowerBound lo, upperBound hi - 1)
 rangeCost :: Prepared -> Weights -> Interp -> Int -> Int -> Double
 rangeCost pr (Weights wp wo wv) f i0 i1
   | i1 < i0 = 0
-  | otherwise = go j0 (V3 0 0 0) 0
+  | otherwise = go j0 (P3 0 0 0) 0
   where
     n = U.length (prT pr)
     j0 = max 0 (i0 - 1)
@@ -103,7 +107,7 @@ rangeCost pr (Weights wp wo wv) f i0 i1
               velTerm
                 | wv == 0 || i == j0 = 0
                 | otherwise =
-                    let vh = (ph ^-^ prev) ^/ U.unsafeIndex (prDt pr) (i - 1)
+                    let vh = U.unsafeIndex (prInvDt pr) (i - 1) *^ (ph ^-^ prev)
                     in wv * quadrance (pindex (prV pr) (i - 1) ^-^ vh)
           in go (i + 1) ph (s + poseTerm + velTerm)
 {-# INLINE rangeCost #-}
@@ -119,7 +123,8 @@ pointErrors pr (PathA t p q) = (ep, eo, ev)
   where
     seg = segmentIndices t (prT pr)
     n = U.length (prT pr)
-    hatsL = [ interpolateAt t p q (U.unsafeIndex seg i) (U.unsafeIndex (prT pr) i) | i <- [0 .. n - 1] ]
+    tbl = mkSegTable t p q
+    hatsL = [ tableAt tbl (U.unsafeIndex seg i) (U.unsafeIndex (prT pr) i) | i <- [0 .. n - 1] ]
     hatsP = pfromList (map fst hatsL) :: V3s
     hatsQ = pfromList (map snd hatsL) :: Qs
     ep = U.generate n (\i -> sqrt (quadrance (pindex (prP pr) i ^-^ pindex hatsP i)))
@@ -129,36 +134,31 @@ pointErrors pr (PathA t p q) = (ep, eo, ev)
       in sqrt (quadrance (pindex (prV pr) i ^-^ vh))
 
 -- | A segment prepared for fast repeated interpolation (slerp constants computed once).
-data Seg = Seg !Double !Double !(V3 Double) !(V3 Double) !(Quaternion Double) !(Quaternion Double) !Double !Double
+data Seg = Seg !Double !Double !(P3) !(P3) !(Q4) !(Q4) !Double !Double
 
-mkSeg :: Double -> Double -> V3 Double -> V3 Double -> Quaternion Double -> Quaternion Double -> Seg
+mkSeg :: Double -> Double -> P3 -> P3 -> Q4 -> Q4 -> Seg
 mkSeg t0 t1 p0 p1 q0 q1raw =
   let d0 = qdot q0 q1raw
-      (d, q1) = if d0 < 0 then (negate d0, negate <$> q1raw) else (d0, q1raw)
+      (d, q1) = if d0 < 0 then (negate d0, qneg q1raw) else (d0, q1raw)
       th = if d > 0.9999995 then 0 else acos (min 1 d)
   in Seg t0 t1 p0 (p1 ^-^ p0) q0 q1 th (if th == 0 then 0 else sin th)
 {-# INLINE mkSeg #-}
 
-segPose :: Seg -> Double -> (V3 Double, Quaternion Double)
-segPose (Seg t0 t1 p0 dp (Quaternion a u) (Quaternion b v) th sth) t =
+segPose :: Seg -> Double -> (P3, Q4)
+segPose (Seg t0 t1 p0 dp (Q4 a1 b1 c1 d1) (Q4 a2 b2 c2 d2) th sth) t =
   let s = max 0 (min 1 ((t - t0) / (t1 - t0)))
       p = p0 ^+^ s *^ dp
-  in if th == 0
-       then let w = (1 - s) * a + s * b
-                x = (1 - s) *^ u ^+^ s *^ v
-                nn = sqrt (w * w + quadrance x)
-            in (p, Quaternion (w / nn) (x ^/ nn))
-       else let c1 = sin ((1 - s) * th) / sth
-                c2 = sin (s * th) / sth
-            in (p, Quaternion (c1 * a + c2 * b) (c1 *^ u ^+^ c2 *^ v))
+      (k1, k2) = if th == 0 then (1 - s, s) else (sinF ((1 - s) * th) / sth, sinF (s * th) / sth)
+      q = Q4 (k1 * a1 + k2 * a2) (k1 * b1 + k2 * b2) (k1 * c1 + k2 * c2) (k1 * d1 + k2 * d2)
+  in (p, if th == 0 then qnormalize q else q)
 {-# INLINE segPose #-}
 
 -- | 'rangeCost' for a path that, between times ta and tc, runs through the waypoints
 -- (ta, pa, qa), (tb, pb, qb), (tc, pc, qc) and elsewhere follows @outside@. Used by the
 -- time search of one waypoint, where it is evaluated many times.
 twoSegmentCost :: Prepared -> Weights -> Interp
-               -> Double -> Double -> Double -> V3 Double -> V3 Double -> V3 Double
-               -> Quaternion Double -> Quaternion Double -> Quaternion Double
+               -> Double -> Double -> Double -> P3 -> P3 -> P3
+               -> Q4 -> Q4 -> Q4
                -> Int -> Int -> Double
 twoSegmentCost pr w outside ta tb tc pa pb pc qa qb qc =
   let s1 = mkSeg ta tb pa pb qa qb

@@ -28,7 +28,7 @@ module VProf.Compress.Types
   ) where
 
 import qualified Data.Vector.Unboxed as U
-import Linear (Quaternion (..), V3 (..), norm, (^/))
+import Linear (Quaternion (..), V3 (..))
 import VProf.Compress.Vec
 import Numeric.Units.Dimensional.Prelude (Length, Time, (*~), (/~), metre, second)
 import Prelude
@@ -54,7 +54,7 @@ trackLength :: Track -> Int
 trackLength = U.length . tTime
 
 poseAt :: Track -> Int -> Pose
-poseAt tr i = Pose (tTime tr U.! i *~ second) (fmap (*~ metre) (pindex (tPos tr) i)) (pindex (tRot tr) i)
+poseAt tr i = Pose (tTime tr U.! i *~ second) (fmap (*~ metre) (toV3 (pindex (tPos tr) i))) (toQuat (pindex (tRot tr) i))
 
 trackPoses :: Track -> [Pose]
 trackPoses tr = map (poseAt tr) [0 .. trackLength tr - 1]
@@ -66,8 +66,8 @@ mkTrack :: String -> [Pose] -> Either String Track
 mkTrack what ps = recordingFromArraysT what ts xs qs
   where
     ts = U.fromList [poseTime p /~ second | p <- ps]
-    xs = pfromList [fmap (/~ metre) (posePosition p) | p <- ps]
-    qs = pfromList (map poseOrientation ps)
+    xs = pfromList [fromV3 (fmap (/~ metre) (posePosition p)) | p <- ps]
+    qs = pfromList (map (fromQuat . poseOrientation) ps)
 
 mkRecording :: [Pose] -> Either String Recording
 mkRecording = fmap Recording . mkTrack "sample"
@@ -105,16 +105,16 @@ recordingFromArraysT what ts xs qs
       | otherwise = Right ()
       where t = ts U.! i
     checkP i = case pindex xs i of
-      V3 x y z | any bad [x, y, z] ->
+      P3 x y z | any bad [x, y, z] ->
         Left (what ++ " " ++ show i ++ ": position is not finite: " ++ show (x, y, z))
       _ -> Right ()
     checkQ i =
-      let q@(Quaternion w (V3 a b c)) = pindex qs i
-          n = norm q
+      let Q4 w a b c = pindex qs i
+          n = sqrt (w * w + a * a + b * b + c * c)
       in if any bad [w, a, b, c] || n < 0.5 || n > 2
            then Left (what ++ " " ++ show i ++ ": orientation quaternion (w,x,y,z) = "
                       ++ show (w, a, b, c) ++ " is not a unit quaternion (norm " ++ show n ++ ")")
-           else Right (q ^/ n)
+           else Right (Q4 (w / n) (a / n) (b / n) (c / n))
 
 -- | Weights of the objective, in SI: position (1/m^2), orientation (1/rad^2),
 -- velocity (s^2/m^2). Only ratios matter.

@@ -1,9 +1,17 @@
 {-# LANGUAGE FunctionalDependencies, FlexibleInstances, FlexibleContexts #-}
--- | Packed arrays of 3-vectors and quaternions: flat unboxed 'Double' vectors with
--- inlined accessors. (linear's own 'Data.Vector.Unboxed.Unbox' instances for 'V3' and
--- 'Quaternion' cost about 400 ns an element on GHC 9.0.2 here; these cost about 30.)
+-- | The compressor's hot-loop numerics: monomorphic, unpacked 3-vectors ('P3') and
+-- quaternions ('Q4'), and packed arrays of them (flat unboxed 'Double' vectors with
+-- inlined accessors). linear's 'V3' and 'Quaternion' are used at the public boundary
+-- ("VProf.Compress.Types"); inside the loops their polymorphic fields box every
+-- component (measured on GHC 9.0.2: about 400 ns an element through linear's 'Unbox'
+-- instances against about 30 ns here).
 module VProf.Compress.Vec
-  ( Packed (..)
+  ( P3 (..)
+  , Q4 (..)
+  , (^+^), (^-^), (*^), (^/)
+  , dot, quadrance, norm, distance
+  , fromV3, toV3, fromQuat, toQuat
+  , Packed (..)
   , V3s (..)
   , Qs (..)
   , ptoList
@@ -21,6 +29,59 @@ import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as MU
 import Linear (Quaternion (..), V3 (..))
 
+-- | A 3-vector (m, m/s or rad, by context).
+data P3 = P3 {-# UNPACK #-} !Double {-# UNPACK #-} !Double {-# UNPACK #-} !Double
+  deriving (Eq, Show)
+
+-- | A quaternion w + xi + yj + zk.
+data Q4 = Q4 {-# UNPACK #-} !Double {-# UNPACK #-} !Double {-# UNPACK #-} !Double {-# UNPACK #-} !Double
+  deriving (Eq, Show)
+
+infixl 6 ^+^, ^-^
+infixl 7 *^, ^/
+
+(^+^), (^-^) :: P3 -> P3 -> P3
+P3 a b c ^+^ P3 x y z = P3 (a + x) (b + y) (c + z)
+P3 a b c ^-^ P3 x y z = P3 (a - x) (b - y) (c - z)
+{-# INLINE (^+^) #-}
+{-# INLINE (^-^) #-}
+
+(*^) :: Double -> P3 -> P3
+k *^ P3 x y z = P3 (k * x) (k * y) (k * z)
+{-# INLINE (*^) #-}
+
+(^/) :: P3 -> Double -> P3
+P3 x y z ^/ k = P3 (x / k) (y / k) (z / k)
+{-# INLINE (^/) #-}
+
+dot :: P3 -> P3 -> Double
+dot (P3 a b c) (P3 x y z) = a * x + b * y + c * z
+{-# INLINE dot #-}
+
+quadrance :: P3 -> Double
+quadrance v = dot v v
+{-# INLINE quadrance #-}
+
+norm :: P3 -> Double
+norm = sqrt . quadrance
+{-# INLINE norm #-}
+
+distance :: P3 -> P3 -> Double
+distance a b = norm (a ^-^ b)
+{-# INLINE distance #-}
+
+fromV3 :: V3 Double -> P3
+fromV3 (V3 x y z) = P3 x y z
+
+toV3 :: P3 -> V3 Double
+toV3 (P3 x y z) = V3 x y z
+
+fromQuat :: Quaternion Double -> Q4
+fromQuat (Quaternion w (V3 x y z)) = Q4 w x y z
+
+toQuat :: Q4 -> Quaternion Double
+toQuat (Q4 w x y z) = Quaternion w (V3 x y z)
+
 newtype V3s = V3s (U.Vector Double) deriving (Eq, Show)
 newtype Qs = Qs (U.Vector Double) deriving (Eq, Show)
 
@@ -30,39 +91,39 @@ class Packed v e | v -> e where
   pgenerate :: Int -> (Int -> e) -> v
   pfromList :: [e] -> v
 
-instance Packed V3s (V3 Double) where
+instance Packed V3s P3 where
   plength (V3s v) = U.length v `div` 3
   {-# INLINE plength #-}
-  pindex (V3s v) i = V3 (U.unsafeIndex v (3 * i)) (U.unsafeIndex v (3 * i + 1)) (U.unsafeIndex v (3 * i + 2))
+  pindex (V3s v) i = P3 (U.unsafeIndex v (3 * i)) (U.unsafeIndex v (3 * i + 1)) (U.unsafeIndex v (3 * i + 2))
   {-# INLINE pindex #-}
   pgenerate n f = V3s $ U.create $ do
     m <- MU.unsafeNew (3 * n)
     forM_ [0 .. n - 1] $ \i -> do
-      let V3 x y z = f i
+      let P3 x y z = f i
       MU.unsafeWrite m (3 * i) x
       MU.unsafeWrite m (3 * i + 1) y
       MU.unsafeWrite m (3 * i + 2) z
     pure m
   {-# INLINE pgenerate #-}
-  pfromList xs = V3s (U.fromList (concat [[x, y, z] | V3 x y z <- xs]))
+  pfromList xs = V3s (U.fromList (concat [[x, y, z] | P3 x y z <- xs]))
 
-instance Packed Qs (Quaternion Double) where
+instance Packed Qs Q4 where
   plength (Qs v) = U.length v `div` 4
   {-# INLINE plength #-}
-  pindex (Qs v) i = Quaternion (U.unsafeIndex v (4 * i))
-                      (V3 (U.unsafeIndex v (4 * i + 1)) (U.unsafeIndex v (4 * i + 2)) (U.unsafeIndex v (4 * i + 3)))
+  pindex (Qs v) i = Q4 (U.unsafeIndex v (4 * i)) (U.unsafeIndex v (4 * i + 1))
+                       (U.unsafeIndex v (4 * i + 2)) (U.unsafeIndex v (4 * i + 3))
   {-# INLINE pindex #-}
   pgenerate n f = Qs $ U.create $ do
     m <- MU.unsafeNew (4 * n)
     forM_ [0 .. n - 1] $ \i -> do
-      let Quaternion w (V3 x y z) = f i
+      let Q4 w x y z = f i
       MU.unsafeWrite m (4 * i) w
       MU.unsafeWrite m (4 * i + 1) x
       MU.unsafeWrite m (4 * i + 2) y
       MU.unsafeWrite m (4 * i + 3) z
     pure m
   {-# INLINE pgenerate #-}
-  pfromList xs = Qs (U.fromList (concat [[w, x, y, z] | Quaternion w (V3 x y z) <- xs]))
+  pfromList xs = Qs (U.fromList (concat [[w, x, y, z] | Q4 w x y z <- xs]))
 
 instance Packed (U.Vector Double) Double where
   pfromList = U.fromList

@@ -9,7 +9,6 @@ import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Lazy as BL
 import qualified Data.Vector.Unboxed as U
-import Linear (Quaternion (..), V3 (..))
 import Numeric (showFFloat)
 
 import VProf.Compress.Format.Common (readDouble)
@@ -32,7 +31,7 @@ parseTum src = do
       ws@[_, _, _, _, _, _, _, _] -> do
         vs <- traverse (field i) (zip [1 :: Int ..] ws)
         case vs of
-          [t, x, y, z, qx, qy, qz, qw] -> pure (t, V3 x y z, Quaternion qw (V3 qx qy qz))
+          [t, x, y, z, qx, qy, qz, qw] -> pure (t, P3 x y z, Q4 qw qx qy qz)
           _ -> Left "impossible"
       ws -> Left ("TUM line " ++ show i ++ ": expected 8 numbers (timestamp tx ty tz qx qy qz qw), got "
                   ++ show (length ws) ++ ": " ++ show (B.unpack (B.take 80 l)))
@@ -45,6 +44,6 @@ renderTum (Track ts ps qs) = BB.toLazyByteString $
   BB.string7 "# timestamp tx ty tz qx qy qz qw\n" <>
   mconcat [ line t p q | (t, p, q) <- zip3 (U.toList ts) (ptoList ps) (ptoList qs) ]
   where
-    line t (V3 x y z) (Quaternion w (V3 a b c)) =
+    line t (P3 x y z) (Q4 w a b c) =
       BB.string7 (unwords (showFFloat (Just 6) t "" : map num [x, y, z, a, b, c, w])) <> BB.char7 '\n'
     num v = showFFloat (Just 9) v ""
