@@ -9,6 +9,7 @@ module VProf.Compress.Metrics
   , geometricDistances
   ) where
 
+import Control.DeepSeq (NFData)
 import Data.Aeson (ToJSON)
 import qualified Data.Vector.Unboxed as U
 import GHC.Generics (Generic)
@@ -42,6 +43,7 @@ data Metrics = Metrics
   } deriving (Show, Eq, Generic)
 
 instance ToJSON Metrics
+instance NFData Metrics
 
 -- | Distance of every sample to the nearest segment of the polyline, regardless of time.
 geometricDistances :: Prepared -> PathA -> U.Vector Double
