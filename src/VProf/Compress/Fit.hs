@@ -102,7 +102,10 @@ updatePathWith pr w mode maxRounds pa0
   | maxRounds == 1 = step pa0
   | otherwise = go 0 pa0 (totalCost pr w pa0)
   where
-    step pa = times (solveOrientations pr w (solvePositions pr w pa))
+    -- after a removal only the touched waypoints' orientations move (in their joint update)
+    step pa = case mode of
+      TimesOf _ -> times (solvePositions pr w pa)
+      _ -> times (solveOrientations pr w (solvePositions pr w pa))
     times pa = case mode of
       TimesAll -> updateTimes pr w (const True) pa
       TimesNone -> pa
@@ -249,12 +252,13 @@ fitMiddle pr (Weights wp wo _) ta tb tc pA pB pC qA qB qC i0 i1 = go i0 (P3 0 0 
       | otherwise =
           let t = U.unsafeIndex (prT pr) i
               pi' = pindex (prP pr) i
-              (c, base, qh)
-                | t <= tb = let a = max 0 (min 1 ((t - ta) / (tb - ta)))
-                            in (a, (1 - a) *^ pA, snd (segPose s1 t))
-                | otherwise = let b = max 0 (min 1 ((t - tb) / (tc - tb)))
-                              in (1 - b, b *^ pC, snd (segPose s2 t))
-              e = if wo > 0 then qlog (qmul (pindex (prQ pr) i) (qconj qh)) else P3 0 0 0
+              !first = t <= tb
+              !c = if first then max 0 (min 1 ((t - ta) / (tb - ta)))
+                           else 1 - max 0 (min 1 ((t - tb) / (tc - tb)))
+              !base = if first then (1 - c) *^ pA else (1 - c) *^ pC
+              !e | wo <= 0 = P3 0 0 0
+                | first = qlog (qmul (pindex (prQ pr) i) (qconj (snd (segPose s1 t))))
+                | otherwise = qlog (qmul (pindex (prQ pr) i) (qconj (snd (segPose s2 t))))
           in go (i + 1) (accP ^+^ c *^ (pi' ^-^ base)) (accC + c * c) (accQ ^+^ c *^ e) (accCq + c * c)
 
 golden :: (Double -> Double) -> Double -> Double -> Int -> Double
@@ -336,10 +340,10 @@ shrinkStepN pr w m pa@(PathA ts ps qs)
       let t0 = ts U.! (j - 1); t1 = ts U.! (j + 1)
           (i0, i1) = samplesIn pr t0 t1
           before = rangeCost pr w (tableInterp tbl) i0 i1
+          sg = mkSeg t0 t1 (pindex ps (j - 1)) (pindex ps (j + 1)) (pindex qs (j - 1)) (pindex qs (j + 1))
           g t | t < t0 || t > t1 = tableInterp tbl t
-              | otherwise = let s = (t - t0) / (t1 - t0)
-                                p0 = pindex ps (j - 1); p1 = pindex ps (j + 1)
-                            in (p0 ^+^ s *^ (p1 ^-^ p0), slerpShort (pindex qs (j - 1)) (pindex qs (j + 1)) s)
+              | otherwise = segPose sg t
+          {-# INLINE g #-}
       in rangeCost pr w g i0 i1 - before
     ranked = map snd (sortBy (comparing fst) [ (cost j, j) | j <- [1 .. k - 2] ])
     pick !s _ [] = s

@@ -1,3 +1,4 @@
+{-# LANGUAGE BangPatterns #-}
 -- | Quaternion and polyline geometry used by the compressor. Everything here is
 -- sign-invariant: q and -q are the same orientation.
 module VProf.Compress.Geometry
@@ -84,9 +85,11 @@ qangle a b =
 -- | Rotation vector (axis·angle, rad) of a unit quaternion, taking the short way.
 qlog :: Q4 -> P3
 qlog (Q4 w0 x0 y0 z0) =
-  let (w, v) = if w0 < 0 then (negate w0, P3 (negate x0) (negate y0) (negate z0)) else (w0, P3 x0 y0 z0)
-      s = norm v
-  in if s < 1e-12 then 2 *^ v else (2 * atan2F s w / s) *^ v
+  let !sg = if w0 < 0 then -1 else 1
+      !w = sg * w0
+      !s = sqrt (x0 * x0 + y0 * y0 + z0 * z0)
+      !k = if s < 1e-12 then 2 * sg else sg * 2 * atan2F s w / s
+  in P3 (k * x0) (k * y0) (k * z0)
 {-# INLINE qlog #-}
 
 -- | Unit quaternion of a rotation vector.
@@ -100,8 +103,14 @@ qexp r@(P3 x y z) =
 -- | Spherical linear interpolation the short way (q2 is negated when <q1,q2> < 0).
 slerpShort :: Q4 -> Q4 -> Double -> Q4
 slerpShort q1@(Q4 a1 b1 c1 d1) q2raw t =
-  let d0 = qdot q1 q2raw
-      (d, Q4 a2 b2 c2 d2) = if d0 < 0 then (negate d0, qneg q2raw) else (d0, q2raw)
+  let !d0 = qdot q1 q2raw
+      !sg = if d0 < 0 then -1 else 1
+      !d = sg * d0
+      Q4 a20 b20 c20 d20 = q2raw
+      !a2 = sg * a20
+      !b2 = sg * b20
+      !c2 = sg * c20
+      !d2 = sg * d20
   in if d > 0.9999995
        then qnormalize (Q4 ((1 - t) * a1 + t * a2) ((1 - t) * b1 + t * b2)
                            ((1 - t) * c1 + t * c2) ((1 - t) * d1 + t * d2))
@@ -151,7 +160,9 @@ interpolateAt ts ps qs j t =
       a = max 0 (min 1 ((t - t0) / (t1 - t0)))
       p0 = pindex ps j
       p1 = pindex ps (j + 1)
-  in (p0 ^+^ a *^ (p1 ^-^ p0), slerpShort (pindex qs j) (pindex qs (j + 1)) a)
+      !p = p0 ^+^ a *^ (p1 ^-^ p0)
+      !q = slerpShort (pindex qs j) (pindex qs (j + 1)) a
+  in (p, q)
 {-# INLINE interpolateAt #-}
 
 -- | Pose of a path at time t (clamped to its time span).
@@ -187,7 +198,9 @@ tableAt (SegTable ts ps q0s q1s ths invs invdt) j t =
       is = U.unsafeIndex invs j
       (k1, k2) = if th == 0 then (1 - s, s) else (sinF ((1 - s) * th) * is, sinF (s * th) * is)
       q = Q4 (k1 * a1 + k2 * a2) (k1 * b1 + k2 * b2) (k1 * c1 + k2 * c2) (k1 * d1 + k2 * d2)
-  in (p, if th == 0 then qnormalize q else q)
+      !q' = if th == 0 then qnormalize q else q
+      !p' = p
+  in (p', q')
 {-# INLINE tableAt #-}
 
 tableInterp :: SegTable -> Double -> (P3, Q4)

@@ -97,7 +97,7 @@ rangeCost pr (Weights wp wo wv) f i0 i1
     go !i !prev !s
       | i > j1 = s
       | otherwise =
-          let (ph, qh) = f (U.unsafeIndex (prT pr) i)
+          let (!ph, !qh) = f (U.unsafeIndex (prT pr) i)
               poseTerm
                 | i < i0 || i > i1 = 0
                 | otherwise =
@@ -150,7 +150,9 @@ segPose (Seg t0 t1 p0 dp (Q4 a1 b1 c1 d1) (Q4 a2 b2 c2 d2) th sth) t =
       p = p0 ^+^ s *^ dp
       (k1, k2) = if th == 0 then (1 - s, s) else (sinF ((1 - s) * th) / sth, sinF (s * th) / sth)
       q = Q4 (k1 * a1 + k2 * a2) (k1 * b1 + k2 * b2) (k1 * c1 + k2 * c2) (k1 * d1 + k2 * d2)
-  in (p, if th == 0 then qnormalize q else q)
+      !q' = if th == 0 then qnormalize q else q
+      !p' = p
+  in (p', q')
 {-# INLINE segPose #-}
 
 -- | 'rangeCost' for a path that, between times ta and tc, runs through the waypoints
@@ -160,10 +162,11 @@ twoSegmentCost :: Prepared -> Weights -> Interp
                -> Double -> Double -> Double -> P3 -> P3 -> P3
                -> Q4 -> Q4 -> Q4
                -> Int -> Int -> Double
-twoSegmentCost pr w outside ta tb tc pa pb pc qa qb qc =
+twoSegmentCost pr w outside ta tb tc pa pb pc qa qb qc i0 i1 =
   let s1 = mkSeg ta tb pa pb qa qb
       s2 = mkSeg tb tc pb pc qb qc
       f t | t < ta || t > tc = outside t
           | t <= tb = segPose s1 t
           | otherwise = segPose s2 t
-  in rangeCost pr w f
+      {-# INLINE f #-}
+  in rangeCost pr w f i0 i1
