@@ -1,1 +1,1 @@
-main = pure ()
+{-# OPTIONS_GHC -F -pgmF hspec-discover #-}

@@ -99,21 +99,23 @@ updatePathWith pr w mode maxRounds pa0
   | maxRounds <= 0 = pa0
   -- a round never raises the error (the position solve is exact, the orientation step and
   -- every waypoint move are kept only when they lower it), so one round needs no check
-  | maxRounds == 1 = step pa0
+  | maxRounds == 1 = step (0 :: Int) pa0
   | otherwise = go 0 pa0 (totalCost pr w pa0)
   where
     -- after a removal only the touched waypoints' orientations move (in their joint update)
-    step pa = case mode of
-      TimesOf _ -> times (solvePositions pr w pa)
-      _ -> times (solveOrientations pr w (solvePositions pr w pa))
-    times pa = case mode of
-      TimesAll -> updateTimes pr w (const True) pa
+    step r pa = case mode of
+      TimesOf _ -> times r (solvePositions pr w pa)
+      _ -> times r (solveOrientations pr w (solvePositions pr w pa))
+    -- round r searches each time within (1/3)/2^r of the way to its neighbours
+    frac r = max (1 / 60) ((1 / 3) / 2 ^ r)
+    times r pa = case mode of
+      TimesAll -> updateTimes pr w (frac r) (const True) pa
       TimesNone -> pa
-      TimesOf set -> updateTimes pr w (`IS.member` set) pa
+      TimesOf set -> updateTimes pr w (frac r) (`IS.member` set) pa
     go r pa c
       | r >= maxRounds = pa
       | otherwise =
-          let pa1 = step pa
+          let pa1 = step r pa
               c1 = totalCost pr w pa1
           in if c1 >= c then pa
              else if c - c1 <= 1e-3 * c then pa1
@@ -206,8 +208,8 @@ normQ = qnormalize
 -- | One Gauss–Seidel sweep over the interior waypoints: each time moves, by golden-section
 -- search between its neighbours, to where the error of the samples of its two segments is
 -- least (position and orientation of the waypoint held).
-updateTimes :: Prepared -> Weights -> (Int -> Bool) -> PathA -> PathA
-updateTimes pr w which pa0@(PathA ts0 _ _)
+updateTimes :: Prepared -> Weights -> Double -> (Int -> Bool) -> PathA -> PathA
+updateTimes pr w frac which pa0@(PathA ts0 _ _)
   | k <= 2 = pa0
   | otherwise = sweep 1 pa0
   where
@@ -226,7 +228,7 @@ updateTimes pr w which pa0@(PathA ts0 _ _)
               f tau = let (pj, qj) = fitAt tau in costAt tau pj qj
               gap = 1e-3 * (hi - lo)
               -- search near the current time: a third of the way to each neighbour
-              best = golden f (max (lo + gap) (cur - (cur - lo) / 3)) (min (hi - gap) (cur + (hi - cur) / 3)) 8
+              best = golden f (max (lo + gap) (cur - (cur - lo) * frac)) (min (hi - gap) (cur + (hi - cur) * frac)) 8
               (pb, qb) = fitAt best
               cNew = costAt best pb qb
               cOld = costAt cur (pindex ps j) (pindex qs j)
@@ -262,15 +264,26 @@ fitMiddle pr (Weights wp wo _) ta tb tc pA pB pC qA qB qC i0 i1 = go i0 (P3 0 0 
           in go (i + 1) (accP ^+^ c *^ (pi' ^-^ base)) (accC + c * c) (accQ ^+^ c *^ e) (accCq + c * c)
 
 golden :: (Double -> Double) -> Double -> Double -> Int -> Double
-golden f a0 b0 iters = loop a0 b0 x1 x2 (f x1) (f x2) iters
+golden f a0 b0 iters = loop a0 b0 (1 / 0) (1 / 0) x1 x2 (f x1) (f x2) iters
   where
     r = (sqrt 5 - 1) / 2
     x1 = b0 - r * (b0 - a0)
     x2 = a0 + r * (b0 - a0)
-    loop a b c d fc fd m
-      | m <= 0 = if fc < fd then c else d
-      | fc < fd = let b' = d; d' = c; c' = b' - r * (b' - a) in loop a b' c' d' (f c') fc (m - 1)
-      | otherwise = let a' = c; c' = d; d' = a' + r * (b - a') in loop a' b c' d' fd (f d') (m - 1)
+    loop a b fa fb c d fc fd m
+      | m <= 0 = finish a b fa fb c d fc fd
+      | fc < fd = let b' = d; d' = c; c' = b' - r * (b' - a) in loop a b' fa fd c' d' (f c') fc (m - 1)
+      | otherwise = let a' = c; c' = d; d' = a' + r * (b - a') in loop a' b fc fb c' d' fd (f d') (m - 1)
+    -- one parabolic step through the best point and its neighbours, kept if it is better
+    finish a b fa fb c d fc fd =
+      let (xb, fbest) = if fc < fd then (c, fc) else (d, fd)
+          pts = if fc < fd then (a, fa, c, fc, d, fd) else (c, fc, d, fd, b, fb)
+          (u, fu, v, fv, w, fw) = pts
+          num = (v - u) ^ (2 :: Int) * (fv - fw) - (v - w) ^ (2 :: Int) * (fv - fu)
+          den = (v - u) * (fv - fw) - (v - w) * (fv - fu)
+          xp = v - 0.5 * num / den
+      in if isInfinite fu || isInfinite fw || den == 0 || isNaN xp || xp <= a || xp >= b
+           then xb
+           else let fp = f xp in if fp < fbest then xp else xb
 
 ----------------------------------------------------------------------------- grow / shrink
 

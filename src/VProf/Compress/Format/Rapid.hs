@@ -45,7 +45,17 @@ statements src = go (zip [1 ..] (lines src)) Nothing "" Nothing []
           st' = case parseStart comment of
                   Just t -> Just t
                   Nothing -> st
-      in split i rest start (cur ++ " ") code st' acc
+          -- MODULE, PROC, ENDPROC ... end without ';': a line starting with a keyword
+          -- begins a new statement
+          startsNew = case words (lower code) of
+            (w : _) -> w `elem` keywords
+            [] -> False
+          (start', cur', acc')
+            | startsNew && not (all isSpace cur) = (Nothing, "", (maybe i id start, trim cur) : acc)
+            | otherwise = (start, cur, acc)
+      in split i rest start' (cur' ++ " ") code st' acc'
+    keywords = [ "module", "endmodule", "proc", "endproc", "func", "endfunc", "trap", "endtrap"
+               , "local", "const", "pers", "var", "movel", "movej", "paintl", "moveabsj", "movec" ]
     split i rest start cur code st acc =
       case break (== ';') code of
         (a, ';' : b) ->
