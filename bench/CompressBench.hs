@@ -40,7 +40,7 @@ compressBenchmarks = do
     [ bgroup "compress"
         [ bench "freiburg1_xyz 3000 samples -> 90, thesis" $ nf (run MethodThesis (pts fr)) fr
         , bench "freiburg1_xyz 3000 samples -> 90, rdp" $ nf (run MethodRdp (pts fr)) fr
-        , bench "V101 2893 samples -> 87, thesis" $ nf (run MethodThesis (pts v1)) v1
-        , bench "V101 2893 samples -> 87, rdp" $ nf (run MethodRdp (pts v1)) v1
+        , bench "V101 2895 samples -> 87, thesis" $ nf (run MethodThesis (pts v1)) v1
+        , bench "V101 2895 samples -> 87, rdp" $ nf (run MethodRdp (pts v1)) v1
         ]
     ]

@@ -17,7 +17,7 @@ import Data.List (intercalate)
 import GHC.Clock (getMonotonicTime)
 import Options.Applicative
 import System.Exit (ExitCode (..))
-import System.FilePath (takeExtension)
+import System.FilePath (takeExtension, takeFileName)
 import System.IO (hPutStrLn, stderr)
 
 import VProf.Compress
@@ -173,7 +173,7 @@ runCompress o = do
             Just f -> BL.writeFile f (render f)
             Nothing -> when (not (coReport o || coReportJson o) && coPlot o == Nothing) $ BL.putStr (render "")
           case coPlot o of
-            Just f -> plotCompression f (coInput o) (prepare rec) (toPathA (oPath out))
+            Just f -> plotCompression f (takeFileName (coInput o) ++ ", " ++ show k ++ " points") (prepare rec) (toPathA (oPath out))
             Nothing -> pure ()
           if oToleranceMet out
             then pure ExitSuccess

@@ -14,7 +14,7 @@ import Data.Default.Class (def)
 import qualified Data.Vector.Unboxed as U
 import Graphics.Rendering.Chart
 import Graphics.Rendering.Chart.Backend.Cairo (FileFormat (..), FileOptions (..), renderableToFile)
-import Graphics.Rendering.Chart.Grid (aboveN, gridToRenderable, tval)
+import Graphics.Rendering.Chart.Grid (aboveN, gridToRenderable, tval, weights)
 import System.FilePath (takeExtension)
 
 import VProf.Compress.Geometry
@@ -26,7 +26,7 @@ plotCompression :: FilePath -> String -> Prepared -> PathA -> IO ()
 plotCompression file title pr pa = void (renderableToFile opts file (gridToRenderable grid))
   where
     fmt = if map toLower (takeExtension file) == ".svg" then SVG else PNG
-    opts = FileOptions (1000, 1000) fmt
+    opts = FileOptions (900, 1000) fmt
     t0 = U.head (prT pr)
     rt = map (subtract t0) (U.toList (prT pr))
     wt = map (subtract t0) (U.toList (paT pa))
@@ -60,6 +60,6 @@ plotCompression file title pr pa = void (renderableToFile opts file (gridToRende
           & layout_x_axis . laxis_title .~ "time [s]"
           & layout_y_axis . laxis_title .~ "m/s"
           & layout_plots .~ [ lineP "raw" gray 1.0 (zip rt rawV), lineP "path" blue 1.5 fitV ]
-    grid = aboveN [ tval (layoutToRenderable (panel (title ++ ": position") "m" rawP fitP))
-                  , tval (layoutToRenderable (panel "orientation (rotation from first sample)" "deg" rawO fitO))
-                  , tval (layoutToRenderable speedPanel) ]
+    grid = aboveN [ weights (1, 1) (tval (layoutToRenderable (panel (title ++ ": position") "m" rawP fitP)))
+                  , weights (1, 1) (tval (layoutToRenderable (panel "orientation (rotation vector from the first sample)" "deg" rawO fitO)))
+                  , weights (1, 1) (tval (layoutToRenderable speedPanel)) ]
