@@ -8,7 +8,7 @@ import VProf.Cli.Compress (compressCommand)
 -- Temporary entry point of the compress branch; the lead reconciles Main.hs.
 main :: IO ()
 main = do
-  act <- execParser (info (commands <**> helper) (fullDesc <> progDesc "vprof: velocity profiles and path compression"))
+  act <- execParser (info (commands <**> helper) (fullDesc <> progDesc "vprof: velocity profiles and path compression" <> failureCode 2))
   act >>= exitWith
   where
     commands = subparser (command "compress" (info (compressCommand <**> helper)

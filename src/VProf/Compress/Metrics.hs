@@ -10,7 +10,7 @@ module VProf.Compress.Metrics
   ) where
 
 import Control.DeepSeq (NFData)
-import Data.Aeson (ToJSON)
+import Data.Aeson (ToJSON (..), camelTo2, defaultOptions, fieldLabelModifier, genericToJSON)
 import qualified Data.Vector.Unboxed as U
 import GHC.Generics (Generic)
 
@@ -42,7 +42,9 @@ data Metrics = Metrics
   , mReduction        :: !Double  -- ^ 1 − points/samples
   } deriving (Show, Eq, Generic)
 
-instance ToJSON Metrics
+-- | JSON with the proto's field names (position_rmse, ...), SI units.
+instance ToJSON Metrics where
+  toJSON = genericToJSON defaultOptions { fieldLabelModifier = camelTo2 '_' . drop 1 }
 instance NFData Metrics
 
 -- | Distance of every sample to the nearest segment of the polyline, regardless of time.
