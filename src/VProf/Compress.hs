@@ -13,6 +13,8 @@ module VProf.Compress
   ) where
 
 import qualified Data.Vector.Unboxed as U
+import Numeric.Units.Dimensional.Prelude (Length, metre, (/~))
+import Prelude
 
 import VProf.Compress.Fit
 import VProf.Compress.Metrics
@@ -27,7 +29,7 @@ data Settings = Settings
   , sWeights   :: !Weights
   , sPoints    :: !(Maybe Int)
   , sMargin    :: !(Maybe Double)
-  , sTolerance :: !(Maybe Double)  -- ^ m
+  , sTolerance :: !(Maybe (Length Double))  -- ^ largest position error allowed
   } deriving (Show, Eq)
 
 defaultSettings :: Settings
@@ -57,7 +59,7 @@ validateSettings n s = do
       chk "margin" (finite m && m >= 1) (show m) "must be a number >= 1"
       chk "margin" (sMethod s == MethodThesis) (show m) "only the thesis method has a margin"
     Nothing -> Right ()
-  case sTolerance s of
+  case fmap (/~ metre) (sTolerance s) of
     Just t -> chk "tolerance" (finite t && t > 0) (show t) "must be > 0"
     Nothing -> Right ()
 
@@ -66,21 +68,22 @@ validateSettings n s = do
 compress :: Settings -> Recording -> Either (String, String) Outcome
 compress s rec = do
   let pr = prepare rec
+      tolM = fmap (/~ metre) (sTolerance s)
       n = U.length (prT pr)
   validateSettings n s
   pure $ case sMethod s of
     MethodThesis ->
       let cfg = defaultFitConfig { fcWeights = sWeights s, fcPoints = sPoints s
-                                 , fcMargin = sMargin s, fcTolerance = sTolerance s }
+                                 , fcMargin = sMargin s, fcTolerance = tolM }
           r = fitThesis cfg pr
           pa = frPath r
       in Outcome (fromPathA pa) (computeMetrics pr pa) (frToleranceMet r) (frCost r) (show (frStop r))
     MethodRdp ->
-      let stop = case (sPoints s, sTolerance s) of
+      let stop = case (sPoints s, tolM) of
             (Just k, _) -> RdpPoints k
             (Nothing, Just e) -> RdpEpsilon e
             _ -> RdpPoints (max 2 (round (0.03 * fromIntegral n :: Double)))
           pa = rdpPath pr stop
           m = computeMetrics pr pa
-          tolOk = maybe True (\e -> mGeometricMax m <= e + 1e-12) (sTolerance s)
+          tolOk = maybe True (\e -> mGeometricMax m <= e + 1e-12) tolM
       in Outcome (fromPathA pa) m tolOk (totalCost pr (sWeights s) pa) (show stop)

@@ -19,6 +19,8 @@ import Options.Applicative
 import System.Exit (ExitCode (..))
 import System.FilePath (takeExtension, takeFileName)
 import System.IO (hPutStrLn, stderr)
+import Numeric.Units.Dimensional.Prelude (metre, milli, (*~))
+import Prelude
 
 import VProf.Compress
 import VProf.Compress.Format.Csv
@@ -132,7 +134,7 @@ runCompress o = do
       , sWeights = thesisWeights wp wo wv
       , sPoints = case coStop o of Just (StopPoints k) -> Just k; _ -> Nothing
       , sMargin = case coStop o of Just (StopMargin m) -> Just m; _ -> Nothing
-      , sTolerance = case coStop o of Just (StopTolerance t) -> Just (t * 1e-3); _ -> Nothing
+      , sTolerance = case coStop o of Just (StopTolerance t) -> Just (t *~ milli metre); _ -> Nothing
       }
     go rec = do
       t0 <- getMonotonicTime

@@ -25,6 +25,8 @@ import qualified Data.Text as T
 import qualified Data.Vector.Unboxed as U
 import Data.Word (Word64)
 import GHC.Clock (getMonotonicTime)
+import Numeric.Units.Dimensional.Prelude (metre, (*~))
+import Prelude
 
 import VProf.Compress
 import VProf.Compress.Vec
@@ -72,7 +74,7 @@ requestToDomain m = do
         , sWeights = Weights (pick dp wpos) (pick doo wori) (pick dv wvel)
         , sPoints = if pts == 0 then Nothing else Just (fromIntegral pts)
         , sMargin = if margin == 0 then Nothing else Just margin
-        , sTolerance = if tol == 0 then Nothing else Just tol
+        , sTolerance = if tol == 0 then Nothing else Just (tol *~ metre)
         }
   Right (Recording tr, settings)
 
