@@ -118,7 +118,7 @@ updatePathWith pr w mode maxRounds pa0
           let pa1 = step r pa
               c1 = totalCost pr w pa1
           in if c1 >= c then pa
-             else if c - c1 <= 1e-3 * c then pa1
+             else if c - c1 <= 3e-3 * c then pa1
              else go (r + 1) pa1 c1
 
 -- | With waypoint times fixed, the positions of all waypoints minimising
@@ -295,6 +295,7 @@ growPath pr w m pa@(PathA ts ps qs)
   | otherwise = PathA (U.fromList (map fst3 merged)) (pfromList (map snd3 merged)) (pfromList (map thd3 merged))
   where
     tbl = mkSegTable ts ps qs
+    sums = rangeSums pr w pa
     k = U.length ts
     cands = [ (gain, i) | j <- [0 .. k - 2], Just (gain, i) <- [candidate j], gain > 0 ]
     chosen = take m (sortBy (comparing (negate . fst)) cands)
@@ -311,7 +312,7 @@ growPath pr w m pa@(PathA ts ps qs)
       in case inner of
            [] -> Nothing
            _ -> let i = snd (maximum [ (errAt x, x) | x <- inner ])
-                    before = rangeCost pr w (tableInterp tbl) i0 i1
+                    before = rangeCostFrom pr sums i0 i1
                     ti = prT pr U.! i
                     f t | t < ti = lin t0 ti (pindex ps j) (pindex (prP pr) i) (pindex qs j) (pindex (prQ pr) i) t
                         | otherwise = lin ti t1 (pindex (prP pr) i) (pindex ps (j + 1)) (pindex (prQ pr) i) (pindex qs (j + 1)) t
@@ -345,6 +346,7 @@ shrinkStepN pr w m pa@(PathA ts ps qs)
   | otherwise = (PathA (keep ts) (keep ps) (keep qs), touched)
   where
     tbl = mkSegTable ts ps qs
+    sums = rangeSums pr w pa
     newIndex j = j - IS.size (fst (IS.split j removed))
     touched = IS.fromList [ newIndex x | r <- IS.toList removed, x <- [r - 1, r + 1]
                                        , x > 0, x < k - 1, not (IS.member x removed) ]
@@ -352,7 +354,7 @@ shrinkStepN pr w m pa@(PathA ts ps qs)
     cost j =
       let t0 = ts U.! (j - 1); t1 = ts U.! (j + 1)
           (i0, i1) = samplesIn pr t0 t1
-          before = rangeCost pr w (tableInterp tbl) i0 i1
+          before = rangeCostFrom pr sums i0 i1
           sg = mkSeg t0 t1 (pindex ps (j - 1)) (pindex ps (j + 1)) (pindex qs (j - 1)) (pindex qs (j + 1))
           g t | t < t0 || t > t1 = tableInterp tbl t
               | otherwise = segPose sg t

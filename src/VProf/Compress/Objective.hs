@@ -21,6 +21,9 @@ module VProf.Compress.Objective
   , samplesIn
   , pointErrors
   , twoSegmentCost
+  , RangeSums
+  , rangeSums
+  , rangeCostFrom
   , Seg
   , mkSeg
   , segPose
@@ -111,6 +114,37 @@ rangeCost pr (Weights wp wo wv) f i0 i1
                     in wv * quadrance (pindex (prV pr) (i - 1) ^-^ vh)
           in go (i + 1) ph (s + poseTerm + velTerm)
 {-# INLINE rangeCost #-}
+
+-- | Prefix sums of the per-sample pose terms and per-interval velocity terms of a path,
+-- so that 'rangeCost' of the unchanged path over any range costs O(1).
+data RangeSums = RangeSums !(U.Vector Double) !(U.Vector Double)
+
+rangeSums :: Prepared -> Weights -> PathA -> RangeSums
+rangeSums pr (Weights wp wo wv) pa = RangeSums (U.scanl (+) 0 pose) (U.scanl (+) 0 vel)
+  where
+    n = U.length (prT pr)
+    f = pathInterp pa
+    hatsL = [ f (U.unsafeIndex (prT pr) i) | i <- [0 .. n - 1] ]
+    hp = pfromList (map fst hatsL) :: V3s
+    hq = pfromList (map snd hatsL) :: Qs
+    pose = U.generate n $ \i ->
+      let ep = quadrance (pindex (prP pr) i ^-^ pindex hp i)
+          eo = if wo == 0 then 0 else let a = qangle (pindex (prQ pr) i) (pindex hq i) in a * a
+      in wp * ep + wo * eo
+    vel = U.generate (n - 1) $ \i ->
+      if wv == 0 then 0
+      else let vh = U.unsafeIndex (prInvDt pr) i *^ (pindex hp (i + 1) ^-^ pindex hp i)
+           in wv * quadrance (pindex (prV pr) i ^-^ vh)
+
+-- | 'rangeCost' of the path the sums were made from.
+rangeCostFrom :: Prepared -> RangeSums -> Int -> Int -> Double
+rangeCostFrom pr (RangeSums ps vs) i0 i1
+  | i1 < i0 = 0
+  | otherwise = (ps U.! (i1 + 1) - ps U.! i0) + (vs U.! j1 - vs U.! j0)
+  where
+    n = U.length (prT pr)
+    j0 = max 0 (i0 - 1)
+    j1 = min (n - 1) (i1 + 1)
 
 -- | The whole objective E of a path.
 totalCost :: Prepared -> Weights -> PathA -> Double
