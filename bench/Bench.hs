@@ -9,7 +9,7 @@ import Control.Exception (evaluate)
 import Control.Monad (forM, forM_, when)
 import Criterion.Main
 import Data.Time.Clock (diffUTCTime, getCurrentTime)
-import System.Environment (getArgs, withArgs)
+import System.Environment (getArgs)
 import System.Exit (exitFailure)
 import Text.Printf (printf)
 import Control.Lens ((.~), (&))
@@ -19,6 +19,7 @@ import Data.Default.Class (def)
 import Graphics.Rendering.Chart
 import Graphics.Rendering.Chart.Backend.Cairo
 
+import CompressBench (compressBenchmarks)
 import Routes
 import VProf.Generator
 import VProf.Profile (duration, sampleCount)
@@ -42,12 +43,13 @@ main = do
     forM_ cases $ \(n, rq) -> certified n rq
     let series = [ (len, nz) | (len, nz) <- [(100, 1), (1000, 10), (2000, 100), (5000, 100), (20000, 100), (2000, 1000)] ]
     forM_ series $ \(len, nz) -> certified (show (len, nz)) (syntheticRoute len nz)
-    defaultMain
+    compression <- compressBenchmarks
+    defaultMain $
       [ bgroup "cases" [ bench n (nf (resIterations . generatePure) rq) | (n, rq) <- cases ]
       , bgroup "scaling" [ bench (show (round len :: Int) ++ "m-" ++ show nz ++ "limits")
                                   (nf (resIterations . generatePure) (syntheticRoute len nz))
                          | (len, nz) <- series ]
-      ]
+      ] ++ compression
 
 -- | Wall-clock scaling series (best of 5 runs): route length and number of limits.
 scaling :: IO ()

@@ -1,0 +1,89 @@
+-- | Recordings sampled from a known K-waypoint path are recovered with K points.
+module VProf.Compress.PropertySpec (spec) where
+
+import qualified Data.Vector.Unboxed as U
+import Test.Hspec
+import Test.QuickCheck
+
+import VProf.Compress
+import VProf.Compress.Geometry
+import VProf.Compress.Objective
+import VProf.Compress.Vec
+
+-- | A random path: K waypoints, segment durations 1–2.5 s, positions in a 1 m cube,
+-- orientations turning up to 0.8 rad per segment.
+data Truth = Truth { trT :: [Double], trP :: [P3], trQ :: [Q4] } deriving Show
+
+genTruth :: Gen Truth
+genTruth = do
+  k <- choose (3, 7)
+  t0 <- choose (0, 2000)
+  durs <- vectorOf (k - 1) (choose (1.0, 2.5))
+  ps <- vectorOf k (P3 <$> choose (-0.5, 0.5) <*> choose (-0.5, 0.5) <*> choose (-0.5, 0.5))
+  q0 <- qnormalize <$> (Q4 <$> choose (-1, 1) <*> choose (-1, 1) <*> choose (-1, 1) <*> choose (-1, 1))
+  rots <- vectorOf (k - 1) (P3 <$> choose (-0.45, 0.45) <*> choose (-0.45, 0.45) <*> choose (-0.45, 0.45))
+  let qs = scanl (\q r -> qnormalize (qmul (qexp r) q)) q0 rots
+  pure (Truth (scanl (+) t0 durs) ps qs)
+
+-- | Sample every 50 ms, with uniform noise of the given amplitude (m, rad) if any.
+sampleTruth :: Truth -> Maybe (Double, Double) -> Gen Recording
+sampleTruth (Truth ts ps qs) noise = do
+  let tv = U.fromList ts
+      pv = pfromList ps :: V3s
+      qv = pfromList qs :: Qs
+      n = floor ((last ts - head ts) / 0.05) + 1 :: Int
+      st = [ head ts + 0.05 * fromIntegral i | i <- [0 .. n - 1] ]
+      clean = [ interpolate tv pv qv t | t <- st ]
+  noisy <- case noise of
+    Nothing -> pure clean
+    Just (ap, ao) -> mapM (\(p, q) -> do
+        dp <- P3 <$> choose (-ap, ap) <*> choose (-ap, ap) <*> choose (-ap, ap)
+        dq <- P3 <$> choose (-ao, ao) <*> choose (-ao, ao) <*> choose (-ao, ao)
+        pure (p ^+^ dp, qnormalize (qmul (qexp dq) q))) clean
+  pure (either error id (recordingFromArrays (U.fromList st) (pfromList (map fst noisy)) (pfromList (map snd noisy))))
+
+cleanOf :: Truth -> Recording
+cleanOf tr = case sampleTruthClean tr of r -> r
+  where sampleTruthClean (Truth ts ps qs) =
+          let tv = U.fromList ts; pv = pfromList ps :: V3s; qv = pfromList qs :: Qs
+              n = floor ((last ts - head ts) / 0.05) + 1 :: Int
+              st = [ head ts + 0.05 * fromIntegral i | i <- [0 .. n - 1] ]
+              clean = [ interpolate tv pv qv t | t <- st ]
+          in either error id (recordingFromArrays (U.fromList st) (pfromList (map fst clean)) (pfromList (map snd clean)))
+
+fitK :: Weights -> Int -> Recording -> Outcome
+fitK w k rec = either (error . show) id (compress defaultSettings { sWeights = w, sPoints = Just k } rec)
+
+-- | Metrics of a path against the noise-free samples of the truth.
+againstTruth :: Truth -> Outcome -> Metrics
+againstTruth tr o = computeMetrics (prepare (cleanOf tr)) (toPathA (oPath o))
+
+spec :: Spec
+spec = describe "recovery of a known K-waypoint path" $ do
+  it "noise-free: K points, position RMSE < 0.05 mm, orientation RMSE < 0.005 deg" $
+    property $ forAll genTruth $ \tr -> forAllBlind (sampleTruth tr Nothing) $ \rec ->
+      let k = length (trT tr)
+          m = oMetrics (fitK defaultWeights k rec)
+      in counterexample (show m) $
+           mPoints m === k .&&. mPositionRmse m < 5e-5 .&&. mOrientationRmse m < 0.005 * pi / 180
+  it "with small noise (1 mm, 0.2 deg): K points, closer to the noise-free motion than the samples are" $
+    property $ forAll genTruth $ \tr -> forAllBlind (sampleTruth tr (Just (1e-3, 0.2 * pi / 180))) $ \rec ->
+      let k = length (trT tr)
+          o = fitK defaultWeights k rec
+          m = againstTruth tr o
+          Recording noisy = rec
+          Recording clean = cleanOf tr
+          n = trackLength clean
+          rms xs = sqrt (sum (map (^ (2 :: Int)) xs) / fromIntegral (length xs))
+          noiseP = rms [ distance (pindex (tPos noisy) i) (pindex (tPos clean) i) | i <- [0 .. n - 1] ]
+          noiseO = rms [ qangle (pindex (tRot noisy) i) (pindex (tRot clean) i) | i <- [0 .. n - 1] ]
+      in counterexample (show (mPositionRmse m, noiseP, mOrientationRmse m, noiseO)) $
+           mPoints m === k .&&. mPositionRmse m < noiseP .&&. mOrientationRmse m < noiseO
+  it "raising a weight lowers that error (orientation weight 0 -> 30 at K points with noise)" $
+    property $ forAll genTruth $ \tr -> forAllBlind (sampleTruth tr (Just (1e-3, 0.2 * pi / 180))) $ \rec ->
+      let k = length (trT tr)
+          e w = oMetrics (fitK w k rec)
+          o0 = e (thesisWeights 1 0 1)
+          o30 = e (thesisWeights 1 30 1)
+      in counterexample (show (map mOrientationRmse [o0, o30])) $
+           mOrientationRmse o30 < mOrientationRmse o0

@@ -1,0 +1,71 @@
+-- | The thesis method against the RDP baseline on real recordings, at 3 % of the samples.
+module VProf.Compress.RealDataSpec (spec) where
+
+import qualified Data.Vector.Unboxed as U
+import Test.Hspec
+
+import VProf.Compress
+import VProf.Compress.Geometry (qangle, qdot)
+import VProf.Compress.Objective
+import VProf.Compress.TestData
+import VProf.Compress.Vec
+
+threePercent :: Recording -> Int
+threePercent (Recording tr) = round (0.03 * fromIntegral (trackLength tr) :: Double)
+
+run :: Method -> Int -> Recording -> Outcome
+run m k rec = either (error . show) id (compress defaultSettings { sMethod = m, sPoints = Just k } rec)
+
+compareOn :: FilePath -> Spec
+compareOn name = describe name $ do
+  it "at 3 % of the samples beats RDP with the same number of points (position RMSE <= 1/2, orientation RMSE <= 0.7, geometric RMSE <= 1)" $ do
+    rec <- loadTum name
+    let k = threePercent rec
+        th = oMetrics (run MethodThesis k rec)
+        rd = oMetrics (run MethodRdp k rec)
+    mPoints th `shouldBe` k
+    mPoints rd `shouldBe` k
+    mPositionRmse th `shouldSatisfy` (<= 0.5 * mPositionRmse rd)
+    mOrientationRmse th `shouldSatisfy` (<= 0.7 * mOrientationRmse rd)
+    mGeometricRmse th `shouldSatisfy` (<= mGeometricRmse rd)
+  it "keeps the endpoints exactly (time, position, orientation)" $ do
+    rec@(Recording tr) <- loadTum name
+    let Path p = oPath (run MethodThesis (threePercent rec) rec)
+        n = trackLength tr
+        k = trackLength p
+    U.head (tTime p) `shouldBe` U.head (tTime tr)
+    U.last (tTime p) `shouldBe` U.last (tTime tr)
+    phead (tPos p) `shouldBe` phead (tPos tr)
+    plast (tPos p) `shouldBe` plast (tPos tr)
+    qangle (phead (tRot p)) (phead (tRot tr)) `shouldSatisfy` (< 1e-9)
+    qangle (pindex (tRot p) (k - 1)) (pindex (tRot tr) (n - 1)) `shouldSatisfy` (< 1e-9)
+
+spec :: Spec
+spec = do
+  compareOn "freiburg1_xyz-groundtruth.txt"
+  compareOn "V101_gt.txt"
+  describe "V101_gt.txt quaternion sign flip at t = 1403715281.16" $ do
+    it "the recording does flip sign there (so this test means something)" $ do
+      Recording tr <- loadTum "V101_gt.txt"
+      let ts = tTime tr
+          flips = [ ts U.! i | i <- [1 .. U.length ts - 1], qdot (pindex (tRot tr) (i - 1)) (pindex (tRot tr) i) < 0 ]
+      flips `shouldSatisfy` any (\t -> abs (t - 1403715281.16) < 0.06)
+    it "gives no orientation spike: error within +-1 s of the flip below 20 deg, waypoints there turn no faster than the sensor" $ do
+      rec@(Recording tr) <- loadTum "V101_gt.txt"
+      let out = run MethodThesis (threePercent rec) rec
+          pr = prepare rec
+          pa = toPathA (oPath out)
+          (_, eo, _) = pointErrors pr pa
+          ts = tTime tr
+          near = [ eo U.! i | i <- [0 .. U.length ts - 1], abs (ts U.! i - 1403715281.16) < 1.0 ]
+          wt = paT pa
+          turns = [ qangle (pindex (paQ pa) j) (pindex (paQ pa) (j + 1)) / (wt U.! (j + 1) - wt U.! j)
+                  | j <- [0 .. U.length wt - 2], abs (wt U.! j - 1403715281.16) < 2.0 ]
+          rawRate = maximum [ qangle (pindex (tRot tr) i) (pindex (tRot tr) (i + 1)) / (ts U.! (i + 1) - ts U.! i)
+                            | i <- [0 .. U.length ts - 2] ]
+      near `shouldSatisfy` (not . null)
+      -- a sign error (slerp the long way, or q vs -q counted as different) would show as
+      -- an error near 180 degrees there and as a waypoint turning faster than the sensor
+      maximum near `shouldSatisfy` (< 20 * pi / 180)
+      turns `shouldSatisfy` (not . null)
+      maximum turns `shouldSatisfy` (<= rawRate)

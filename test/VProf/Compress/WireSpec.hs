@@ -1,0 +1,74 @@
+{-# LANGUAGE DataKinds #-}
+-- | The protobuf side: request validation, conversion and serveCompress.
+module VProf.Compress.WireSpec (spec) where
+
+import Data.ProtocolBuffers (getField, putField)
+import qualified Data.Text as T
+import qualified Data.Vector.Unboxed as U
+import Test.Hspec
+
+import VProf.Compress
+import VProf.Compress.TestData
+import VProf.Wire.CompressConvert
+import VProf.Wire.Messages
+
+request :: Track -> Word -> CompressRequestMsg
+request tr pts = CompressRequestMsg
+  { crqRequestId = putField (Just 7)
+  , crqRecording = putField (Just (trackToPoses tr))
+  , crqMethod = putField Nothing
+  , crqPoints = putField (nonDefault (fromIntegral pts))
+  , crqMargin = putField Nothing
+  , crqTolerance = putField Nothing
+  , crqWeightPosition = putField Nothing
+  , crqWeightOrientation = putField Nothing
+  , crqWeightVelocity = putField Nothing
+  }
+
+spec :: Spec
+spec = describe "serveCompress" $ do
+  it "compresses a recording sent as Poses, echoes the id, measures compute time, survives encode/decode" $ do
+    Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let req = request tr 60
+    decodeBare (encodeBare req) `shouldBe` Right req
+    rsp <- serveCompress req
+    getField (cpRequestId rsp) `shouldBe` Just 7
+    getField (cpError rsp) `shouldBe` Nothing
+    let Just path = getField (cpPath rsp)
+        Just m = getField (cpMetrics rsp)
+    length (getField (posTime path)) `shouldBe` 60
+    getField (cmPoints m) `shouldBe` Just 60
+    getField (cmSamples m) `shouldBe` Just 3000
+    fmap (> 0) (getField (cpComputeTime rsp)) `shouldBe` Just True
+    head (getField (posTime path)) `shouldBe` U.head (tTime tr)
+    decodeBare (encodeBare rsp) `shouldBe` Right rsp
+  it "answers a bad request with INVALID_ARGUMENT naming the field and the value" $ do
+    Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let req = (request tr 60) { crqMargin = putField (Just 0.5) }
+    rsp <- serveCompress req
+    let Just err = getField (cpError rsp)
+    getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
+    getField (errField err) `shouldBe` Just (T.pack "margin")
+    fmap (T.isInfixOf (T.pack "0.5")) (getField (errMessage err)) `shouldBe` Just True
+    getField (cpPath rsp) `shouldBe` Nothing
+  it "names recording.time when times do not increase" $ do
+    let poses = PosesMsg (putField [1, 1]) (putField [0, 0]) (putField [0, 0]) (putField [0, 0])
+                         (putField [1, 1]) (putField [0, 0]) (putField [0, 0]) (putField [0, 0])
+        req = CompressRequestMsg (putField Nothing) (putField (Just poses)) (putField Nothing) (putField Nothing)
+                (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
+    rsp <- serveCompress req
+    let Just err = getField (cpError rsp)
+    getField (errField err) `shouldBe` Just (T.pack "recording.time")
+  it "names the missing recording" $ do
+    let req = CompressRequestMsg (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
+                (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
+    rsp <- serveCompress req
+    let Just err = getField (cpError rsp)
+    getField (errField err) `shouldBe` Just (T.pack "recording")
+  it "reports an unmet tolerance as INFEASIBLE with the best path" $ do
+    Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let req = (request tr 0) { crqTolerance = putField (Just 1e-7) }
+    rsp <- serveCompress req
+    let Just err = getField (cpError rsp)
+    getEnum (getField (errCode err)) `shouldBe` ErrInfeasible
+    fmap (not . null . getField . posTime) (getField (cpPath rsp)) `shouldBe` Just True
