@@ -279,7 +279,7 @@ choose e st@(St v _ s) =
              Nothing -> search a m bestSt (n - 1)
   in case try hi of
        Just st' -> st'
-       Nothing -> search aB hi fallback (8 :: Int)
+       Nothing -> search aB hi fallback (5 :: Int)
 
 -- | The forward pass from a state until the terminal is reached; the states visited
 -- after the given one, in order. Stops after @limit@ steps.
