@@ -28,7 +28,7 @@ module VProf.Generator.RubberBand
   ) where
 
 import Control.Monad (when, forM_)
-import Control.Monad.ST (ST, runST)
+import Control.Monad.ST (runST)
 import Data.STRef
 import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as M

@@ -321,7 +321,7 @@ tail' pb
     vs = scanl (\v a -> v + a * dt) (max 0 vc) alphas
 
 num :: Double -> String
-num x = showFFloat Nothing (fromIntegral (round (x * 1e6) :: Integer) / 1e6) ""
+num x = showFFloat Nothing (fromIntegral (round (x * 1e6) :: Integer) / 1e6 :: Double) ""
 
 -- | The seed profile's velocities v_0..v_N.
 seed :: Problem -> Either SeedFailure (U.Vector Double)
