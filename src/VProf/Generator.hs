@@ -21,7 +21,8 @@ module VProf.Generator
   ) where
 
 import qualified Data.Vector.Unboxed as U
-import Data.Time.Clock (diffUTCTime, getCurrentTime)
+import Data.Time.Clock (UTCTime, diffUTCTime, getCurrentTime)
+import System.Timeout (timeout)
 import Control.Exception (evaluate)
 
 import VProf.Generator.RubberBand
@@ -177,9 +178,24 @@ generate rq = case validate rq of
   Left es -> pure (invalid rq es)
   Right pb -> generateProblem pb
 
+-- | The wall-clock budget binds the whole generation: iterations are checked between
+-- passes, and the forward pass that seeds them is stopped by a timeout at the budget
+-- (plus a quarter, at least 50 ms), answering NOT_CONVERGED rather than running on.
 generateProblem :: Problem -> IO Result
 generateProblem pb = do
   t0 <- getCurrentTime
+  let limitSec = pbBudget pb + max 0.05 (pbBudget pb / 4)
+  r <- timeout (ceiling (limitSec * 1e6)) (generateWithin pb t0)
+  case r of
+    Just res -> pure res
+    Nothing -> do
+      t1 <- getCurrentTime
+      pure (failed pb (NotConverged ("time budget of " ++ show (pbBudget pb)
+                                     ++ " s spent before the first pass finished")))
+        { resSeconds = realToFrac (diffUTCTime t1 t0) }
+
+generateWithin :: Problem -> UTCTime -> IO Result
+generateWithin pb t0 = do
   let elapsed = do t <- getCurrentTime; pure (realToFrac (diffUTCTime t t0) :: Double)
   case iterations pb of
     Left f -> do

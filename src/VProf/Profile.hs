@@ -63,7 +63,9 @@ accelerations (Profile dt v _ _)
 
 -- | j_0..j_{N-1}: j_k = (a_{k+1} − a_k)/dt with a_N the end acceleration.
 jerks :: Profile -> U.Vector Double
-jerks p = U.zipWith (\a b -> (b - a) / prDt p) acc (U.tail acc `U.snoc` prEndAcc p)
+jerks p
+  | U.null acc = U.empty   -- a single sample has no step, so no acceleration to change
+  | otherwise = U.zipWith (\a b -> (b - a) / prDt p) acc (U.snoc (U.tail acc) (prEndAcc p))
   where acc = accelerations p
 
 -- | (a_0 − a_start)/dt (or (a_end − a_start)/dt for a single sample).
