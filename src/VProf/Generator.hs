@@ -163,8 +163,11 @@ generatePure rq = case validate rq of
     Right snaps ->
       let capped = take (pbMaxIter pb + 1) snaps
           lastSnap = last capped
-          reason = if snDone lastSnap then Nothing else Just ("iteration cap of " ++ show (pbMaxIter pb) ++ " reached")
+          reason = if snDone lastSnap then Nothing else Just (capReason pb)
       in finish pb 0 (snIteration lastSnap) (snDone lastSnap) reason (snVel lastSnap)
+
+capReason :: Problem -> String
+capReason pb = "iteration cap of " ++ show (pbMaxIter pb) ++ " reached"
 
 invalid :: Request -> [FieldError] -> Result
 invalid rq es = Result (Failed (InvalidRequest es)) Nothing [] 0 False (rqAlgorithm rq) 0 0 0
@@ -209,7 +212,7 @@ generateWithin pb t0 = do
             if snDone sn
               then pure (sn, Nothing)
               else if snIteration sn >= pbMaxIter pb
-                then pure (sn, Just ("iteration cap of " ++ show (pbMaxIter pb) ++ " reached"))
+                then pure (sn, Just (capReason pb))
                 else if secs > pbBudget pb
                   then pure (sn, Just ("time budget of " ++ show (pbBudget pb) ++ " s spent after "
                                        ++ show (snIteration sn) ++ " iterations"))

@@ -15,6 +15,7 @@ module VProf.Profile
   , duration
   , times
   , distances
+  , trapezoidDistances
   , accelerations
   , jerks
   , jerkIntoFirst
@@ -51,7 +52,12 @@ times p = U.generate (sampleCount p) (\k -> fromIntegral k * prDt p)
 
 -- | s_0..s_N, trapezoidal.
 distances :: Profile -> U.Vector Double
-distances (Profile dt v _ _)
+distances (Profile dt v _ _) = trapezoidDistances dt v
+
+-- | s_0..s_N of velocity samples v_0..v_N at time step dt: s_0 = 0,
+-- s_{k+1} = s_k + (v_k + v_{k+1})·dt/2.
+trapezoidDistances :: Double -> U.Vector Double -> U.Vector Double
+trapezoidDistances dt v
   | U.null v = U.empty
   | otherwise = U.scanl' (+) 0 (U.zipWith (\a b -> (a + b) * dt / 2) v (U.tail v))
 

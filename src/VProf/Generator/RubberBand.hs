@@ -28,11 +28,12 @@ module VProf.Generator.RubberBand
   ) where
 
 import Control.Monad (when, forM_)
-import Control.Monad.ST (runST)
+import Control.Monad.ST (ST, runST)
 import Data.STRef
 import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as M
 
+import VProf.Profile (trapezoidDistances)
 import VProf.Request (Problem (..))
 import VProf.SpeedLimit
 
@@ -47,10 +48,13 @@ data PassResult = PassResult
   , prRaising :: !Bool
   } deriving (Show)
 
-trapezoid :: Double -> U.Vector Double -> U.Vector Double
-trapezoid dt v
-  | U.null v = U.empty
-  | otherwise = U.scanl' (+) 0 (U.zipWith (\a b -> (a + b) * dt / 2) v (U.tail v))
+-- | a_i of the profile being edited, with a_{-1} the start and a_N the end acceleration.
+accAtM :: Problem -> Int -> M.MVector s Double -> Int -> ST s Double
+accAtM pb n v i
+  | i < 0 = pure (pbA0 pb)
+  | i >= n = pure (pbAEnd pb)
+  | otherwise = do a <- M.unsafeRead v i; b <- M.unsafeRead v (i + 1); pure ((b - a) / pbDt pb)
+{-# INLINE accAtM #-}
 
 -- | The speed limit of a step in the band's view: the zones, and past the route end the
 -- end velocity (the thesis's zero limit behind the route end).
@@ -66,7 +70,7 @@ violatesSpeed pb v =
   [ k | k <- [1 .. n - 1], bad (k - 1) || bad k ]
   where
     n = U.length v - 1
-    s = trapezoid (pbDt pb) v
+    s = trapezoidDistances (pbDt pb) v
     bad i = max (v U.! i) (v U.! (i + 1)) > stepLimit pb (s U.! i) (s U.! (i + 1))
 
 -- | One pass over the profile. The frozen mask marks samples that may not change
@@ -78,7 +82,7 @@ pass mode pb frozen v0
                                  else blockPass False pb frozen v0 bad
   -- guarded passes start from a legal seed and keep it legal, so there is nothing to
   -- lower; the checker certifies the end result either way
-  | otherwise = raise mode pb frozen v0
+  | otherwise = raise pb frozen v0
   where bad = violatesSpeed pb v0
 
 -- | The thesis's pass with its chain reaction (figure 4.4, with the section 4.5
@@ -96,13 +100,11 @@ blockPass raising pb frozen v0 starts = runST $ do
   changed <- newSTRef (0 :: Int)
   shiftRef <- newSTRef (0 :: Double)
   let n = U.length v0 - 1
-      s0 = trapezoid (pbDt pb) v0
+      s0 = trapezoidDistances (pbDt pb) v0
       dt = pbDt pb; dv = if raising then pbDv pb else negate (pbDv pb)
       aMin = pbAMin pb; aMax = pbAMax pb; jMin = pbJMin pb; jMax = pbJMax pb
       vAt i = M.unsafeRead v i
-      accAt i | i < 0 = pure (pbA0 pb)
-              | i >= n = pure (pbAEnd pb)
-              | otherwise = do a <- vAt i; b <- vAt (i + 1); pure ((b - a) / dt)
+      accAt = accAtM pb n v
       okA a = a >= aMin && a <= aMax
       okJ j = j >= jMin * dt && j <= jMax * dt
       -- the left end of a block at k: a_{k-1} changes by dv/dt
@@ -154,14 +156,14 @@ blockPass raising pb frozen v0 starts = runST $ do
   c <- readSTRef changed
   pure (PassResult out c raising)
 
--- | Raising pass.
-raise :: Mode -> Problem -> U.Vector Bool -> U.Vector Double -> PassResult
-raise mode pb frozen v0 = runST $ do
+-- | Guarded raising pass.
+raise :: Problem -> U.Vector Bool -> U.Vector Double -> PassResult
+raise pb frozen v0 = runST $ do
   v <- U.thaw v0
   let n = U.length v0 - 1
       dt = pbDt pb; dv = pbDv pb
       aMin = pbAMin pb; aMax = pbAMax pb; jMin = pbJMin pb; jMax = pbJMax pb
-      s0 = trapezoid dt v0
+      s0 = trapezoidDistances dt v0
       endBudget = pbLength pb + pbTol pb / 2
       -- forward margin of each step: how far its end may move before the step touches a
       -- zone whose limit is below the step's top velocity
@@ -176,10 +178,7 @@ raise mode pb frozen v0 = runST $ do
   prevPosRef <- newSTRef (s0 U.! 0)   -- the position of sample k-1 as it is now
   changed <- newSTRef (0 :: Int)
   let vAt i = M.unsafeRead v i
-      accAt i -- a_i, with a_{-1} the start and a_N the end acceleration
-        | i < 0 = pure (pbA0 pb)
-        | i >= n = pure (pbAEnd pb)
-        | otherwise = do a <- vAt i; b <- vAt (i + 1); pure ((b - a) / dt)
+      accAt = accAtM pb n v
   forM_ [1 .. n - 1] $ \k -> do
    shift <- readSTRef shiftRef
    sPrev <- readSTRef prevPosRef
@@ -203,11 +202,9 @@ raise mode pb frozen v0 = runST $ do
             && (ap1 - a0) / dt <= jMax
             && max vkm v' <= stepLimit pb sPrev sK
             && max v' vkp <= stepLimit pb sK sNext
-        globalOk = case mode of
-          Plain -> True
-          Guarded ->
-            U.last s0 + shift + dv * dt <= endBudget
-              && (sufMin U.! (k + 1)) - shift - dv * dt >= 0
+        globalOk =
+          U.last s0 + shift + dv * dt <= endBudget
+            && (sufMin U.! (k + 1)) - shift - dv * dt >= 0
     when (localOk && globalOk) $ do
       M.unsafeWrite v k v'
       writeSTRef shiftRef (shift + dv * dt)
@@ -216,35 +213,3 @@ raise mode pb frozen v0 = runST $ do
   out <- U.freeze v
   c <- readSTRef changed
   pure (PassResult out c True)
-
--- | Lowering pass: every sample next to a broken speed limit lowers by one step (or down
--- to its limit, whichever is larger, never below zero); then neighbours whose
--- acceleration it pushed out of range follow, each sample once.
-lower :: Problem -> U.Vector Bool -> U.Vector Double -> [Int] -> PassResult
-lower pb frozen v0 bad = runST $ do
-  v <- U.thaw v0
-  touched <- M.replicate (U.length v0) False
-  let n = U.length v0 - 1
-      dt = pbDt pb; dv = pbDv pb
-      aMin = pbAMin pb; aMax = pbAMax pb
-  changed <- newSTRef (0 :: Int)
-  let lowerTo k target = when (k > 0 && k < n && not (frozen U.! k)) $ do
-        t <- M.unsafeRead touched k
-        vk <- M.unsafeRead v k
-        when (not t && target < vk) $ do
-          let steps = fromIntegral (ceiling ((vk - target) / dv - 1e-9) :: Int)
-              v' = max 0 (vk - max 1 steps * dv)
-          M.unsafeWrite v k v'
-          M.unsafeWrite touched k True
-          modifySTRef' changed (+ 1)
-          -- chain: keep the accelerations into and out of k within range
-          vn <- M.unsafeRead v (k + 1)
-          when ((vn - v') / dt > aMax) $ lowerTo (k + 1) (v' + aMax * dt)
-          vp <- M.unsafeRead v (k - 1)
-          when ((v' - vp) / dt < aMin) $ lowerTo (k - 1) (v' - aMin * dt)
-  forM_ bad $ \k -> do
-    vk <- M.unsafeRead v k
-    lowerTo k (vk - dv)
-  out <- U.freeze v
-  c <- readSTRef changed
-  pure (PassResult out c False)

@@ -25,6 +25,7 @@ module VProf.Generator.Seed
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
 
+import VProf.Profile (trapezoidDistances)
 import VProf.Request (Problem (..))
 import VProf.SpeedLimit
 
@@ -145,9 +146,15 @@ brakeAccTo e st@(St v _ _) tau
 brakeTarget :: Env -> St -> Double
 brakeTarget e st@(St _ _ s) =
   let (d, _) = brakeBound e st
-      Term p vt = eTerm e
-      zoneMin = minLimitOn (ePb e) s (s + d)
-  in if eHard e then 0 else if s + d >= p then min zoneMin (max 0 vt) else zoneMin
+  in targetFrom e (s + d) (minLimitOn (ePb e) s (s + d))
+
+-- | The brake target given the end of the braking reach and the lowest limit up to it.
+targetFrom :: Env -> Double -> Double -> Double
+targetFrom e reachEnd zoneMin
+  | eHard e = 0
+  | reachEnd >= tP (eTerm e) = min zoneMin (max 0 (tV (eTerm e)))
+  | otherwise = zoneMin
+{-# INLINE targetFrom #-}
 
 -- | Standing still for good is possible from this state: at rest, and the acceleration
 -- can return to zero within one jerk step.
@@ -233,9 +240,7 @@ brakeCheck e st0
               reachEnd = s + d
               zoneMin = minLimitOn pb s reachEnd
               quick = vPeak <= zoneMin && (if vt <= 0 then reachEnd <= p else reachEnd < p || vPeak <= vt)
-              tau | eHard e = 0
-                  | reachEnd >= p = min zoneMin (max 0 vt)
-                  | otherwise = zoneMin
+              tau = targetFrom e reachEnd zoneMin
           in if quick then Right ()
              else if n > maxSteps then Left (st, st)
              else let st' = stepTo e st (brakeAccTo e st tau)
@@ -496,7 +501,7 @@ dent pb st0 vc aNext aim landTol sts0 =
     v = U.fromList (stV st0 : map stV sts0)
     aIn = U.fromList (pbA0 pb : map stA sts0)   -- aIn ! k: acceleration into sample k
     n = U.length v - 1
-    s = U.scanl' (+) 0 (U.zipWith (\x y -> (x + y) * dt / 2) v (U.tail v))
+    s = trapezoidDistances dt v
     joinsAt k = let j = (aNext - aIn U.! k) / dt in j >= pbJMin pb && j <= pbJMax pb
     -- lower samples e-w+1..e by c·sin²: removes exactly g from every later position
     tryDent k g w e =
@@ -514,7 +519,7 @@ dent pb st0 vc aNext aim landTol sts0 =
          && all (\i -> let a = acc i in a >= pbAMin pb && a <= pbAMax pb) is
          && all (\i -> let j = (acc i - acc (i - 1)) / dt in j >= pbJMin pb && j <= pbJMax pb) is
     limitsHold v' lo k =
-      let s' = U.scanl' (+) 0 (U.zipWith (\x y -> (x + y) * dt / 2) v' (U.tail v'))
+      let s' = trapezoidDistances dt v'
       in all (\i -> max (v' U.! i) (v' U.! (i + 1)) <= minLimitOn pb (s' U.! i) (s' U.! (i + 1))) [max 0 (lo - 1) .. k - 1]
     rebuild vs = [ St x ((x - p) / dt) 0 | (p, x) <- zip (U.toList vs) (drop 1 (U.toList vs)) ]
 

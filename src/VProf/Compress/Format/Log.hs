@@ -7,9 +7,8 @@ module VProf.Compress.Format.Log
   ) where
 
 import qualified Data.ByteString.Char8 as B
-import qualified Data.Vector.Unboxed as U
 
-import VProf.Compress.Format.Common (readDouble)
+import VProf.Compress.Format.Common (readDouble, trackFromRows)
 import VProf.Compress.Types
 import VProf.Compress.Vec
 
@@ -22,12 +21,7 @@ parseLog src = do
   rows <- traverse row [ (i, s) | (i, l) <- zip [1 :: Int ..] (B.lines src)
                                 , let s = B.dropWhile (\c -> c == '|' || c == ' ') (B.strip l)
                                 , not (B.null s), B.head s /= '#' ]
-  let ts = U.fromList [t | (t, _, _) <- rows]
-      ps = pfromList [p | (_, p, _) <- rows]
-      qs = pfromList [q | (_, _, q) <- rows]
-  case recordingFromArrays ts ps qs of
-    Left e -> Left ("log: " ++ e ++ " (sample k is the k-th data line, counting from 0)")
-    Right (Recording tr) -> Right tr
+  trackFromRows "log" rows
   where
     row (i, l) =
       let cols = map B.strip (B.split ',' l)

@@ -11,7 +11,7 @@ import qualified Data.ByteString.Lazy as BL
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
 
-import VProf.Compress.Format.Common (readDouble)
+import VProf.Compress.Format.Common (readDouble, trackFromRows)
 import VProf.Compress.Types
 import VProf.Compress.Vec
 
@@ -20,12 +20,7 @@ parseTum :: B.ByteString -> Either String Track
 parseTum src = do
   rows <- traverse row [ (i, l) | (i, l) <- zip [1 :: Int ..] (B.lines src)
                                 , let s = B.strip l, not (B.null s), B.head s /= '#' ]
-  let ts = U.fromList [t | (t, _, _) <- rows]
-      ps = pfromList [p | (_, p, _) <- rows]
-      qs = pfromList [q | (_, _, q) <- rows]
-  case recordingFromArrays ts ps qs of
-    Left e -> Left ("TUM: " ++ e ++ " (sample k is the k-th data line, counting from 0)")
-    Right (Recording tr) -> Right tr
+  trackFromRows "TUM" rows
   where
     row (i, l) = case B.words l of
       ws@[_, _, _, _, _, _, _, _] -> do
