@@ -66,9 +66,22 @@ startInfeasibleProof pb = any zoneProof boundaries || tooFastSomewhere || endPro
     -- a profile's step that touches zone start z ends at a step k+1 >= tU (it is at most
     -- as far as the upper bound) and starts at k < tB (it is at least as far as the lower
     -- bound): its top velocity is at least the lower bound's least velocity on [tU, tB]
-    zoneProof (z, lim) = case (firstIndex (>= z) [ s | (_, _, s) <- take 2000000 upper ], firstIndex (>= z) (U.toList sL)) of
-      (Just tU, Just tB) | tU <= tB -> minimum [ max (vL U.! max 0 (m - 1)) (vL U.! m) | m <- [tU .. tB] ] > lim
+    -- Before a profile reaches z all its samples lie before z, so its velocity is also at
+    -- most the highest limit there: the upper bound on position, capped so.
+    cappedUpper z = let cap = highestOn 0 z
+                        vs = [ min cap v | (_, v, _) <- take 2000000 upper ]
+                    in scanl (+) 0 (zipWith (\a b -> (a + b) * dt / 2) vs (drop 1 vs))
+    zoneProof (z, lim) = case (firstIndex (>= z) (cappedUpper z), firstIndex (>= z) (U.toList sL)) of
+      (Just tU, Just tB) | tU <= tB -> minimum [ max (vL U.! max 0 (m - 1)) (vL U.! m + extra z m) | m <- [tU .. tB] ] > lim
       _ -> False
+    -- While the bound's accelerations are the least any profile can have (each step at
+    -- max(a_min, previous + min_jerk·dt)), every profile's lead in velocity over it, d_k,
+    -- never shrinks; so a profile that is at z at sample m, where the bound is at
+    -- sL_m < z, has d_m·m·dt >= z − sL_m: it is faster there by at least that.
+    leastSoFar = U.fromList (scanl (&&) True (zipWith (\(a, _, _) (a', _, _) -> a' == max (pbAMin pb) (a + pbJMin pb * dt)) lowerArr (drop 1 lowerArr)))
+    extra z m
+      | m > 0 && m < U.length leastSoFar && leastSoFar U.! m && sL U.! m < z = (z - sL U.! m) / (fromIntegral m * dt)
+      | otherwise = 0
     -- every profile is, at step k, somewhere in [sL_k, sU_k] at a velocity of at least vL_k
     tooFastSomewhere = or [ v > highestOn s (min su len) | ((_, v, s), (_, _, su)) <- zip lowerArr upper, s <= len ]
     -- the route end: no sample may pass L + tol, and the last one must be at the end velocity
@@ -110,8 +123,21 @@ moving rq = let vLast = si (zoneSpeed (last (rqZones rq)))
 isUnproven :: Outcome -> Bool
 isUnproven = \case
   Failed (NotConverged m) -> "seed:" `isInfixOf` m
-  Failed (InfeasibleRequest "end_velocity" _) -> True
   _ -> False
+
+-- | The problem backwards in time, written here independently of the generator's own:
+-- a profile's samples reversed keep their velocities and jerks and negate their
+-- accelerations; positions are measured from the route end; start and end swap. Any
+-- proof that no profile exists for the mirror proves it for the problem.
+mirrored :: Problem -> Problem
+mirrored pb =
+  let len = pbLength pb
+      starts = U.toList (pbZoneStarts pb)
+      ends = drop 1 starts ++ [len]
+  in pb { pbZoneStarts = U.fromList (reverse [ len - e | e <- ends ])
+        , pbZoneSpeeds = U.fromList (reverse (U.toList (pbZoneSpeeds pb)))
+        , pbAMin = negate (pbAMax pb), pbAMax = negate (pbAMin pb)
+        , pbV0 = pbVEnd pb, pbA0 = negate (pbAEnd pb), pbVEnd = pbV0 pb, pbAEnd = negate (pbA0 pb) }
 
 -- | A result is sound when it is a legal profile or a confirmed infeasibility.
 sound :: Request -> Result -> Bool
@@ -120,7 +146,9 @@ sound rq r = case (validate rq, resOutcome r, resProfile r) of
   (Right pb, Failed (InfeasibleRequest f _), _) -> case f of
     "start_velocity" -> startInfeasibleProof pb
     "start_acceleration" -> startAccProof pb
-    "end_acceleration" -> endInfeasibleProof pb
+    -- the end state seen as the start of the mirrored problem
+    "end_velocity" -> startInfeasibleProof (mirrored pb)
+    "end_acceleration" -> endInfeasibleProof pb || startAccProof (mirrored pb)
     _ -> False
   _ -> False
 
@@ -142,19 +170,19 @@ spec = do
     it "ending at rest: a legal, converged profile that ends within tolerance, or a confirmed infeasibility" $
       withMaxSuccess cases $ property $ forAll (atRest <$> genRequest) $ \rq -> verdict rq
 
-    it "ending in motion: legal or confirmed infeasible, but for a known share (< 20 %) of unproven outcomes" $
-      -- Landing a moving end state exactly (a sample within the end tolerance at the end
-      -- velocity) is not always found (see the issue notes); such a request is answered
-      -- NOT_CONVERGED, or INFEASIBLE for end_velocity without an independent proof here.
-      -- Never as a legal profile: that part is strict.
-      withMaxSuccess 1 $ ioProperty $ do
-        rqs <- QC.generate (vectorOf (max 200 (cases `div` 2)) (moving <$> genRequest))
+    it "ending in motion: legal or confirmed infeasible, but for a known share (< 3 %) of unmet plateaus" $
+      -- A moving end is met by the two-sided meet (see VProf.Generator.Seed). When no
+      -- plateau joins the two passes the request is answered NOT_CONVERGED "seed: ...";
+      -- that share is bounded here. Everything else is strict: a legal profile, or an
+      -- infeasibility confirmed by an independent proof (end claims on the mirror).
+      withMaxSuccess 1 $ property $ forAllBlind (vectorOf (max 200 cases) (moving <$> genRequest)) $ \rqs ->
         let outcomes = [ (rq, generatePure rq) | rq <- rqs ]
             unproven = [ () | (_, r) <- outcomes, isUnproven (resOutcome r) ]
             broken = [ (rq, r) | (rq, r) <- outcomes, not (isUnproven (resOutcome r)), not (sound rq r) ]
             share = fromIntegral (length unproven) / fromIntegral (length rqs) :: Double
-        pure $ counterexample ("unproven share " ++ show share) (share < 0.20)
-          .&&. counterexample (unlines [ show rq ++ "\n" ++ show (resOutcome r) | (rq, r) <- take 3 broken ]) (null broken)
+        in label ("unmet: " ++ show (length unproven) ++ " of " ++ show (length rqs))
+             $ counterexample ("unmet share " ++ show share) (share < 0.03)
+             .&&. counterexample (unlines [ show rq ++ "\n" ++ show (resOutcome r) | (rq, r) <- take 3 broken ]) (null broken)
 
     it "give a fixed point: one more guarded raising pass changes nothing" $
       withMaxSuccess (max 50 (cases `div` 10)) $ property $ \(RandomRequest rq) ->
@@ -185,6 +213,27 @@ spec = do
                  counterexample m $ startInfeasibleProof pb .&&. ("m/s between" `isInfixOf` m)
                other -> counterexample (show other) False
 
+    it "an end velocity that cannot be reached after a low zone is infeasible, says where, and the mirror confirms it" $ do
+      let rq = defaultRequest { rqRouteLength = 55 *~ meter
+                              , rqZones = [SpeedZone (0 *~ meter) (1 *~ mps), SpeedZone (50 *~ meter) (10 *~ mps)]
+                              , rqEndVelocity = 8 *~ mps }
+          Right pb = validate rq
+      case resOutcome (generatePure rq) of
+        Failed (InfeasibleRequest "end_velocity" m) -> do
+          m `shouldContain` "speed limit of 1.0 m/s"
+          startInfeasibleProof (mirrored pb) `shouldBe` True
+        other -> expectationFailure (show other)
+
+    it "an end velocity too high to reach from the start within the route is infeasible and confirmed" $ do
+      let rq = defaultRequest { rqRouteLength = 5 *~ meter, rqZones = [SpeedZone (0 *~ meter) (10 *~ mps)]
+                              , rqEndVelocity = 6 *~ mps }
+          Right pb = validate rq
+      case resOutcome (generatePure rq) of
+        Failed (InfeasibleRequest "end_velocity" m) -> do
+          m `shouldContain` "at the route start"
+          startInfeasibleProof (mirrored pb) `shouldBe` True
+        other -> expectationFailure (show other)
+
     it "an end state that needs a negative velocity before it is infeasible" $ do
       let rq = defaultRequest { rqEndVelocity = 0.01 *~ mps, rqEndAcceleration = 1 *~ mps2 }
           Right pb = validate rq
@@ -201,6 +250,21 @@ spec = do
           m `shouldContain` "cannot stop within route_length"
           startInfeasibleProof pb `shouldBe` True
         other -> expectationFailure (show other)
+
+  describe "moving end states" $
+    it "the thesis's moving start and end (2 m/s to 1 m/s, fig 4.27) land exactly, legal and converged" $ do
+      let rq = defaultRequest { rqRouteLength = 120 *~ meter
+                              , rqZones = [SpeedZone (0 *~ meter) (7 *~ mps), SpeedZone (70 *~ meter) (5 *~ mps)]
+                              , rqStartVelocity = 2 *~ mps, rqEndVelocity = 1 *~ mps, rqEndAcceleration = (-0.25) *~ mps2 }
+          Right pb = validate rq
+          r = generatePure rq
+      resOutcome r `shouldBe` Generated
+      case resProfile r of
+        Just p -> do
+          check pb p `shouldBe` []
+          abs (finalDistance p - 120) `shouldSatisfy` (<= pbTol pb)
+          U.last (prVelocities p) `shouldBe` 1
+        Nothing -> expectationFailure "no profile"
 
   describe "degenerate routes" $
     it "a route shorter than the end tolerance gives a one-sample profile that encodes and checks" $ do

@@ -11,21 +11,24 @@
 -- legal. Near the terminal the pass rides the edge of the oracle and lands on the
 -- terminal point.
 --
--- The end state is reached through a short /tail/ computed backwards from the requested
--- end velocity and acceleration; the forward pass aims at the tail's first sample, a
--- cruise (acceleration 0) at the tail's entry velocity. When that entry velocity is not
--- zero the landing is tuned by moving the point where the pass must be down to it
--- (a few re-runs of the pass's last part only).
+-- A route that ends at rest is landed by that pass alone: near rest it creeps onto the
+-- route end. A route that ends in motion (a moving end state) cannot be landed by
+-- creeping; it is met from both sides ('meet'): the same pass runs on the problem
+-- mirrored in time, from the end state backwards, and the two passes are joined on a
+-- cruise whose length absorbs the distance exactly.
 module VProf.Generator.Seed
   ( seed
   , SeedFailure (..)
   , brakeStopDistance
   ) where
 
+import Data.List (nub, sort, sortBy)
+import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
 
-import VProf.Profile (trapezoidDistances)
+import VProf.Legality (check)
+import VProf.Profile (Profile (..))
 import VProf.Request (Problem (..))
 import VProf.SpeedLimit
 
@@ -46,8 +49,6 @@ data Env = Env
   { ePb :: !Problem
   , eTerm :: !Term
   , eHard :: !Bool   -- ^ brake to standstill (through every limit) rather than to each limit
-  , eKappa :: !Double  -- ^ the forward pass takes at most this share of the acceleration and
-                       --   jerk ranges upward (a landing knob; the oracle keeps the full ranges)
   }
 
 dtE :: Env -> Double
@@ -253,7 +254,7 @@ safe e st = either (const False) (const True) (brakeCheck e st)
 brakeStopDistance :: Problem -> Double -> Double -> Double
 brakeStopDistance pb v a = go (St v a 0) (0 :: Int)
   where
-    e = Env pb (Term (1 / 0) (1 / 0)) True 1
+    e = Env pb (Term (1 / 0) (1 / 0)) True
     go st n
       | atRest e st || n > 10000000 = stS st
       | otherwise = go (stepTo e st (brakeAcc e st)) (n + 1)
@@ -263,9 +264,7 @@ choose :: Env -> St -> St
 choose e st@(St v _ s) =
   let dt = dtE e
       pb = ePb e
-      (lo, hiFull) = accRange e st
-      hi0 = if eKappa e >= 1 then hiFull
-            else max lo (min hiFull (min (eKappa e * pbAMax pb) (stA st + eKappa e * pbJMax pb * dt)))
+      (lo, hi0) = accRange e st
       Term p vt = eTerm e
       capNow = if vt > 0 && s >= p then min vt (limitAt pb s) else limitAt pb s
       hi = max lo (min hi0 ((capNow - v) / dt))
@@ -286,44 +285,20 @@ choose e st@(St v _ s) =
        Just st' -> st'
        Nothing -> search aB hi fallback (5 :: Int)
 
--- | The forward pass from a state until the terminal is reached; the states visited
--- after the given one, in order. Stops after @limit@ steps.
-forward :: Env -> Double -> Double -> Double -> Int -> St -> [St]
-forward e aNext aim landTol limit = go 0
+-- | The forward pass toward a standstill on the terminal point, from a state: the states
+-- visited after it, in order, until it has come to rest within the landing tolerance
+-- of the terminal. Stops after @limit@ steps.
+forward :: Env -> Double -> Int -> St -> [St]
+forward e landTol limit = go 0
   where
-    Term p vt = eTerm e
-    dt = dtE e
-    joinable st = stV st == vt && (aNext - stA st) >= pbJMin (ePb e) * dt && (aNext - stA st) <= pbJMax (ePb e) * dt
+    p = tP (eTerm e)
     go n st
       | n >= limit = []
-      | vt <= 0 && stS st >= p - landTol = finishBraking st (n :: Int)
-      | vt > 0 && stS st >= aim + landTol && joinable st = []   -- past the aim, ready for the tail
-      | vt > 0 && stS st >= aim + 4 * vt * dt + 2 * landTol && stV st < vt = []  -- never got up to it
+      | stS st >= p - landTol = finishBraking st (n :: Int)
       | otherwise = let st' = choose e st in st' : go (n + 1) st'
     finishBraking st n
       | atRest e st || n >= limit = []
       | otherwise = let st' = stepTo e st (brakeAcc e st) in st' : finishBraking st' (n + 1)
-
--- | The tail: velocities after the junction sample, ending with v_N = end velocity, whose
--- accelerations ramp from 0 to the end acceleration as fast as the jerk allows; and the
--- junction velocity. Coming into the end state at full jerk from a cruise loses (or
--- gains) the least velocity, so when even this tail would need a negative velocity, no
--- profile can reach the end state.
-tail' :: Problem -> Either SeedFailure ([Double], Double)
-tail' pb
-  | m == 0 = Right ([], vE)
-  | vc < -1e-9 = Left (Infeasible "end_acceleration"
-      ("end_velocity " ++ num vE ++ " m/s with end_acceleration " ++ num aE
-       ++ " m/s² cannot be reached: ramping the acceleration up to it within max_jerk "
-       ++ num (pbJMax pb) ++ " m/s³ gains " ++ num (vE - vc) ++ " m/s, more than the end velocity"))
-  | otherwise = Right (drop 1 vs, max 0 vc)
-  where
-    dt = pbDt pb; aE = pbAEnd pb; vE = pbVEnd pb
-    step = (if aE > 0 then pbJMax pb else pbJMin pb) * dt   -- signed, same sign as aE
-    m = max 0 (ceiling (abs aE / abs step - 1e-9) - 1) :: Int
-    alphas = [aE - fromIntegral k * step | k <- [m, m - 1 .. 1]]
-    vc = vE - dt * sum alphas
-    vs = scanl (\v a -> v + a * dt) (max 0 vc) alphas
 
 num :: Double -> String
 num x = showFFloat Nothing (fromIntegral (round (x * 1e6) :: Integer) / 1e6 :: Double) ""
@@ -331,197 +306,236 @@ num x = showFFloat Nothing (fromIntegral (round (x * 1e6) :: Integer) / 1e6 :: D
 -- | The seed profile's velocities v_0..v_N.
 seed :: Problem -> Either SeedFailure (U.Vector Double)
 seed pb = do
-  (tailVs, vc) <- tail' pb
   let dt = pbDt pb
-      -- the acceleration right after the junction: the tail's first, or the end one
-      aNext = case tailVs of
-        (v1 : _) -> (v1 - vc) / dt
-        [] -> pbAEnd pb
-      tailLen = sum (zipWith (\a b -> (a + b) * dt / 2) (vc : tailVs) tailVs)
-      aim = pbLength pb - tailLen
-      landTol = pbTol pb / 2
       st0 = St (pbV0 pb) (pbA0 pb) 0
-      limit = 8 * 1048576
-      finish middle = Right (U.fromList (pbV0 pb : map stV middle ++ tailVs))
-  -- the tail's steps, at their own positions before the end
-  let tailPts = zip (vc : tailVs) tailVs
-      tailPos = scanl (\acc (x, y) -> acc + (x + y) * dt / 2) (pbLength pb - tailLen) tailPts
-      tailBad = [ (i, max x y, lim)
-                | (i, ((x, y), (p0, p1))) <- zip [0 :: Int ..] (zip tailPts (zip tailPos (drop 1 tailPos)))
-                , let lim = minLimitOn pb (max 0 p0) p1, max x y > lim ]
-      lastStep = length tailPts - 1
-      -- even raising the acceleration as fast as the jerk allows, the velocity ends below zero
-      leastDrop = sum (takeWhile (< 0) [ pbA0 pb + fromIntegral k * pbJMax pb * dt | k <- [1 :: Int ..] ]) * dt
-  if pbV0 pb + leastDrop < -1e-12
+  -- even raising the acceleration as fast as the jerk allows, the velocity ends below zero
+  if pbV0 pb + leastDrop pb < -1e-12
     then Left (Infeasible "start_acceleration"
            ("start_acceleration " ++ num (pbA0 pb) ++ " m/s² at start_velocity " ++ num (pbV0 pb)
             ++ " m/s drives the velocity below zero whatever the jerk: raising the acceleration at max_jerk "
-            ++ num (pbJMax pb) ++ " m/s³ still loses " ++ num (negate leastDrop) ++ " m/s"))
-  else if aim <= 0 && not (null tailVs)
-    then Left (LandingFailed
-           ("the ramp to end_acceleration " ++ num (pbAEnd pb) ++ " m/s² from a cruise needs " ++ num tailLen
-            ++ " m, more than route_length " ++ num (pbLength pb) ++ " m"))
-  else case tailBad of
-    ((i, top, _) : _)
-      | i == lastStep && pbAEnd pb < 0 && top > limitAt pb (pbLength pb) ->
-          -- the step into the end touches the end's zone; coming in while still braking
-          -- at end_acceleration it is faster than the end velocity: provably too fast
-          Left (Infeasible "end_acceleration"
-            ("end_velocity " ++ num (pbVEnd pb) ++ " m/s with end_acceleration " ++ num (pbAEnd pb)
-             ++ " m/s² needs " ++ num top ++ " m/s in the last step, above the speed limit of "
-             ++ num (limitAt pb (pbLength pb)) ++ " m/s at the route end"))
-    ((_, top, lim) : _) ->
-      Left (LandingFailed ("the ramp to end_acceleration meets the speed limit of " ++ num lim
-                           ++ " m/s at " ++ num top ++ " m/s"))
-    [] -> do
-      -- the gentle brake policy (down to each limit, arriving with zero acceleration)
-      -- gives the better profiles; when it cannot save the start state, the hardest one
-      -- (braking through the limits toward standstill) may still; only when that fails
-      -- too is the request infeasible
-      let gentle = Env pb (Term aim vc) False 1
-          hard = gentle { eHard = True }
-      e0 <- case (brakeCheck gentle st0, brakeCheck hard st0) of
-        (Right (), _) -> Right gentle
-        (_, Right ()) -> Right hard
-        (_, Left bad) -> Left (startInfeasible pb hard bad)
-      if vc <= 0
-        then do
-          let middle = forward e0 aNext aim landTol limit st0
-              sEnd = if null middle then 0 else stS (last middle)
-              aRest = if null middle then pbA0 pb else stA (last middle)
-              -- at rest with an acceleration the tail cannot follow in one jerk step:
-              -- stand still for one more sample
-              settle = let j = (aNext - aRest) / dt in if j >= pbJMin pb && j <= pbJMax pb then [] else [St 0 0 sEnd]
-          if abs (sEnd - aim) <= landTol || null middle && aim <= landTol
-            then finish (middle ++ settle)
-            else Left (LandingFailed ("the forward pass stopped at " ++ num sEnd ++ " m, aiming at " ++ num aim ++ " m"))
-        else landMoving pb e0 st0 vc aNext aim landTol limit >>= finish
+            ++ num (pbJMax pb) ++ " m/s³ still loses " ++ num (negate (leastDrop pb)) ++ " m/s"))
+  else if pbVEnd pb > 0 || pbAEnd pb /= 0
+    then meet pb
+  else do
+      -- ending at rest: the pass brakes to a standstill on the route end; near rest it
+      -- creeps, so it lands within the tolerance
+      let term = Term (pbLength pb) 0
+          landTol = pbTol pb / 2
+      e0 <- either (Left . startInfeasible pb (Env pb term True)) Right (policyFor pb term st0)
+      let middle = forward e0 landTol (8 * 1048576) st0
+          sEnd = if null middle then 0 else stS (last middle)
+          aRest = if null middle then pbA0 pb else stA (last middle)
+          -- at rest with an acceleration that cannot return to zero in one jerk step:
+          -- stand still for one more sample
+          settle = let j = negate aRest / dt in if j >= pbJMin pb && j <= pbJMax pb then [] else [St 0 0 sEnd]
+      if abs (sEnd - pbLength pb) <= landTol || null middle && pbLength pb <= landTol
+        then Right (U.fromList (pbV0 pb : map stV (middle ++ settle)))
+        else Left (LandingFailed ("the forward pass stopped at " ++ num sEnd ++ " m, aiming at " ++ num (pbLength pb) ++ " m"))
 
--- | Landing at a moving terminal: a sample must fall within the landing tolerance of the
--- aim, at the junction velocity, with an acceleration from which the tail (or the end
--- acceleration) is one legal jerk away. First by moving the point where the pass must be
--- down to the junction velocity (cheap, and enough when the robot brakes into the end);
--- otherwise by a dent: the overshoot is taken out of the profile by lowering a window of
--- samples along a smooth bump, the first window that keeps every rule.
-landMoving :: Problem -> Env -> St -> Double -> Double -> Double -> Double -> Int -> Either SeedFailure [St]
-landMoving pb e0 st0 vc aNext aim landTol limit = attempt (0 :: Int) 0 first
-  where
-    dt = pbDt pb
-    first = forward e0 aNext aim landTol limit st0
-    -- the states before the terminal can matter are shared by every attempt
-    rhoMax = 4 * vc * dt + 8 * pbTol pb
-    prefixLen = length (takeWhile (\st -> let (d, _) = brakeBound e0 st in stS st + d < aim - rhoMax - 1e-9) first)
-    prefix = take prefixLen first
-    restart = if prefixLen == 0 then st0 else last prefix
-    runWith rho = prefix ++ forward e0 { eTerm = Term (aim - rho) vc } aNext aim landTol (limit - prefixLen) restart
-    joins st = stV st == vc && (aNext - stA st) >= pbJMin pb * dt && (aNext - stA st) <= pbJMax pb * dt
-    -- the first sample from which the pass could hand over to the tail
-    landing sts = case dropWhile (\st -> stS st < aim - landTol || not (joins st)) sts of
-      (st : _) -> Just st
-      [] -> Nothing
-    cut sts = let (before, rest) = span (\st -> stS st < aim - landTol || not (joins st)) sts in before ++ take 1 rest
-    -- below the junction velocity at the aim on the fastest approach: nothing can land
-    aimSpeed = case dropWhile (\st -> stS st < aim - landTol) first of
-      (st : _) -> Just (stV st, stS st)
-      [] -> Nothing
-    tooSlow = case (aimSpeed, landing first) of
-      (Just (va, _), Just st) -> va < vc && stS st > aim + landTol
-      _ -> False
-    -- of all runs, the one whose landing sample is closest past the aim: the dent's input
-    better a b = case (landing a, landing b) of
-      (Just x, Just y) -> if abs (stS x - aim) <= abs (stS y - aim) then a else b
-      (Just _, Nothing) -> a
-      _ -> b
-    attempt :: Int -> Double -> [St] -> Either SeedFailure [St]
-    attempt n rho sts = attempt' n rho sts (better sts first)
-    attempt' n rho sts best
-      | tooSlow = Left (Infeasible "end_velocity"
-          ("end_velocity " ++ num (pbVEnd pb) ++ " m/s" ++ (if pbAEnd pb /= 0 then " with end_acceleration " ++ num (pbAEnd pb) ++ " m/s²" else "")
-           ++ " cannot be reached at route_length " ++ num (pbLength pb) ++ " m: the fastest legal approach is at "
-           ++ maybe "?" (num . fst) aimSpeed ++ " m/s there and settles at " ++ num vc ++ " m/s only "
-           ++ maybe "?" (\st -> num (stS st - aim)) (landing first) ++ " m later"))
-      | n > 12 || rho > rhoMax = kappaSearch best
-      | otherwise = case landing sts of
-          Nothing -> kappaSearch best
-          Just st
-            | abs (stS st - aim) <= landTol -> Right (cut sts)
-            | otherwise ->
-                let rho' = rho + max (landTol / 2) (stS st - aim)
-                    next = runWith rho'
-                in attempt' (n + 1) rho' next (better next best)
-    -- the second knob: from the last place where the pass cruised at a speed limit, take
-    -- only a share kappa of the upward acceleration and jerk: the final approach slows
-    -- down continuously and its samples slide back over the aim
-    cruiseIdx = case [ i | (i, st) <- zip [0 :: Int ..] first, stS st < aim - rhoMax
-                         , abs (stA st) < 1e-9, stV st >= limitAt pb (stS st) - 1e-9 ] of
-      [] -> 0
-      is -> last is + 1
-    kPrefix = take cruiseIdx first
-    kStart = if cruiseIdx == 0 then st0 else last kPrefix
-    runKappa k = kPrefix ++ forward e0 { eKappa = k } aNext aim landTol (limit - cruiseIdx) kStart
-    landIdx sts = case [ (i, st) | (i, st) <- zip [0 :: Int ..] sts, stS st >= aim - landTol, joins st ] of
-      (x : _) -> Just x
-      [] -> Nothing
-    -- the landing moves back a few millimetres per percent of kappa, continuously but
-    -- with jumps where the sample that first settles at the junction velocity changes:
-    -- scan a grid, keep the closest run for the dent
-    kappaSearch best0 = scan (1 :: Int) best0
-    scan i best
-      | i > 60 = dent pb st0 vc aNext aim landTol best
-      | otherwise =
-          let k = 1 - 0.01 * fromIntegral i
-              sts = runKappa k
-          in case landIdx sts of
-               Just (_, st) | abs (stS st - aim) <= landTol -> Right (cut sts)
-               _ -> scan (i + 1) (better sts best)
+-- | The least velocity change from the start acceleration: raising it as fast as the jerk
+-- allows while it is negative.
+leastDrop :: Problem -> Double
+leastDrop pb = sum (takeWhile (< 0) [ pbA0 pb + fromIntegral k * pbJMax pb * pbDt pb | k <- [1 :: Int ..] ]) * pbDt pb
 
--- | Take the overshoot out of a pass that reached the junction velocity past the aim.
-dent :: Problem -> St -> Double -> Double -> Double -> Double -> [St] -> Either SeedFailure [St]
-dent pb st0 vc aNext aim landTol sts0 =
-  case [ k | k <- [1 .. n], s U.! k >= aim - landTol, v U.! k == vc, joinsAt k ] of
-    [] -> case [ x | (x, y) <- zip (U.toList v) (U.toList s), y >= aim - landTol ] of
-      (x : _) | x < vc -> Left (Infeasible "end_velocity"
-        ("end_velocity " ++ num (pbVEnd pb) ++ " m/s cannot be reached at route_length " ++ num (pbLength pb)
-         ++ " m: accelerating as hard as the limits allow gets only to " ++ num x ++ " m/s there"
-         ++ (if vc /= pbVEnd pb then " (" ++ num vc ++ " m/s needed before the ramp to end_acceleration)" else "")))
-      _ -> Left (LandingFailed ("the forward pass never reached " ++ num aim ++ " m at the end velocity"))
-    (k : _)
-      | abs (s U.! k - aim) <= landTol -> Right (take k sts0)
-      | otherwise ->
-          let g = s U.! k - aim
-              candidates = [ v' | w <- [8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256, 384, 512, 768, 1024]
-                                , w + 3 < k
-                                , e <- [k - 2, k - 2 - max 1 (w `div` 4) .. w + 1]
-                                , Just v' <- [tryDent k g w e] ]
-          in case candidates of
-               (v' : _) -> Right (rebuild (U.take (k + 1) v'))
-               [] -> Left (LandingFailed ("no smooth dent takes the last " ++ num g ++ " m out of the profile"))
+-- | The gentle brake policy (down to each limit, arriving with zero acceleration) gives
+-- the better profiles; when it cannot save the start state, the hardest one (braking
+-- through the limits toward standstill) may still; when that fails too, the state at
+-- which the hardest braking breaks a rule.
+policyFor :: Problem -> Term -> St -> Either (St, St) Env
+policyFor q term st0 =
+  let gentle = Env q term False
+      hard = gentle { eHard = True }
+  in case (brakeCheck gentle st0, brakeCheck hard st0) of
+       (Right (), _) -> Right gentle
+       (_, Right ()) -> Right hard
+       (_, Left bad) -> Left bad
+
+-- | The greedy pass from a state: the states after it, up to the first for which @done@
+-- holds, at most @n@.
+passFrom :: Env -> Int -> (St -> Bool) -> St -> [St]
+passFrom e n done = go n
   where
+    go k st
+      | k <= 0 = []
+      | otherwise = let st' = choose e st in st' : (if done st' then [] else go (k - 1) st')
+
+-- | The same problem backwards in time. Reversing the samples of a profile keeps its
+-- velocities and jerks, negates its accelerations (so the acceleration range flips),
+-- swaps the start and end states (accelerations negated) and mirrors positions about
+-- the route's middle; the speed rule, the route end and the trapezoid distances are
+-- symmetric. A profile legal for the mirror, reversed, is legal for the problem.
+mirror :: Problem -> Problem
+mirror pb = pb
+  { pbZoneStarts = U.fromList (0 : [ len - z | z <- reverse (drop 1 (U.toList (pbZoneStarts pb))) ])
+  , pbZoneSpeeds = U.reverse (pbZoneSpeeds pb)
+  , pbAMin = negate (pbAMax pb), pbAMax = negate (pbAMin pb)
+  , pbV0 = pbVEnd pb, pbA0 = negate (pbAEnd pb)
+  , pbVEnd = pbV0 pb, pbAEnd = negate (pbA0 pb)
+  }
+  where len = pbLength pb
+
+-- | Every speed limit on [a, b) capped at v (past the route end too when b is beyond it).
+capOn :: Double -> Double -> Double -> Problem -> Problem
+capOn a b v pb = pb { pbZoneStarts = U.fromList (map fst pieces), pbZoneSpeeds = U.fromList (map snd pieces) }
+  where
+    len = pbLength pb
+    starts = sort (nub (U.toList (pbZoneStarts pb) ++ [ x | x <- [a, b], x > 0, x < len ]))
+    pieces = [ (x, if x >= a && x < b then min v (limitAt pb x) else limitAt pb x) | x <- starts ]
+
+-- | Linear interpolation of ys over ascending xs, clamped at both ends.
+interpolate :: U.Vector Double -> U.Vector Double -> Double -> Double
+interpolate xs ys x
+  | n == 0 = 0
+  | x <= U.head xs = U.head ys
+  | x >= U.last xs = U.last ys
+  | otherwise =
+      let i = go 0 (n - 1)
+          x0 = xs U.! i; x1 = xs U.! (i + 1)
+          w = if x1 > x0 then (x - x0) / (x1 - x0) else 0
+      in ys U.! i + w * (ys U.! (i + 1) - ys U.! i)
+  where
+    n = U.length xs
+    -- invariant: xs[lo] <= x < xs[hi]
+    go lo hi
+      | hi - lo <= 1 = lo
+      | otherwise = let mid = (lo + hi) `div` 2 in if xs U.! mid <= x then go mid hi else go lo mid
+
+-- | The distance the brake policy needs to bring a state down to velocity v with the
+-- acceleration back at zero (infinite when it does not get there).
+brakeDistanceTo :: Problem -> St -> Double -> Double
+brakeDistanceTo q st0 v = go st0 (0 :: Int)
+  where
+    e = Env q (Term (1 / 0) (1 / 0)) False
+    go st n
+      | stV st <= v && stA st >= 0 = stS st - stS st0
+      | n > 4000000 = 1 / 0
+      | otherwise = go (stepTo e st (brakeAccTo e st v)) (n + 1)
+
+-- | A moving end state: the two-sided meet.
+--
+-- The forward pass from the start state and the same pass on the 'mirror' (from the
+-- end state, backwards in time) are each legal by construction and near time-optimal
+-- for their own end: the first is the highest velocity reachable from the start, the
+-- second the highest from which the end state can still be reached. The profile follows
+-- the lower of the two. They are joined on a /plateau/: both passes are run again with
+-- every limit capped at a level V just below the highest point of the lower envelope,
+-- over the stretch where that envelope is above V, so that each ends in a cruise at
+-- exactly V with zero acceleration. Between the forward pass's first cruise sample and
+-- the backward pass's, the profile cruises at V for as many steps as the distance
+-- needs, and a smooth sin² dent in that cruise takes out the fraction of a step left
+-- over: the route end is met exactly whatever the sampling. The levels are tried from
+-- the highest down (a lower V gives a longer plateau and a gentler dent); the first
+-- profile the checker finds legal is the seed.
+meet :: Problem -> Either SeedFailure (U.Vector Double)
+meet pb = do
+  let rv = mirror pb
+      rt0 = St (pbVEnd pb) (pbA0 rv) 0
+  if pbV0 rv + leastDrop rv < -1e-12
+    then Left (Infeasible "end_acceleration"
+           ("end_velocity " ++ num (pbVEnd pb) ++ " m/s with end_acceleration " ++ num (pbAEnd pb)
+            ++ " m/s² cannot be reached: ramping the acceleration up to it within max_jerk "
+            ++ num (pbJMax pb) ++ " m/s³ gains " ++ num (negate (leastDrop rv)) ++ " m/s, more than the end velocity"))
+    else Right ()
+  fEnv <- either (Left . startInfeasible pb (Env pb fTerm True)) Right (policyFor pb fTerm st0)
+  bEnv <- either (Left . endInfeasible pb (Env rv bTerm True)) Right (policyFor rv bTerm rt0)
+  let fAll = st0 : passFrom fEnv limit (\st -> stS st >= len) st0
+      bAll = rt0 : passFrom bEnv limit (\st -> stS st >= len) rt0
+      fS = U.fromList (map stS fAll)
+      fV = U.fromList (map stV fAll)
+      bX = U.fromList (reverse (map ((len -) . stS) bAll))
+      bW = U.fromList (reverse (map stV bAll))
+      -- the lower envelope at the forward pass's samples up to the route end
+      h = U.generate (U.length (U.takeWhile (<= len) fS)) (\k -> min (fV U.! k) (interpolate bX bW (fS U.! k)))
+      kStar = U.maxIndex h
+      top = h U.! kStar
+      levels = [ top * (1 - d) | d <- [0.001, 0.003, 0.01, 0.02, 0.04, 0.07, 0.12, 0.2, 0.3, 0.45, 0.6, 0.75, 0.9] ]
+      -- stretches where both passes cruise at the same speed limit: the lower envelope
+      -- is already flat there, the plateau costs nothing but the dent
+      atCap k = abs (h U.! k - limitAt pb (fS U.! k)) <= 1e-9 * max 1 (h U.! k)
+      runs = sortBy (comparing (\(a, b) -> negate (b - a)))
+               [ (head ks, last ks) | ks <- groupRuns [ k | k <- [0 .. U.length h - 1], atCap k ], length ks >= 4 ]
+      flat = [ (v, fS U.! a, fS U.! b) | (a, b) <- take 4 runs, let v = h U.! a ]
+      peak = [ (v, alpha, beta) | v <- levels, v > 0, Just (alpha, beta) <- [around v] ]
+      around v =
+        let n = U.length h
+            kl = last (-1 : [ k | k <- [0 .. kStar - 1], h U.! k <= v ])
+            kr = head ([ k | k <- [kStar + 1 .. n - 1], h U.! k <= v ] ++ [n])
+            margin = 2 * v * dt + tol
+            alpha = if kl < 0 then brakeDistanceTo pb st0 v + margin else fS U.! kl
+            beta = if kr >= n then len - brakeDistanceTo rv rt0 v - margin else fS U.! kr
+        in if alpha < beta then Just (alpha, beta) else Nothing
+      attempts = [ p | (v, alpha, beta) <- flat ++ peak, Just p <- [plateau rv rt0 v alpha beta] ]
+  case attempts of
+    (p : _) -> Right p
+    [] | top <= 0 -> Left (LandingFailed "the forward and the backward pass do not meet")
+       | otherwise -> Left (LandingFailed ("no plateau below " ++ num top ++ " m/s joins the forward and the backward pass"))
+  where
+    len = pbLength pb
+    tol = pbTol pb
     dt = pbDt pb
-    v = U.fromList (stV st0 : map stV sts0)
-    aIn = U.fromList (pbA0 pb : map stA sts0)   -- aIn ! k: acceleration into sample k
-    n = U.length v - 1
-    s = trapezoidDistances dt v
-    joinsAt k = let j = (aNext - aIn U.! k) / dt in j >= pbJMin pb && j <= pbJMax pb
-    -- lower samples e-w+1..e by c·sin²: removes exactly g from every later position
-    tryDent k g w e =
-      let bump j = let x = sin (pi * fromIntegral j / fromIntegral (w + 1)) in x * x
-          total = sum [ bump j | j <- [1 .. w] ]
-          c = g / (dt * total)
-          lo = e - w + 1
-          v' = U.imap (\i x -> if i >= lo && i <= e then x - c * bump (i - lo + 1) else x) (U.take (k + 1) v)
-      in if legalAround v' (lo - 3) (min k (e + 3)) && limitsHold v' lo k then Just v' else Nothing
-    legalAround v' i0 i1 =
-      let acc i | i < 0 = pbA0 pb
-                | otherwise = (v' U.! (i + 1) - v' U.! i) / dt
-          is = [max 0 i0 .. min (U.length v' - 2) i1]
-      in all (\i -> v' U.! i >= 0) [max 0 i0 .. min (U.length v' - 1) i1]
-         && all (\i -> let a = acc i in a >= pbAMin pb && a <= pbAMax pb) is
-         && all (\i -> let j = (acc i - acc (i - 1)) / dt in j >= pbJMin pb && j <= pbJMax pb) is
-    limitsHold v' lo k =
-      let s' = trapezoidDistances dt v'
-      in all (\i -> max (v' U.! i) (v' U.! (i + 1)) <= minLimitOn pb (s' U.! i) (s' U.! (i + 1))) [max 0 (lo - 1) .. k - 1]
-    rebuild vs = [ St x ((x - p) / dt) 0 | (p, x) <- zip (U.toList vs) (drop 1 (U.toList vs)) ]
+    limit = 8 * 1048576
+    st0 = St (pbV0 pb) (pbA0 pb) 0
+    -- the start pass must be able to come down to the end velocity by the route end;
+    -- the end pass (backwards) to the start velocity by the route start
+    fTerm = Term (len + tol) (pbVEnd pb)
+    bTerm = Term (len + tol) (pbV0 pb)
+    cruising v st = abs (stV st - v) <= 1e-9 * max 1 v && abs (stA st) <= 1e-9
+    plateau rv rt0 v alpha beta = do
+      -- the forward pass capped at v from alpha on, until it cruises at v
+      let pF = capOn alpha (len + 1) v pb
+          pB = capOn (len - beta) (len + 1) v rv
+      fE <- either (const Nothing) Just (policyFor pF fTerm st0)
+      bE <- either (const Nothing) Just (policyFor pB bTerm rt0)
+      let fRun = passFrom fE limit (\st -> stS st > beta || stS st >= alpha && cruising v st) st0
+          bRun = passFrom bE limit (\st -> stS st > len - alpha || stS st >= len - beta && cruising v st) rt0
+      fi <- lastMaybe fRun
+      bm <- lastMaybe bRun
+      guardM (cruising v fi && cruising v bm)
+      let vi = stV fi
+          vm = stV bm
+          gap = len - stS bm - stS fi          -- the distance the cruise must cover
+          -- k steps from the forward pass's cruise sample to the backward pass's cover
+          -- this at the plateau level, so much more than the gap
+          over k = dt * (vi + vm) / 2 + dt * v * fromIntegral (k - 1) - gap
+          kUp = 1 + max 0 (ceiling ((gap / dt - (vi + vm) / 2) / v - 1e-12)) :: Int
+          -- one step more than the gap (a dent takes the rest out) or one fewer (a bump
+          -- adds it, where the limits leave room above the plateau): the smaller first
+          ks = sortBy (comparing (abs . over)) (kUp : [ kUp - 1 | kUp > 1 ])
+          profileWith k =
+            let c = if k > 1 then over k / (dt * fromIntegral k / 2) else 0
+                bump j = let x = sin (pi * fromIntegral j / fromIntegral k) in x * x
+                cruise = [ v - c * bump j | j <- [1 .. k - 1] ]
+            in U.fromList ([pbV0 pb] ++ map stV fRun ++ cruise ++ reverse (pbVEnd pb : map stV bRun))
+          legal vs = null (check pb (Profile dt vs (pbA0 pb) (pbAEnd pb)))
+      case [ vs | k <- ks, k > 1 || abs (over k) <= tol / 2, let vs = profileWith k, legal vs ] of
+        (vs : _) -> pure vs
+        [] -> Nothing
+    guardM b = if b then Just () else Nothing
+    lastMaybe xs = if null xs then Nothing else Just (last xs)
+    groupRuns [] = []
+    groupRuns (k : ks) = let (run, rest) = go k ks in (k : run) : groupRuns rest
+      where go p (x : xs) | x == p + 1 = let (r, t) = go x xs in (x : r, t)
+            go _ xs = ([], xs)
+
+-- | Explain why the end state cannot be reached, from the failure of the backward pass
+-- (positions measured from the route end).
+endInfeasible :: Problem -> Env -> (St, St) -> SeedFailure
+endInfeasible pb e (St v0' _ r0, St v1 _ r)
+  | r > tP (eTerm e) =
+      Infeasible "end_velocity"
+        ("end_velocity " ++ num (pbVEnd pb) ++ " m/s" ++ withAcc ++ " cannot be reached at route_length "
+         ++ num (pbLength pb) ++ " m from start_velocity " ++ num (pbV0 pb)
+         ++ " m/s: even accelerating as hard as max_acceleration " ++ num (pbAMax pb) ++ " m/s² and max_jerk "
+         ++ num (pbJMax pb) ++ " m/s³ allow, a profile ending so would still be at " ++ num (max v0' v1)
+         ++ " m/s at the route start")
+  | otherwise =
+      Infeasible "end_velocity"
+        ("end_velocity " ++ num (pbVEnd pb) ++ " m/s" ++ withAcc ++ " cannot be reached under the speed limit of "
+         ++ num (minLimitOn (ePb e) r0 r) ++ " m/s between " ++ num (pbLength pb - r) ++ " m and "
+         ++ num (pbLength pb - r0) ++ " m: accelerating into it as hard as the limits allow (max_acceleration "
+         ++ num (pbAMax pb) ++ " m/s², max_jerk " ++ num (pbJMax pb) ++ " m/s³) it is still at "
+         ++ num (max v0' v1) ++ " m/s there")
+  where withAcc = if pbAEnd pb /= 0 then " with end_acceleration " ++ num (pbAEnd pb) ++ " m/s²" else ""
 
 -- | Explain why the start state cannot be braked legally.
 startInfeasible :: Problem -> Env -> (St, St) -> SeedFailure
@@ -532,6 +546,12 @@ startInfeasible pb e (St v0' _ s0', St v1 _ s)
          ++ " m/s² cannot stop within route_length " ++ num (pbLength pb) ++ " m: braking at min_acceleration "
          ++ num (pbAMin pb) ++ " m/s² and min_jerk " ++ num (pbJMin pb) ++ " m/s³ needs "
          ++ num (brakeStopDistance pb (pbV0 pb) (pbA0 pb)) ++ " m")
+  | s > tP (eTerm e) =
+      Infeasible "start_velocity"
+        ("start_velocity " ++ num (pbV0 pb) ++ " m/s with start_acceleration " ++ num (pbA0 pb)
+         ++ " m/s² cannot come down to end_velocity " ++ num (pbVEnd pb) ++ " m/s within route_length "
+         ++ num (pbLength pb) ++ " m: braking at min_acceleration " ++ num (pbAMin pb) ++ " m/s² and min_jerk "
+         ++ num (pbJMin pb) ++ " m/s³ it is still at " ++ num (max v0' v1) ++ " m/s there")
   | otherwise =
       Infeasible "start_velocity"
         ("start_velocity " ++ num (pbV0 pb) ++ " m/s with start_acceleration " ++ num (pbA0 pb)
