@@ -88,16 +88,16 @@ check :: Problem -> Profile -> [Violation]
 check pb p
   | U.null v = [Violation EmptyProfile 0 0 0]
   | otherwise = concat
-      [ [ Violation NegativeVelocity k x 0 | (k, x) <- ixs v, x < negate (slack 0) ]
+      [ [ Violation NegativeVelocity k (v U.! k) 0 | k <- U.toList (U.findIndices (< negate (slack 0)) v) ]
       , speedViolations
       , [ Violation AccelerationRule k a (if a > aMax then aMax else aMin)
-        | (k, a) <- ixs acc, a > aMax + slack aMax || a < aMin - slack aMin ]
+        | k <- U.toList (U.findIndices (\a -> a > aMax + slack aMax || a < aMin - slack aMin) acc), let a = acc U.! k ]
       , [ Violation JerkRule k j (if j > jMax then jMax else jMin)
-        | (k, j) <- allJerks, j > jMax + slack jMax || j < jMin - slack jMin ]
+        | k <- U.toList (U.findIndices (\j -> j > jMax + slack jMax || j < jMin - slack jMin) allJerks), let j = allJerks U.! k ]
       , [ Violation StartVelocity 0 (U.head v) (pbV0 pb) | abs (U.head v - pbV0 pb) > slack (pbV0 pb) ]
       , [ Violation EndVelocity n (U.last v) (pbVEnd pb) | abs (U.last v - pbVEnd pb) > slack (pbVEnd pb) ]
       , [ Violation RouteEnd n (U.last s) (pbTol pb) | abs (U.last s - len) > pbTol pb + slack len ]
-      , [ Violation Overshoot k x (len + pbTol pb) | (k, x) <- ixs s, x > len + pbTol pb + slack len ]
+      , [ Violation Overshoot k (s U.! k) (len + pbTol pb) | k <- U.toList (U.findIndices (> len + pbTol pb + slack len) s) ]
       ]
   where
     dt = prDt p
@@ -107,11 +107,10 @@ check pb p
     len = pbLength pb
     aMin = pbAMin pb; aMax = pbAMax pb; jMin = pbJMin pb; jMax = pbJMax pb
     acc = U.zipWith (\a b -> (b - a) / dt) v (U.tail v)
-    ixs = zip [0 :: Int ..] . U.toList
     -- jerk into a_0 is "at sample 0"; j between a_k and a_{k+1} at sample k+1; out of the
     -- last acceleration at sample N. A single sample: start → end acceleration.
-    accAll = U.toList (U.cons (prStartAcc p) acc) ++ [prEndAcc p]
-    allJerks = zip [0 ..] (zipWith (\a b -> (b - a) / dt) accAll (drop 1 accAll))
+    accAll = U.cons (prStartAcc p) acc `U.snoc` prEndAcc p
+    allJerks = U.zipWith (\a b -> (b - a) / dt) accAll (U.tail accAll)
 
     starts = pbZoneStarts pb
     speeds = pbZoneSpeeds pb
@@ -123,13 +122,10 @@ check pb p
                                    in if starts U.! mid <= x then go mid hi else go lo (mid - 1)
     -- lowest limit on the closed interval [a, b]: every zone that holds somewhere on it
     lowestOn a b = let i = zoneAt a; j = zoneAt b in U.minimum (U.slice i (j - i + 1) speeds)
+    stepLimit k = let a = s U.! k; b = s U.! (k + 1) in if a <= b then lowestOn a b else lowestOn b a
+    stepTop k = max (v U.! k) (v U.! (k + 1))
     speedViolations
       | n == 0 = [ Violation Speed 0 (U.head v) l | let l = lowestOn 0 0, U.head v > l + slack l ]
       | otherwise =
-          [ Violation Speed k top l
-          | k <- [0 .. n - 1]
-          , let top = max (v U.! k) (v U.! (k + 1))
-                a = s U.! k
-                b = s U.! (k + 1)
-                l = if a <= b then lowestOn a b else lowestOn b a
-          , top > l + slack l ]
+          [ Violation Speed k (stepTop k) (stepLimit k)
+          | k <- U.toList (U.findIndices id (U.generate n (\k -> let l = stepLimit k in stepTop k > l + slack l))) ]

@@ -27,10 +27,13 @@ import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
 
+
+
 import VProf.Legality (check)
 import VProf.Profile (Profile (..))
 import VProf.Request (Problem (..))
 import VProf.SpeedLimit
+
 
 -- | Why no seed could be made: the request is infeasible (with where and why), or the
 -- landing could not be tuned (a generator limitation, reported as such).
@@ -281,9 +284,23 @@ choose e st@(St v _ s) =
         in case try m of
              Just st' -> search m b st' (n - 1 :: Int)
              Nothing -> search a m bestSt (n - 1)
-  in case try hi of
-       Just st' -> st'
-       Nothing -> search aB hi fallback (5 :: Int)
+      -- on the edge of the oracle the answer is usually the brake policy itself: one
+      -- probe just above it settles that before the bisection (a higher acceleration is
+      -- never safer, so while braking the probe goes first and the top is tried only
+      -- when the probe passes)
+      probe = aB + (hi - aB) / 32
+      fromProbe = case try probe of
+        Nothing -> fallback
+        Just stP -> case try hi of
+          Just st' -> st'
+          Nothing -> search probe hi stP (5 :: Int)
+  in if stA st < 0
+       then fromProbe
+       else case try hi of
+         Just st' -> st'
+         Nothing -> case try probe of
+           Nothing -> fallback
+           Just st' -> search probe hi st' (5 :: Int)
 
 -- | The forward pass toward a standstill on the terminal point, from a state: the states
 -- visited after it, in order, until it has come to rest within the landing tolerance
