@@ -467,9 +467,12 @@ meet pb = do
       top = h U.! kStar
       levels = [ top * (1 - d) | d <- [0.001, 0.003, 0.01, 0.02, 0.04, 0.07, 0.12, 0.2, 0.3, 0.45, 0.6, 0.75, 0.9] ]
       -- stretches where both passes cruise at the same speed limit: the lower envelope
-      -- is already flat there, the plateau costs nothing but the dent
+      -- is already flat there, the plateau costs nothing but the dent (long stretches
+      -- first, of 16 samples or more, the last of them first)
       atCap k = abs (h U.! k - limitAt pb (fS U.! k)) <= 1e-9 * max 1 (h U.! k)
-      runs = sortBy (comparing (\(a, b) -> negate (b - a)))
+      -- (the last first: the backward pass then has the least to do again, and the
+      -- forward one resumes from nearly all of its uncapped run)
+      runs = sortBy (comparing (\(a, b) -> (b - a < 16, negate b)))
                [ (head ks, last ks) | ks <- groupRuns [ k | k <- [0 .. U.length h - 1], atCap k ], length ks >= 4 ]
       flat = [ (v, fS U.! a, fS U.! b) | (a, b) <- take 4 runs, let v = h U.! a ]
       peak = [ (v, alpha, beta) | v <- levels, v > 0, Just (alpha, beta) <- [around v] ]
@@ -481,7 +484,7 @@ meet pb = do
             alpha = if kl < 0 then brakeDistanceTo pb st0 v + margin else fS U.! kl
             beta = if kr >= n then len - brakeDistanceTo rv rt0 v - margin else fS U.! kr
         in if alpha < beta then Just (alpha, beta) else Nothing
-      attempts = [ p | (v, alpha, beta) <- flat ++ peak, Just p <- [plateau rv rt0 v alpha beta] ]
+      attempts = [ p | (v, alpha, beta) <- flat ++ peak, Just p <- [plateau fEnv bEnv (drop 1 fAll) (drop 1 bAll) rv rt0 v alpha beta] ]
   case attempts of
     (p : _) -> Right p
     [] | top <= 0 -> Left (LandingFailed "the forward and the backward pass do not meet")
@@ -497,14 +500,14 @@ meet pb = do
     fTerm = Term (len + tol) (pbVEnd pb)
     bTerm = Term (len + tol) (pbV0 pb)
     cruising v st = abs (stV st - v) <= 1e-9 * max 1 v && abs (stA st) <= 1e-9
-    plateau rv rt0 v alpha beta = do
+    plateau fEnv bEnv fFree bFree rv rt0 v alpha beta = do
       -- the forward pass capped at v from alpha on, until it cruises at v
       let pF = capOn alpha (len + 1) v pb
           pB = capOn (len - beta) (len + 1) v rv
       fE <- either (const Nothing) Just (policyFor pF fTerm st0)
       bE <- either (const Nothing) Just (policyFor pB bTerm rt0)
-      let fRun = passFrom fE limit (\st -> stS st > beta || stS st >= alpha && cruising v st) st0
-          bRun = passFrom bE limit (\st -> stS st > len - alpha || stS st >= len - beta && cruising v st) rt0
+      let fRun = resume fEnv fE fFree alpha st0 (\st -> stS st > beta || stS st >= alpha && cruising v st)
+          bRun = resume bEnv bE bFree (len - beta) rt0 (\st -> stS st > len - alpha || stS st >= len - beta && cruising v st)
       fi <- lastMaybe fRun
       bm <- lastMaybe bRun
       guardM (cruising v fi && cruising v bm)
@@ -528,6 +531,14 @@ meet pb = do
         (vs : _) -> pure vs
         [] -> Nothing
     guardM b = if b then Just () else Nothing
+    -- a capped pass follows the uncapped one for as long as the cap lies beyond the
+    -- reach of every brake test it makes (twice the braking reach, plus a metre): it
+    -- resumes from there rather than from the start
+    resume e0 e1 free cut start stop =
+      let shared = if eHard e0 /= eHard e1 then []
+                   else takeWhile (\st -> let (d, _) = brakeBound e0 st in stS st + 2 * d + 1 < cut) free
+          from = if null shared then start else last shared
+      in shared ++ passFrom e1 limit stop from
     lastMaybe xs = if null xs then Nothing else Just (last xs)
     groupRuns [] = []
     groupRuns (k : ks) = let (run, rest) = go k ks in (k : run) : groupRuns rest
