@@ -99,9 +99,15 @@ updatePath pr w = updatePathWith pr w TimesAll
 -- | Which waypoint times an update round moves.
 data TimeMode = TimesAll | TimesNone | TimesOf IS.IntSet
 
--- | 'updatePath' with a choice of which waypoint times move.
+-- | 'updatePath' with a choice of which waypoint times move; stops when a round lowers
+-- the objective by less than 0.3 %.
 updatePathWith :: Prepared -> Weights -> TimeMode -> Int -> PathA -> PathA
-updatePathWith pr w mode maxRounds pa0
+updatePathWith pr w mode = updatePathUntil pr w mode 3e-3
+
+-- | 'updatePathWith' stopping when a round lowers the objective by less than the
+-- fraction @stopBelow@ of it (or after @maxRounds@ rounds).
+updatePathUntil :: Prepared -> Weights -> TimeMode -> Double -> Int -> PathA -> PathA
+updatePathUntil pr w mode stopBelow maxRounds pa0
   | maxRounds <= 0 = pa0
   -- a round never raises the error (the position solve is exact, the orientation step and
   -- every waypoint move are kept only when they lower it), so one round needs no check
@@ -124,7 +130,7 @@ updatePathWith pr w mode maxRounds pa0
           let pa1 = step r pa
               c1 = totalCost pr w pa1
           in if c1 >= c then pa
-             else if c - c1 <= 3e-3 * c then pa1
+             else if c - c1 <= stopBelow * c then pa1
              else go (r + 1) pa1 c1
 
 -- | With waypoint times fixed, the positions of all waypoints minimising
@@ -440,10 +446,15 @@ swapPass pr w perPass maxTries pa0 = go maxTries pa0 (totalCost pr w pa0)
 
 ----------------------------------------------------------------------------- driver
 
--- | After the shrink: exchanges ('swapPass'), then full update rounds (all times move).
+-- | After the shrink: exchanges ('swapPass'), then full update rounds (all times move)
+-- until a round gains less than 1e-6 of the objective. Each round costs O(samples), so
+-- the rounds are capped at 10,000 / samples (at least 3, at most 'fcMaxRounds'): short
+-- recordings are polished to convergence, 3,000 samples get 3 rounds (the speed target).
 finalPolish :: FitConfig -> Prepared -> PathA -> PathA
-finalPolish cfg pr = updatePath pr w (fcMaxRounds cfg) . swapPass pr w (fcSwapTries cfg) (fcSwapBudget cfg)
-  where w = fcWeights cfg
+finalPolish cfg pr = updatePathUntil pr w TimesAll 1e-6 rounds . swapPass pr w (fcSwapTries cfg) (fcSwapBudget cfg)
+  where
+    w = fcWeights cfg
+    rounds = min (fcMaxRounds cfg) (max 3 (10000 `div` U.length (prT pr)))
 
 maxPositionError :: Prepared -> PathA -> Double
 maxPositionError pr pa = let (ep, _, _) = pointErrors pr pa in U.maximum ep
