@@ -71,7 +71,7 @@ data FitConfig = FitConfig
   } deriving (Show, Eq)
 
 defaultFitConfig :: FitConfig
-defaultFitConfig = FitConfig defaultWeights Nothing Nothing Nothing 40 1 0.10 4 20
+defaultFitConfig = FitConfig defaultWeights Nothing Nothing Nothing 40 1 0.10 4 10
 
 data StopReason = ReachedPoints | ReachedMargin | ReachedTolerance | ReachedMinimum
   deriving (Show, Eq)
