@@ -7,11 +7,11 @@ import qualified Data.Vector.Unboxed as U
 import System.IO.Unsafe (unsafePerformIO)
 import Test.Hspec
 import Test.QuickCheck hiding (generate, Result)
-import qualified Test.QuickCheck as QC
 
 import VProf.Arbitrary
 import VProf.Generator
 import VProf.Generator.RubberBand
+import VProf.Generator.Seed (mirror)
 import VProf.Legality
 import VProf.Profile
 import VProf.Request
@@ -158,6 +158,15 @@ verdict rq =
   in counterexample (show (resOutcome r) ++ "\n" ++ unlines (map renderViolation (take 5 (resViolations r)))) $
        classify (case resOutcome r of Generated -> False; _ -> True) "infeasible" (sound rq r)
 
+-- | The request is answered INFEASIBLE for end_velocity, the message says the given
+-- thing, and the start proof on the mirrored problem confirms the claim.
+endVelocityClaim :: String -> Request -> Expectation
+endVelocityClaim fragment rq = case (validate rq, resOutcome (generatePure rq)) of
+  (Right pb, Failed (InfeasibleRequest "end_velocity" m)) -> do
+    m `shouldContain` fragment
+    startInfeasibleProof (mirrored pb) `shouldBe` True
+  (_, other) -> expectationFailure (show other)
+
 startAccProof :: Problem -> Bool
 startAccProof pb =
   let dt = pbDt pb
@@ -213,26 +222,15 @@ spec = do
                  counterexample m $ startInfeasibleProof pb .&&. ("m/s between" `isInfixOf` m)
                other -> counterexample (show other) False
 
-    it "an end velocity that cannot be reached after a low zone is infeasible, says where, and the mirror confirms it" $ do
-      let rq = defaultRequest { rqRouteLength = 55 *~ meter
-                              , rqZones = [SpeedZone (0 *~ meter) (1 *~ mps), SpeedZone (50 *~ meter) (10 *~ mps)]
-                              , rqEndVelocity = 8 *~ mps }
-          Right pb = validate rq
-      case resOutcome (generatePure rq) of
-        Failed (InfeasibleRequest "end_velocity" m) -> do
-          m `shouldContain` "speed limit of 1.0 m/s"
-          startInfeasibleProof (mirrored pb) `shouldBe` True
-        other -> expectationFailure (show other)
+    it "an end velocity that cannot be reached after a low zone is infeasible, says where, and the mirror confirms it" $
+      endVelocityClaim "speed limit of 1.0 m/s" defaultRequest
+        { rqRouteLength = 55 *~ meter
+        , rqZones = [SpeedZone (0 *~ meter) (1 *~ mps), SpeedZone (50 *~ meter) (10 *~ mps)]
+        , rqEndVelocity = 8 *~ mps }
 
-    it "an end velocity too high to reach from the start within the route is infeasible and confirmed" $ do
-      let rq = defaultRequest { rqRouteLength = 5 *~ meter, rqZones = [SpeedZone (0 *~ meter) (10 *~ mps)]
-                              , rqEndVelocity = 6 *~ mps }
-          Right pb = validate rq
-      case resOutcome (generatePure rq) of
-        Failed (InfeasibleRequest "end_velocity" m) -> do
-          m `shouldContain` "at the route start"
-          startInfeasibleProof (mirrored pb) `shouldBe` True
-        other -> expectationFailure (show other)
+    it "an end velocity too high to reach from the start within the route is infeasible and confirmed" $
+      endVelocityClaim "at the route start" defaultRequest
+        { rqRouteLength = 5 *~ meter, rqZones = [SpeedZone (0 *~ meter) (10 *~ mps)], rqEndVelocity = 6 *~ mps }
 
     it "an end state that needs a negative velocity before it is infeasible" $ do
       let rq = defaultRequest { rqEndVelocity = 0.01 *~ mps, rqEndAcceleration = 1 *~ mps2 }
@@ -251,7 +249,27 @@ spec = do
           startInfeasibleProof pb `shouldBe` True
         other -> expectationFailure (show other)
 
-  describe "moving end states" $
+  describe "moving end states" $ do
+    it "the mirror is a symmetry: a legal profile reversed in time is legal for the mirrored problem (up to rounding on zone starts)" $
+      -- mirrored about the profile's own end position (the meet lands exactly on the route
+      -- end; a profile within the end tolerance would otherwise see the zones shifted)
+      withMaxSuccess (max 100 (cases `div` 5)) $ property $ \(RandomRequest rq) ->
+        let r = generatePure rq
+            Right pb = validate rq
+        in case (resOutcome r, resProfile r) of
+             (Generated, Just p) | U.last (pbZoneStarts pb) < finalDistance p ->
+               let back = p { prVelocities = U.reverse (prVelocities p)
+                            , prStartAcc = negate (prEndAcc p), prEndAcc = negate (prStartAcc p) }
+                   there = mirror pb { pbLength = finalDistance p }
+                   sB = distances back
+                   -- rounding: the reversed sums of the trapezoids differ from the forward
+                   -- ones in the last bits, so a step that ends on a zone start (the pass
+                   -- rides that edge) may touch the next zone by 1e-12 m
+                   onBoundary k = or [ abs (sB U.! i - z) <= 1e-9 | i <- [k, k + 1], i < U.length sB, z <- U.toList (pbZoneStarts there) ]
+                   real = [ x | x <- check there back, not (vRule x == Speed && onBoundary (vSample x)) ]
+               in counterexample (unlines (map renderViolation real)) (null real)
+             _ -> property Discard
+
     it "the thesis's moving start and end (2 m/s to 1 m/s, fig 4.27) land exactly, legal and converged" $ do
       let rq = defaultRequest { rqRouteLength = 120 *~ meter
                               , rqZones = [SpeedZone (0 *~ meter) (7 *~ mps), SpeedZone (70 *~ meter) (5 *~ mps)]

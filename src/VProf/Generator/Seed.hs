@@ -20,9 +20,10 @@ module VProf.Generator.Seed
   ( seed
   , SeedFailure (..)
   , brakeStopDistance
+  , mirror
   ) where
 
-import Data.List (nub, sort, sortBy)
+import Data.List (group, sort, sortBy)
 import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
@@ -325,8 +326,7 @@ seed :: Problem -> Either SeedFailure (U.Vector Double)
 seed pb = do
   let dt = pbDt pb
       st0 = St (pbV0 pb) (pbA0 pb) 0
-  -- even raising the acceleration as fast as the jerk allows, the velocity ends below zero
-  if pbV0 pb + leastDrop pb < -1e-12
+  if sinksBelowZero pb
     then Left (Infeasible "start_acceleration"
            ("start_acceleration " ++ num (pbA0 pb) ++ " m/s² at start_velocity " ++ num (pbV0 pb)
             ++ " m/s drives the velocity below zero whatever the jerk: raising the acceleration at max_jerk "
@@ -348,6 +348,11 @@ seed pb = do
       if abs (sEnd - pbLength pb) <= landTol || null middle && pbLength pb <= landTol
         then Right (U.fromList (pbV0 pb : map stV (middle ++ settle)))
         else Left (LandingFailed ("the forward pass stopped at " ++ num sEnd ++ " m, aiming at " ++ num (pbLength pb) ++ " m"))
+
+-- | Even raising the acceleration as fast as the jerk allows, the velocity from the start
+-- state ends below zero.
+sinksBelowZero :: Problem -> Bool
+sinksBelowZero q = pbV0 q + leastDrop q < -1e-12
 
 -- | The least velocity change from the start acceleration: raising it as fast as the jerk
 -- allows while it is negative.
@@ -396,7 +401,7 @@ capOn :: Double -> Double -> Double -> Problem -> Problem
 capOn a b v pb = pb { pbZoneStarts = U.fromList (map fst pieces), pbZoneSpeeds = U.fromList (map snd pieces) }
   where
     len = pbLength pb
-    starts = sort (nub (U.toList (pbZoneStarts pb) ++ [ x | x <- [a, b], x > 0, x < len ]))
+    starts = map head (group (sort (U.toList (pbZoneStarts pb) ++ [ x | x <- [a, b], x > 0, x < len ])))
     pieces = [ (x, if x >= a && x < b then min v (limitAt pb x) else limitAt pb x) | x <- starts ]
 
 -- | Linear interpolation of ys over ascending xs, clamped at both ends.
@@ -447,7 +452,7 @@ meet :: Problem -> Either SeedFailure (U.Vector Double)
 meet pb = do
   let rv = mirror pb
       rt0 = St (pbVEnd pb) (pbA0 rv) 0
-  if pbV0 rv + leastDrop rv < -1e-12
+  if sinksBelowZero rv
     then Left (Infeasible "end_acceleration"
            ("end_velocity " ++ num (pbVEnd pb) ++ " m/s with end_acceleration " ++ num (pbAEnd pb)
             ++ " m/s² cannot be reached: ramping the acceleration up to it within max_jerk "
