@@ -445,9 +445,11 @@ brakeDistanceTo q st0 v = go st0 (0 :: Int)
 -- exactly V with zero acceleration. Between the forward pass's first cruise sample and
 -- the backward pass's, the profile cruises at V for as many steps as the distance
 -- needs, and a smooth sin² dent in that cruise takes out the fraction of a step left
--- over: the route end is met exactly whatever the sampling. The levels are tried from
--- the highest down (a lower V gives a longer plateau and a gentler dent); the first
--- profile the checker finds legal is the seed.
+-- over: the route end is met exactly whatever the sampling. Stretches where both passes
+-- already cruise at the same speed limit are tried first (V is that limit and nothing
+-- is clipped), then the levels below the top, from the highest down (a lower V gives a
+-- longer plateau and a gentler dent). The first profile the checker finds legal is the
+-- seed; when none is, the request is answered NOT_CONVERGED with the reason.
 meet :: Problem -> Either SeedFailure (U.Vector Double)
 meet pb = do
   let rv = mirror pb
@@ -519,8 +521,8 @@ meet pb = do
       let vi = stV fi
           vm = stV bm
           gap = len - stS bm - stS fi          -- the distance the cruise must cover
-          -- k steps from the forward pass's cruise sample to the backward pass's cover
-          -- this at the plateau level, so much more than the gap
+          -- k steps at the plateau level, from the forward pass's cruise sample to the
+          -- backward pass's, cover this much more than the gap
           over k = dt * (vi + vm) / 2 + dt * v * fromIntegral (k - 1) - gap
           kUp = 1 + max 0 (ceiling ((gap / dt - (vi + vm) / 2) / v - 1e-12)) :: Int
           -- one step more than the gap (a dent takes the rest out) or one fewer (a bump
