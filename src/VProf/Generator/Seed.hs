@@ -290,18 +290,10 @@ choose e st@(St v _ s) =
       -- never safer, so while braking the probe goes first and the top is tried only
       -- when the probe passes)
       probe = aB + (hi - aB) / 32
-      fromProbe = case try probe of
-        Nothing -> fallback
-        Just stP -> case try hi of
-          Just st' -> st'
-          Nothing -> search probe hi stP (5 :: Int)
+      bisectFrom stP = search probe hi stP (5 :: Int)
   in if stA st < 0
-       then fromProbe
-       else case try hi of
-         Just st' -> st'
-         Nothing -> case try probe of
-           Nothing -> fallback
-           Just st' -> search probe hi st' (5 :: Int)
+       then maybe fallback (\stP -> maybe (bisectFrom stP) id (try hi)) (try probe)
+       else maybe (maybe fallback bisectFrom (try probe)) id (try hi)
 
 -- | The forward pass toward a standstill on the terminal point, from a state: the states
 -- visited after it, in order, until it has come to rest within the landing tolerance
