@@ -27,6 +27,7 @@ import Control.Exception (evaluate)
 
 import VProf.Generator.RubberBand
 import VProf.Generator.Seed
+import VProf.Generator.Thesis
 import VProf.Legality
 import VProf.Profile
 import VProf.Request
@@ -77,55 +78,37 @@ data Snapshot = Snapshot
   }
 
 -- | The passes of the rubber band for a problem: the starting profile (iteration 0)
--- and one snapshot per pass, ending at the fixed point (or going on for ever).
+-- and the profile after each pass (in thesis mode after each chunk of passes), ending at
+-- the fixed point or going on until the iteration cap. Raising passes only ever raise,
+-- so the sequence is monotone and cannot cycle.
 iterations :: Problem -> Either Failure [Snapshot]
 iterations pb = case pbAlgorithm pb of
   Band -> case seed pb of
-    Left (Infeasible f m) -> Left (InfeasibleRequest f m)
-    Left (LandingFailed m) -> Left (NotConverged ("seed: " ++ m))
-    Right v0 -> Right (run Guarded v0)
-  Thesis -> Right (run Plain (thesisStart pb))
+    Left f -> Left (seedFailure f)
+    Right v0 -> Right (Snapshot v0 0 0 False : go 1 v0)
+  Thesis -> case thesisStages pb of
+    -- the thesis mode's start and run-in fail where the request may be infeasible: the
+    -- default generator's analysis says whether it is (and why)
+    Left tf -> Left (case seed pb of
+                       Left f@(Infeasible _ _) -> seedFailure f
+                       _ -> NotConverged ("thesis mode: " ++ seedMessage tf))
+    Right stages -> Right [ Snapshot (stgVel st) (stgPasses st) (stgChanged st) (stgDone st) | st <- stages ]
   where
-    run mode v0 = Snapshot v0 0 0 False : go mode 1 (U.replicate (U.length v0) False) [] v0
-    go mode !i frozen hist v =
-      let PassResult v' changed raising = pass mode pb frozen v
-          done = raising && changed == 0
-          -- cycle settling (thesis 4.6.2): a profile seen before means the passes flip
-          -- between near-finished versions; pin every sample that moved within the cycle
-          -- to the lowest value it took there, and freeze it
-          (frozen', v'', hist') = case break (== v') hist of
-            (cycleRest, _ : _) | not done ->
-              let members = v' : cycleRest
-                  lowest = foldr1 (U.zipWith min) members
-                  moved = U.zipWith (/=) lowest (foldr1 (U.zipWith max) members)
-              in (U.zipWith (||) frozen moved, lowest, [])
-            _ -> (frozen, v', take 16 (v' : hist))
-      in Snapshot v'' i changed done : if done then [] else go mode (i + 1) frozen' hist' v''
-
--- | The thesis's starting point: an all-zero profile over a horizon sized from the route
--- (not the thesis's fixed 50 s), with the first sample at the start velocity and the
--- last at the end velocity.
-thesisStart :: Problem -> U.Vector Double
-thesisStart pb =
-  let n = thesisHorizon pb
-  in U.generate (n + 1) (\k -> if k == 0 then pbV0 pb else if k == n then pbVEnd pb else 0)
-
--- | Samples of the thesis horizon: the time to drive every zone at its limit, plus the
--- time to speed up and slow down at every zone change, with a margin.
-thesisHorizon :: Problem -> Int
-thesisHorizon pb =
-  let starts = U.toList (pbZoneStarts pb) ++ [pbLength pb]
-      speeds = U.toList (pbZoneSpeeds pb)
-      cruise = sum (zipWith3 (\a b v -> (b - a) / v) starts (drop 1 starts) speeds)
-      ramp v = v / pbAMax pb + v / abs (pbAMin pb) + pbAMax pb / pbJMax pb + abs (pbAMin pb) / abs (pbJMin pb)
-      changes = sum (map ramp speeds)
-      t = 1.2 * cruise + changes + 2
-  in min maxSamples (max 4 (ceiling (t / pbDt pb)))
+    go !i v =
+      let PassResult v' changed = pass pb v
+          done = changed == 0
+      in Snapshot v' i changed done : if done then [] else go (i + 1) v'
+    seedFailure = \case
+      Infeasible f m -> InfeasibleRequest f m
+      LandingFailed m -> NotConverged ("seed: " ++ m)
+    seedMessage = \case
+      Infeasible _ m -> m
+      LandingFailed m -> m
 
 -- | The verdict on the last snapshot.
 finish :: Problem -> Double -> Int -> Bool -> Maybe String -> U.Vector Double -> Result
 finish pb secs iters done stopReason v =
-  let prof = trimThesis pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
+  let prof = Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)
       vs = check pb prof
       outcome
         | null vs && done = Generated
@@ -137,22 +120,6 @@ finish pb secs iters done stopReason v =
   in Result outcome (Just prof) vs iters done (pbAlgorithm pb) (pbDt pb) (pbDv pb) secs
   where
     summarise vs = show (length vs) ++ " violation(s), first " ++ renderViolation (head vs)
-
--- | Thesis profiles run over a horizon: cut the standing still after the route end
--- (the samples after the profile first comes to rest at the end velocity near the end).
-trimThesis :: Problem -> Profile -> Profile
-trimThesis pb p
-  | pbAlgorithm pb /= Thesis = p
-  | otherwise =
-      let v = prVelocities p
-          s = distances p
-          n = U.length v - 1
-          near k = abs (s U.! k - pbLength pb) <= pbTol pb
-          restAt k = v U.! k == pbVEnd pb && near k
-          cutAt = case filter restAt [1 .. n] of
-            (k : _) | pbVEnd pb > 0 || all (\i -> v U.! i == 0) [k .. n] -> k
-            _ -> n
-      in p { prVelocities = U.take (cutAt + 1) v }
 
 -- | Generate with the iteration cap only (no clock): a pure function of the problem.
 generatePure :: Request -> Result

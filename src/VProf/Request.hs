@@ -23,6 +23,7 @@ module VProf.Request
   , defaultMaxIterations
   , maxSamples
   , autoVelocityStep
+  , largestVelocityStep
   , isPowerOfTwo
   ) where
 
@@ -95,8 +96,13 @@ defaultTimeBudget = 1.0
 defaultEndTolerance :: Double
 defaultEndTolerance = 0.01
 
-defaultMaxIterations :: Int
-defaultMaxIterations = 100000
+-- | The default iteration cap: passes of the rubber band. Thesis mode grows its profile
+-- from rest a sample at a time, some ten passes a sample, but each of its passes visits
+-- only the samples that can still change, so its cap is higher.
+defaultMaxIterations :: Algorithm -> Int
+defaultMaxIterations = \case
+  Band -> 100000
+  Thesis -> 4000000
 
 -- | The largest profile the generator will make: 2²⁰ samples (36 hours at the default
 -- 0.125 s step). A request whose route cannot be driven in that many samples, even at
@@ -147,6 +153,12 @@ autoVelocityStep dt aMin aMax jMin jMax =
   let bound = minimum [abs jMin * dt * dt, jMax * dt * dt, abs aMin * dt, aMax * dt] / 4
   in 2 ^^ (floor (logBase 2 bound) :: Int)
 
+-- | The largest velocity step with which a single sample can rise on a flat stretch:
+-- raising it alone changes one jerk by 2·dv/dt² and one acceleration by dv/dt.
+largestVelocityStep :: Double -> Double -> Double -> Double -> Double -> Double
+largestVelocityStep dt aMin aMax jMin jMax =
+  minimum [abs jMin * dt * dt / 2, jMax * dt * dt / 2, abs aMin * dt, aMax * dt]
+
 isPowerOfTwo :: Double -> Bool
 isPowerOfTwo x = x > 0 && not (isInfinite x) && let (m, _) = decodeFloat x in abs m == 2 ^ (52 :: Int)
 
@@ -166,13 +178,13 @@ validate rq =
     dt = maybe defaultTimeStep si (rqTimeStep rq)
     budget = maybe defaultTimeBudget si (rqTimeBudget rq)
     tol = maybe defaultEndTolerance si (rqEndTolerance rq)
-    maxIt = maybe defaultMaxIterations id (rqMaxIterations rq)
+    maxIt = maybe (defaultMaxIterations (rqAlgorithm rq)) id (rqMaxIterations rq)
     dvGiven = fmap si (rqVelocityStep rq)
-    -- the thesis mode moves one step per pass, so it takes the thesis's coarser step:
-    -- the largest power of two that fits inside the jerk and acceleration ranges
+    -- the thesis mode grows its profile from rest one step per pass, so it takes the
+    -- coarsest step that still works
     dvAuto = case rqAlgorithm rq of
       Band -> autoVelocityStep dt aMin aMax jMin jMax
-      Thesis -> 4 * autoVelocityStep dt aMin aMax jMin jMax
+      Thesis -> 2 ^^ (floor (logBase 2 (largestVelocityStep dt aMin aMax jMin jMax)) :: Int)
     dv = maybe dvAuto id dvGiven
 
     finite x = not (isNaN x || isInfinite x)
@@ -216,11 +228,11 @@ validate rq =
           Just d -> checkFinite "velocity_step" d " m/s" $ concat
             [ check (d > 0) "velocity_step" d " m/s" "must be > 0"
             , if d > 0 && finite jMin && finite jMax && finite aMin && finite aMax && finite dt && dt > 0
-                 && d > minimum [abs jMin * dt * dt, jMax * dt * dt, abs aMin * dt, aMax * dt]
+                 && d > largestVelocityStep dt aMin aMax jMin jMax
                 then err "velocity_step" d " m/s"
-                       ("is too coarse: one step must fit inside the jerk and acceleration ranges at time_step "
-                        ++ num dt ++ " s, i.e. be at most min(|j|·dt², |a|·dt) = "
-                        ++ num (minimum [abs jMin * dt * dt, jMax * dt * dt, abs aMin * dt, aMax * dt])
+                       ("is too coarse: one sample raised by one step must fit inside the jerk and acceleration ranges at time_step "
+                        ++ num dt ++ " s, i.e. the step must be at most min(|j|·dt²/2, |a|·dt) = "
+                        ++ num (largestVelocityStep dt aMin aMax jMin jMax)
                         ++ " m/s (suggested: " ++ num dvAuto ++ " m/s, or 0 for automatic)")
                 else [] ]
       , check (maxIt > 0) "max_iterations" (fromIntegral maxIt :: Double) "" "must be > 0"

@@ -64,6 +64,21 @@ spec = do
     ms `shouldSatisfy` any ("velocity_step = 0.5 m/s: is too coarse" `isInfixOf`)
     ms `shouldSatisfy` any ("suggested" `isInfixOf`)
 
+  it "refuses a velocity step with which a single sample cannot rise: above |j|·dt²/2" $ do
+    -- the default request: |j| = 1 m/s³, dt = 0.125 s, so |j|·dt²/2 = 0.0078125 m/s
+    fields defaultRequest { rqVelocityStep = Just (0.0079 *~ mps) } `shouldBe` ["velocity_step"]
+    fields defaultRequest { rqVelocityStep = Just (0.0078125 *~ mps) } `shouldBe` []
+
+  it "thesis mode takes the largest power-of-two step with which a single sample can rise" $
+    property $ \(Positive a1) (Positive a2) (Positive j1) (Positive j2) ->
+      let rq = defaultRequest { rqAlgorithm = Thesis
+                              , rqMinAcceleration = negate (a1 + 0.1) *~ mps2, rqMaxAcceleration = (a2 + 0.1) *~ mps2
+                              , rqMinJerk = negate (j1 + 0.1) *~ mps3, rqMaxJerk = (j2 + 0.1) *~ mps3 }
+          bound = largestVelocityStep 0.125 (negate (a1 + 0.1)) (a2 + 0.1) (negate (j1 + 0.1)) (j2 + 0.1)
+      in case validate rq of
+           Right pb -> isPowerOfTwo (pbDv pb) .&&. pbDv pb <= bound .&&. 2 * pbDv pb > bound
+           Left es -> counterexample (show es) False
+
   it "refuses a request above the sample cap" $
     fields defaultRequest { rqRouteLength = 1e7 *~ meter } `shouldBe` ["route_length"]
 

@@ -21,6 +21,7 @@ module VProf.Generator.Seed
   , SeedFailure (..)
   , brakeStopDistance
   , mirror
+  , restFrom
   ) where
 
 import Data.List (group, sort, sortBy)
@@ -32,7 +33,7 @@ import Numeric (showFFloat)
 
 import VProf.Legality (check)
 import VProf.Profile (Profile (..))
-import VProf.Request (Problem (..))
+import VProf.Request (Problem (..), maxSamples)
 import VProf.SpeedLimit
 
 
@@ -319,10 +320,7 @@ seed pb = do
   let dt = pbDt pb
       st0 = St (pbV0 pb) (pbA0 pb) 0
   if sinksBelowZero pb
-    then Left (Infeasible "start_acceleration"
-           ("start_acceleration " ++ num (pbA0 pb) ++ " m/s² at start_velocity " ++ num (pbV0 pb)
-            ++ " m/s drives the velocity below zero whatever the jerk: raising the acceleration at max_jerk "
-            ++ num (pbJMax pb) ++ " m/s³ still loses " ++ num (negate (leastDrop pb)) ++ " m/s"))
+    then Left (startSinks pb)
   else if pbVEnd pb > 0 || pbAEnd pb /= 0
     then meet pb
   else do
@@ -340,6 +338,29 @@ seed pb = do
       if abs (sEnd - pbLength pb) <= landTol || null middle && pbLength pb <= landTol
         then Right (U.fromList (pbV0 pb : map stV (middle ++ settle)))
         else Left (LandingFailed ("the forward pass stopped at " ++ num sEnd ++ " m, aiming at " ++ num (pbLength pb) ++ " m"))
+
+startSinks :: Problem -> SeedFailure
+startSinks pb =
+  Infeasible "start_acceleration"
+    ("start_acceleration " ++ num (pbA0 pb) ++ " m/s² at start_velocity " ++ num (pbV0 pb)
+     ++ " m/s drives the velocity below zero whatever the jerk: raising the acceleration at max_jerk "
+     ++ num (pbJMax pb) ++ " m/s³ still loses " ++ num (negate (leastDrop pb)) ++ " m/s")
+
+-- | The hardest legal braking from the start state to a standstill within the route,
+-- v_0 .. 0 (just v_0 when the start is at rest): the thesis mode's way into its band,
+-- which grows from rest (see "VProf.Generator.Thesis").
+restFrom :: Problem -> Either SeedFailure (U.Vector Double)
+restFrom pb
+  | sinksBelowZero pb = Left (startSinks pb)
+  | otherwise = case brakeCheck e st0 of
+      Left bad -> Left (startInfeasible pb e bad)
+      Right () -> Right (U.fromList (pbV0 pb : map stV (take maxSamples (braking st0))))
+  where
+    e = Env pb (Term (pbLength pb) 0) True
+    st0 = St (pbV0 pb) (pbA0 pb) 0
+    braking st
+      | atRest e st = []
+      | otherwise = let st' = stepTo e st (brakeAcc e st) in st' : braking st'
 
 -- | Even raising the acceleration as fast as the jerk allows, the velocity from the start
 -- state ends below zero.
