@@ -47,6 +47,10 @@ data SeedFailure
 -- | State at sample k: velocity v_k, the acceleration a_{k-1} that led into it, position s_k.
 data St = St { stV :: !Double, stA :: !Double, stS :: !Double }
 
+-- | Two capped passes of the meet (the states after the start and after the end), their
+-- cruise velocities and the distance left between them.
+data Capped = Capped [St] [St] !Double !Double !Double
+
 -- | Where the pass must be done: at or before position tP, and at most tV from then on.
 data Term = Term { tP :: !Double, tV :: !Double }
 
@@ -504,11 +508,83 @@ meet pb = do
             alpha = if kl < 0 then brakeDistanceTo pb st0 v + margin else fS U.! kl
             beta = if kr >= n then len - brakeDistanceTo rv rt0 v - margin else fS U.! kr
         in if alpha < beta then Just (alpha, beta) else Nothing
-      attempts = [ p | (v, alpha, beta) <- flat ++ peak, Just p <- [plateau fEnv bEnv (drop 1 fAll) (drop 1 bAll) rv rt0 v alpha beta] ]
-  case attempts of
+      capped' = capped fEnv bEnv (drop 1 fAll) (drop 1 bAll) rv rt0
+      attempts = [ p | (v, alpha, beta) <- flat ++ peak, Just c <- [capped' v alpha beta], Just p <- [plateau v c] ]
+      -- Fallbacks, tried only when no plateau above joins (short routes, where the
+      -- envelopes meet in a sharp peak and every plateau is too short for its dent).
+      -- Tuned: between two levels the distance the cruise must cover changes
+      -- continuously with the level (the passes land on it smoothly), while each cruise
+      -- step covers v·dt: so for a fixed number of cruise steps the overshoot changes
+      -- sign between levels where that number fits the one and not the other, and a
+      -- bisection on the level finds where no dent is needed at all.
+      -- Each pair of levels is tried over the stretch where the envelope is above the
+      -- lower one and over the widest stretch the ends can brake to it for (there the
+      -- passes do not rise above the level first only to come back down to it).
+      -- The start and end velocities are levels too: a profile that only speeds up (or
+      -- only slows down) on a short route has its plateau at one of them.
+      tuned = [ p | (v1, v2) <- zip tunedLevels (drop 1 tunedLevels), v2 > 0, stretch <- [around, wide]
+                  , Just (alpha, beta) <- [stretch v2], Just p <- [tune capped' v1 v2 alpha beta] ]
+      ends = [ x | x <- [pbVEnd pb, pbV0 pb], x > 0, x < top ]
+      -- a finer grid than the plateau levels: the overshoot left over (modulo a cruise
+      -- step) moves slowly with the level, so the brackets must be narrow enough to see
+      -- it change sign between them, and cover enough to see it change at all
+      tunedLevels = map head (group (sortBy (flip compare) ([ top * (1 - 0.7 * fromIntegral i / 32) | i <- [0 .. 32 :: Int] ] ++ ends)))
+      atEnds = [ p | v <- ends, Just (alpha, beta) <- [wide v], Just c <- [capped' v alpha beta], Just p <- [plateau v c] ]
+      -- a state that needs no braking to be at v caps from where it is
+      wide v =
+        let margin = 2 * v * dt + tol
+            reach q st = let d = brakeDistanceTo q st v in if d > 0 then d + margin else 0
+            alpha = reach pb st0
+            beta = len - reach rv rt0
+        in if alpha < beta then Just (alpha, beta) else Nothing
+      -- Valley: a level low enough that both ends can brake to it with room to spare,
+      -- over the whole stretch between (below every limit there), so the plateau is long
+      -- and its dent gentle; slow, but the rubber band raises it afterwards.
+      -- Softened: the plateau at v, with both passes run within a fraction of the
+      -- acceleration and jerk ranges (still legal for the problem): their ramps then take
+      -- longer, continuously with the fraction, so that the overshoot left over moves
+      -- through zero (where a plateau too short for its dent needs none). The passes
+      -- start afresh (the uncapped ones were made with the full ranges).
+      softened = [ p | v <- ends ++ [ top * (1 - d) | d <- [0.02, 0.1, 0.3] ], Just (alpha, beta) <- [wide v]
+                     , Just p <- [soften v alpha beta] ]
+      soften v alpha beta =
+        let at phi = let q = scaled phi pb; rq = scaled phi rv
+                     in cappedOn q fEnv bEnv [] [] rq rt0 v alpha beta
+            nearest c = let k0 = kUpOf v c in minimumOn (abs . overBy v c) [ k | k <- [k0 - 1, k0], k >= 1 ]
+            r c = overBy v c (nearest c)
+            grid = [ (phi, c) | i <- [0 .. 15 :: Int], let phi = 1 - 0.04 * fromIntegral i, Just c <- [at phi] ]
+            -- from a fraction a where the overshoot has sign sa towards one b where it has
+            -- the other
+            bisect a b sa n
+              | n <= (0 :: Int) = Nothing
+              | otherwise = do
+                  let mid = (a + b) / 2
+                  cm <- at mid
+                  let o = r cm
+                  if abs o <= tol / 100 then joinAt v cm [nearest cm]
+                    else if signum o == sa then bisect mid b sa (n - 1) else bisect a mid sa (n - 1)
+            -- a sign change between neighbours with a small step is a root; a step of
+            -- nearly a cruise step's distance is a wrap (a pass took a step more)
+            roots = [ p | ((p1, c1), (p2, c2)) <- zip grid (drop 1 grid), r c1 * r c2 <= 0
+                        , abs (r c1 - r c2) < v * dt / 2, Just p <- [bisect p1 p2 (signum (r c1)) 48] ]
+        in case roots of
+             (p : _) -> Just p
+             [] -> Nothing
+      scaled phi q = q { pbAMin = phi * pbAMin q, pbAMax = phi * pbAMax q, pbJMin = phi * pbJMin q, pbJMax = phi * pbJMax q }
+      valley = [ p | f <- [0.5, 0.25, 0.1, 0.03], Just (v, alpha, beta) <- [lowPlateau (top * f) (3 :: Int)]
+                   , Just c <- [capped' v alpha beta], Just p <- [plateau v c] ]
+      lowPlateau v n
+        | v <= 0 || n <= 0 = Nothing
+        | otherwise = do
+            (alpha, beta) <- wide v
+            let lim = minLimitOn pb (max 0 alpha) (min len beta)
+            if lim >= v then Just (v, alpha, beta) else lowPlateau (lim * (1 - 1e-6)) (n - 1)
+  case attempts ++ tuned ++ atEnds ++ softened ++ valley of
     (p : _) -> Right p
-    [] | top <= 0 -> Left (LandingFailed "the forward and the backward pass do not meet")
-       | otherwise -> Left (LandingFailed ("no plateau below " ++ num top ++ " m/s joins the forward and the backward pass"))
+    []
+      | Just why <- noProfileFits pb -> Left (Infeasible (if pbV0 pb > pbVEnd pb then "start_velocity" else "end_velocity") why)
+      | top <= 0 -> Left (LandingFailed "the forward and the backward pass do not meet")
+      | otherwise -> Left (LandingFailed ("no plateau below " ++ num top ++ " m/s joins the forward and the backward pass"))
   where
     len = pbLength pb
     tol = pbTol pb
@@ -520,9 +596,12 @@ meet pb = do
     fTerm = Term (len + tol) (pbVEnd pb)
     bTerm = Term (len + tol) (pbV0 pb)
     cruising v st = abs (stV st - v) <= 1e-9 * max 1 v && abs (stA st) <= 1e-9
-    plateau fEnv bEnv fFree bFree rv rt0 v alpha beta = do
+    -- the two passes capped at v over [alpha, beta], each up to its first cruise sample at
+    -- v, and the distance the cruise between them must cover
+    capped = cappedOn pb
+    cappedOn base fEnv bEnv fFree bFree rv rt0 v alpha beta = do
       -- the forward pass capped at v from alpha on, until it cruises at v
-      let pF = capOn alpha (len + 1) v pb
+      let pF = capOn alpha (len + 1) v base
           pB = capOn (len - beta) (len + 1) v rv
       fE <- either (const Nothing) Just (policyFor pF fTerm st0)
       bE <- either (const Nothing) Just (policyFor pB bTerm rt0)
@@ -531,25 +610,53 @@ meet pb = do
       fi <- lastMaybe fRun
       bm <- lastMaybe bRun
       guardM (cruising v fi && cruising v bm)
-      let vi = stV fi
-          vm = stV bm
-          gap = len - stS bm - stS fi          -- the distance the cruise must cover
-          -- k steps at the plateau level, from the forward pass's cruise sample to the
-          -- backward pass's, cover this much more than the gap
-          over k = dt * (vi + vm) / 2 + dt * v * fromIntegral (k - 1) - gap
-          kUp = 1 + max 0 (ceiling ((gap / dt - (vi + vm) / 2) / v - 1e-12)) :: Int
+      pure (Capped fRun bRun (stV fi) (stV bm) (len - stS bm - stS fi))
+    -- k steps at the plateau level, from the forward pass's cruise sample to the
+    -- backward pass's, cover this much more than the gap
+    overBy v (Capped _ _ vi vm gap) k = dt * (vi + vm) / 2 + dt * v * fromIntegral (k - 1) - gap
+    kUpOf v (Capped _ _ vi vm gap) = 1 + max 0 (ceiling ((gap / dt - (vi + vm) / 2) / v - 1e-12)) :: Int
+    plateau v c =
+      let kUp = kUpOf v c
           -- one step more than the gap (a dent takes the rest out) or one fewer (a bump
           -- adds it, where the limits leave room above the plateau): the smaller first
-          ks = sortBy (comparing (abs . over)) (kUp : [ kUp - 1 | kUp > 1 ])
-          profileWith k =
-            let c = if k > 1 then over k / (dt * fromIntegral k / 2) else 0
+          ks = sortBy (comparing (abs . overBy v c)) (kUp : [ kUp - 1 | kUp > 1 ])
+      in joinAt v c ks
+    joinAt v c@(Capped fRun bRun _ _ _) ks =
+      let over = overBy v c
+          profileWith dent k =
+            let d = if dent && k > 1 then over k / (dt * fromIntegral k / 2) else 0
                 bump j = let x = sin (pi * fromIntegral j / fromIntegral k) in x * x
-                cruise = [ v - c * bump j | j <- [1 .. k - 1] ]
+                cruise = [ v - d * bump j | j <- [1 .. k - 1] ]
             in U.fromList ([pbV0 pb] ++ map stV fRun ++ cruise ++ reverse (pbVEnd pb : map stV bRun))
           legal vs = null (check pb (Profile dt vs (pbA0 pb) (pbAEnd pb)))
-      case [ vs | k <- ks, k > 1 || abs (over k) <= tol / 2, let vs = profileWith k, legal vs ] of
-        (vs : _) -> pure vs
-        [] -> Nothing
+          -- the dent first (the route end met exactly); a cruise without it when the
+          -- overshoot is within half the end tolerance
+          tries = [ profileWith True k | k <- ks, k > 1 || abs (over k) <= tol / 2 ]
+                  ++ [ profileWith False k | k <- ks, k > 1, abs (over k) <= tol / 2 ]
+      in case filter legal tries of
+           (vs : _) -> Just vs
+           [] -> Nothing
+    -- the tuned plateau between levels v1 > v2 over the same stretch: for each cruise
+    -- length whose overshoot changes sign between them, bisect the level down to an
+    -- overshoot of a hundredth of the tolerance
+    tune capped' v1 v2 alpha beta = do
+      c1 <- capped' v1 alpha beta
+      c2 <- capped' v2 alpha beta
+      -- the overshoot of the cruise length nearest to the gap: it changes sign where one
+      -- of them fits exactly, or where it wraps round (by a step's distance) when one
+      -- of the passes takes a step more; a bisection tells them apart
+      let nearest v c = let k0 = kUpOf v c in minimumOn (abs . overBy v c) [ k | k <- [k0 - 1, k0], k >= 1 ]
+          r v c = overBy v c (nearest v c)
+          bisect a b sa n
+            | n <= (0 :: Int) = Nothing
+            | otherwise = do
+                let mid = (a + b) / 2
+                cm <- capped' mid alpha beta
+                let o = r mid cm
+                if abs o <= tol / 100 then joinAt mid cm [nearest mid cm]
+                  else if signum o == sa then bisect mid b sa (n - 1) else bisect a mid sa (n - 1)
+      guardM (r v1 c1 * r v2 c2 <= 0 && abs (r v1 c1 - r v2 c2) < v2 * dt / 2)
+      bisect v1 v2 (signum (r v1 c1)) 48
     guardM b = if b then Just () else Nothing
     -- a capped pass follows the uncapped one for as long as the cap lies beyond the
     -- reach of every brake test it makes (twice the braking reach, plus a metre): it
@@ -560,10 +667,64 @@ meet pb = do
           from = if null shared then start else last shared
       in shared ++ passFrom e1 limit stop from
     lastMaybe xs = if null xs then Nothing else Just (last xs)
+    minimumOn f = head . sortBy (comparing f)
     groupRuns [] = []
     groupRuns (k : ks) = let (run, rest) = go k ks in (k : run) : groupRuns rest
       where go p (x : xs) | x == p + 1 = let (r, t) = go x xs in (x : r, t)
             go _ xs = ([], xs)
+
+-- | A proof that no profile joins the start state to the end state within the route,
+-- whatever its number of steps N, from bounds that hold for every legal profile (with
+-- the checker's rounding slack): the accelerations after the start are within
+-- [a0 + (i+1)·j_min·dt, a0 + (i+1)·j_max·dt] and those before the end within
+-- [a_end − (i+1)·j_max·dt, a_end − (i+1)·j_min·dt] (i steps away), both clipped to the
+-- acceleration range; so each velocity v_k is at least the larger of the two lower
+-- bounds (from the start forwards and from the end backwards) and at most the smaller
+-- of the upper ones, and the route end s_N, the trapezoid sum, lies between the sums of
+-- those bounds. An N fits when every lower bound is below its upper bound and the route
+-- end is within reach of the sums. N is bounded because the lower bound from the start
+-- alone passes L + tolerance at some step (no sample may: the overshoot rule); when it
+-- comes to rest first, or only after many steps, nothing is claimed. Used only when the
+-- meet found no join: it explains it as infeasible where it can, and the claim is
+-- checked by an independent proof in the tests.
+noProfileFits :: Problem -> Maybe String
+noProfileFits pb
+  | Just n <- nMax, not (any fits [0 .. n]) =
+      Just ("start_velocity " ++ num (pbV0 pb) ++ " m/s with start_acceleration " ++ num (pbA0 pb)
+            ++ " m/s² and end_velocity " ++ num (pbVEnd pb) ++ " m/s with end_acceleration " ++ num (pbAEnd pb)
+            ++ " m/s² cannot both be met within route_length " ++ num len ++ " m: within min/max_acceleration "
+            ++ num (pbAMin pb) ++ "/" ++ num (pbAMax pb) ++ " m/s² and min/max_jerk " ++ num (pbJMin pb) ++ "/"
+            ++ num (pbJMax pb) ++ " m/s³ the velocities reachable from the start and those from which the end state"
+            ++ " can be reached do not overlap over any duration that covers the route")
+  | otherwise = Nothing
+  where
+    dt = pbDt pb
+    len = pbLength pb
+    sl x = 1e-9 * max 1 (abs x)
+    aMin = pbAMin pb - sl (pbAMin pb); aMax = pbAMax pb + sl (pbAMax pb)
+    jMin = pbJMin pb - sl (pbJMin pb); jMax = pbJMax pb + sl (pbJMax pb)
+    vTop = U.maximum (pbZoneSpeeds pb) + sl (U.maximum (pbZoneSpeeds pb))
+    cap = 4096
+    steps i = fromIntegral (i :: Int) * dt
+    accs lo hi a0 j = [ max lo (min hi (a0 + j * steps i)) | i <- [1 .. cap] ]
+    vel v0 sign as = U.fromList (take (cap + 1) (scanl (\v a -> v + sign * a * dt) v0 as))
+    loF = vel (pbV0 pb) 1 (accs aMin aMax (pbA0 pb) jMin)
+    hiF = vel (pbV0 pb) 1 (accs aMin aMax (pbA0 pb) jMax)
+    hiB = vel (pbVEnd pb) (-1) (accs aMin aMax (pbAEnd pb) (negate jMax))
+    loB = vel (pbVEnd pb) (-1) (accs aMin aMax (pbAEnd pb) (negate jMin))
+    -- the first step at which the lower bound from the start is past L + tolerance,
+    -- while that bound is still moving
+    nMax = go 0 0
+      where go k s | k >= cap || loF U.! k <= 0 = Nothing
+                   | s > len + pbTol pb + sl len = Just k
+                   | otherwise = go (k + 1) (s + (loF U.! k + loF U.! (k + 1)) * dt / 2)
+    fits n =
+      let lo k = maximum [negate (sl 0), loF U.! k, loB U.! (n - k)]
+          hi k = minimum [vTop, hiF U.! k, hiB U.! (n - k)]
+          trap f = sum [ (f k + f (k + 1)) * dt / 2 | k <- [0 .. n - 1] ]
+      in all (\k -> lo k <= hi k) [0 .. n]
+           && trap lo <= len + pbTol pb + sl len
+           && trap hi >= len - pbTol pb - sl len
 
 -- | Explain why the end state cannot be reached, from the failure of the backward pass
 -- (positions measured from the route end).
