@@ -40,12 +40,14 @@ main = do
   args <- getArgs
   if "--scaling" `elem` args then scaling else do
     cases <- loadCases
-    forM_ cases $ \(n, rq) -> certified n rq
+    let thesisCases = [ (n, rq { rqAlgorithm = Thesis }) | (n, rq) <- cases ]
+    forM_ (cases ++ thesisCases) $ \(n, rq) -> certified n rq
     let series = [ (len, nz) | (len, nz) <- [(100, 1), (1000, 10), (2000, 100), (5000, 100), (20000, 100), (2000, 1000)] ]
     forM_ series $ \(len, nz) -> certified (show (len, nz)) (syntheticRoute len nz)
     compression <- compressBenchmarks
     defaultMain $
       [ bgroup "cases" [ bench n (nf (resIterations . generatePure) rq) | (n, rq) <- cases ]
+      , bgroup "thesis" [ bench n (nf (resIterations . generatePure) rq) | (n, rq) <- thesisCases ]
       , bgroup "scaling" [ bench (show (round len :: Int) ++ "m-" ++ show nz ++ "limits")
                                   (nf (resIterations . generatePure) (syntheticRoute len nz))
                          | (len, nz) <- series ]
