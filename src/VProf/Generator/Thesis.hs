@@ -117,9 +117,11 @@ thesisStages pb = do
       | not moving = Right U.empty
       | otherwise = U.reverse <$> restFrom (mirror pb)
 
--- | Passes per stage: the wall-clock budget is checked between stages.
-chunkPasses :: Int
-chunkPasses = 256
+-- | Passes per stage, for a horizon of @n@ samples: the wall-clock budget is checked
+-- between stages, and each stage copies the profile out, so long profiles take longer
+-- stages (a stage's passes cost about as much as its copies).
+chunkPasses :: Int -> Int
+chunkPasses n = max 256 (n `div` 16)
 
 -- | Up to 'chunkPasses' passes (fewer at the cap or the fixed point): the band after them,
 -- the samples raised by the last pass, and whether it is the fixed point.
@@ -133,7 +135,7 @@ chunk pb cap b0 = runST $ do
   v <- U.thaw (bV b0)
   s <- U.thaw (bS b0)
   suf <- M.replicate (M.length v + 1) (1 / 0)
-  let stop = min cap (bPasses b0 + chunkPasses)
+  let stop = min cap (bPasses b0 + chunkPasses (U.length (bV b0)))
       dt = pbDt pb
       loop b vm sm sufm
         | bPasses b >= stop = finish b vm sm 0 False
