@@ -42,6 +42,7 @@ module VProf.Generator.Thesis
 import Control.Monad.ST (ST, runST)
 import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as M
+import Numeric (showFFloat)
 
 import VProf.Generator.RubberBand (Sweep (..), stepLimit, stepMargin, sweep)
 import VProf.Generator.Seed (SeedFailure (..), mirror, restFrom)
@@ -90,7 +91,7 @@ thesisStages pb = do
       bandPb = pb { pbLength = pbLength pb - dE, pbVEnd = 0, pbAEnd = 0 }
   if pbLength bandPb < 0
     then Left (LandingFailed ("thesis mode reaches the end state from rest, and its run-in needs "
-                              ++ show dE ++ " m, more than route_length"))
+                              ++ showFFloat (Just 3) dE " m, more than route_length"))
     else Right ()
   braking <- restFrom bandPb
   let m = U.length braking
