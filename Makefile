@@ -50,6 +50,7 @@ bench: build
 	$(STACK) bench --benchmark-arguments='--output bench/report.html'
 
 compare: build
+	@python3 -c 'import ruckig' 2>/dev/null || python3 -m pip install -q ruckig
 	python3 bench/compare
 
 clean:

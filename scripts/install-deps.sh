@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Install what a fresh Debian machine lacks for vprof: GHC and every Haskell library from
 # Debian's packages (Hackage is not used), protoc and libprotobuf for the clients, and the
-# Python protobuf runtime. Idempotent and quiet when everything is there.
+# Python protobuf runtime (libjs-chart.js: Debian's criterion writes its HTML report with
+# it, for make bench). Idempotent and quiet when everything is there.
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
@@ -14,6 +15,7 @@ APT_PACKAGES=(
   libghc-data-default-class-dev libghc-hspec-dev libghc-quickcheck2-dev libghc-protobuf-dev
   libghc-cereal-dev libghc-unordered-containers-dev libghc-temporary-dev
   protobuf-compiler libprotobuf-dev pkg-config g++ make python3
+  libjs-chart.js
 )
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
