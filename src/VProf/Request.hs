@@ -43,7 +43,7 @@ data SpeedZone = SpeedZone
 -- | Which generator runs.
 data Algorithm
   = Band    -- ^ seeded windowed raise iteration: the default, fast and near time-optimal
-  | Thesis  -- ^ the thesis's windowed iteration from an all-zero profile
+  | Thesis  -- ^ the thesis's windowed iteration, grown from rest to a legal fixed point
   deriving (Eq, Show, Enum, Bounded)
 
 data Request = Request
