@@ -367,6 +367,25 @@ spec = do
           Just p -> (name, check pb p) `shouldBe` (name, [])
           Nothing -> expectationFailure name
 
+  describe "a moving end the meet cannot join" $
+    it "is answered NOT_CONVERGED naming the finer time_step to try, and that step gives a legal profile" $ do
+      -- a short route from a fast start: at 0.125 s no join is found (a diagnosis by a
+      -- linear program per step count shows that profiles exist, at 21 to 26 steps)
+      let rq = defaultRequest { rqRouteLength = 12.227 *~ meter, rqZones = [SpeedZone (0 *~ meter) (6.522 *~ mps)]
+                              , rqMinAcceleration = (-2.444) *~ mps2, rqMaxAcceleration = 1.07 *~ mps2
+                              , rqMinJerk = (-2.724) *~ mps3, rqMaxJerk = 2.746 *~ mps3
+                              , rqStartVelocity = 6.178 *~ mps, rqEndVelocity = 2.536 *~ mps
+                              , rqEndAcceleration = (-0.617) *~ mps2 }
+          fine = rq { rqTimeStep = Just (0.0625 *~ second) }
+          Right pbFine = validate fine
+      case resOutcome (generatePure rq) of
+        Generated -> pure ()   -- a better join would be welcome; nothing to suggest then
+        Failed (NotConverged m) -> m `shouldContain` "a finer time_step, such as 0.0625 s"
+        other -> expectationFailure (show other)
+      let r = generatePure fine
+      resOutcome r `shouldBe` Generated
+      fmap (check pbFine) (resProfile r) `shouldBe` Just []
+
   describe "degenerate routes" $
     it "a route shorter than the end tolerance gives a one-sample profile that encodes and checks" $ do
       let rq = defaultRequest { rqRouteLength = 0.004 *~ meter }
