@@ -29,13 +29,10 @@ import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
 
-
-
 import VProf.Legality (check)
 import VProf.Profile (Profile (..))
 import VProf.Request (Problem (..), maxSamples)
 import VProf.SpeedLimit
-
 
 -- | Why no seed could be made: the request is infeasible (with where and why), or the
 -- landing could not be tuned (a generator limitation, reported as such).
@@ -550,23 +547,12 @@ meet pb = do
       soften v alpha beta =
         let at phi = let q = scaled phi pb; rq = scaled phi rv
                      in cappedOn q fEnv bEnv [] [] rq rt0 v alpha beta
-            nearest c = let k0 = kUpOf v c in minimumOn (abs . overBy v c) [ k | k <- [k0 - 1, k0], k >= 1 ]
-            r c = overBy v c (nearest c)
+            r = leftOver v
             grid = [ (phi, c) | i <- [0 .. 15 :: Int], let phi = 1 - 0.04 * fromIntegral i, Just c <- [at phi] ]
-            -- from a fraction a where the overshoot has sign sa towards one b where it has
-            -- the other
-            bisect a b sa n
-              | n <= (0 :: Int) = Nothing
-              | otherwise = do
-                  let mid = (a + b) / 2
-                  cm <- at mid
-                  let o = r cm
-                  if abs o <= tol / 100 then joinAt v cm [nearest cm]
-                    else if signum o == sa then bisect mid b sa (n - 1) else bisect a mid sa (n - 1)
             -- a sign change between neighbours with a small step is a root; a step of
             -- nearly a cruise step's distance is a wrap (a pass took a step more)
             roots = [ p | ((p1, c1), (p2, c2)) <- zip grid (drop 1 grid), r c1 * r c2 <= 0
-                        , abs (r c1 - r c2) < v * dt / 2, Just p <- [bisect p1 p2 (signum (r c1)) 48] ]
+                        , abs (r c1 - r c2) < v * dt / 2, Just p <- [bisectJoin at (const v) p1 p2 (signum (r c1)) 48] ]
         in case roots of
              (p : _) -> Just p
              [] -> Nothing
@@ -646,21 +632,26 @@ meet pb = do
     tune capped' v1 v2 alpha beta = do
       c1 <- capped' v1 alpha beta
       c2 <- capped' v2 alpha beta
-      -- the overshoot of the cruise length nearest to the gap: it changes sign where one
-      -- of them fits exactly, or where it wraps round (by a step's distance) when one
-      -- of the passes takes a step more; a bisection tells them apart
-      let nearest v c = let k0 = kUpOf v c in minimumOn (abs . overBy v c) [ k | k <- [k0 - 1, k0], k >= 1 ]
-          r v c = overBy v c (nearest v c)
-          bisect a b sa n
-            | n <= (0 :: Int) = Nothing
-            | otherwise = do
-                let mid = (a + b) / 2
-                cm <- capped' mid alpha beta
-                let o = r mid cm
-                if abs o <= tol / 100 then joinAt mid cm [nearest mid cm]
-                  else if signum o == sa then bisect mid b sa (n - 1) else bisect a mid sa (n - 1)
-      guardM (r v1 c1 * r v2 c2 <= 0 && abs (r v1 c1 - r v2 c2) < v2 * dt / 2)
-      bisect v1 v2 (signum (r v1 c1)) 48
+      let r1 = leftOver v1 c1; r2 = leftOver v2 c2
+      guardM (r1 * r2 <= 0 && abs (r1 - r2) < v2 * dt / 2)
+      bisectJoin (\x -> capped' x alpha beta) id v1 v2 (signum r1) 48
+    -- the cruise length nearest to the gap at level v, and the overshoot it leaves: that
+    -- changes sign where one of them fits exactly, or where it wraps round (by a step's
+    -- distance) when one of the passes takes a step more; a bisection tells them apart
+    nearestK v c = let k0 = kUpOf v c in minimumOn (abs . overBy v c) [ k | k <- [k0 - 1, k0], k >= 1 ]
+    leftOver v c = overBy v c (nearestK v c)
+    -- bisect a parameter x from a, where the overshoot of the passes made at x (with the
+    -- plateau at level x) has sign sa, towards b, where it has the other, down to an
+    -- overshoot of a hundredth of the tolerance; then join there
+    bisectJoin at level a b sa n
+      | n <= (0 :: Int) = Nothing
+      | otherwise = do
+          let mid = (a + b) / 2
+              v = level mid
+          cm <- at mid
+          let o = leftOver v cm
+          if abs o <= tol / 100 then joinAt v cm [nearestK v cm]
+            else if signum o == sa then bisectJoin at level mid b sa (n - 1) else bisectJoin at level a mid sa (n - 1)
     guardM b = if b then Just () else Nothing
     -- a capped pass follows the uncapped one for as long as the cap lies beyond the
     -- reach of every brake test it makes (twice the braking reach, plus a metre): it
