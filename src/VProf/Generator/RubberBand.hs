@@ -25,6 +25,7 @@ module VProf.Generator.RubberBand
   , sweep
   , stepMargin
   , stepLimit
+  , accelerationAt
   ) where
 
 import Control.Monad.ST (ST, runST)
@@ -56,6 +57,14 @@ stepMargin pb top e = case nextLowerZone pb e top of
   Nothing -> 1 / 0
 {-# INLINE stepMargin #-}
 
+-- | a_i of a profile being edited, with a_{-1} the start and a_N the end acceleration.
+accelerationAt :: Problem -> M.MVector s Double -> Int -> ST s Double
+accelerationAt pb v i
+  | i < 0 = pure (pbA0 pb)
+  | i >= M.length v - 1 = pure (pbAEnd pb)
+  | otherwise = do a <- M.unsafeRead v i; b <- M.unsafeRead v (i + 1); pure ((b - a) / pbDt pb)
+{-# INLINE accelerationAt #-}
+
 -- | What one sweep needs to know of the profile as it was when the sweep began.
 data Sweep = Sweep
   { swPos     :: !(Int -> Double)  -- ^ position of sample k at the start of the sweep
@@ -68,15 +77,10 @@ data Sweep = Sweep
 -- samples rose and the first of them (maxBound when none).
 sweep :: Problem -> Sweep -> Int -> Int -> M.MVector s Double -> ST s (Int, Int)
 sweep pb (Sweep pos0 sufMin arrival) lo hi v = do
-  let n = M.length v - 1
-      dt = pbDt pb; dv = pbDv pb
+  let dt = pbDt pb; dv = pbDv pb
       aMin = pbAMin pb; aMax = pbAMax pb; jMin = pbJMin pb; jMax = pbJMax pb
       endBudget = pbLength pb + pbTol pb / 2
-      -- a_i of the profile being edited, with a_{-1} the start and a_N the end acceleration
-      accAt i
-        | i < 0 = pure (pbA0 pb)
-        | i >= n = pure (pbAEnd pb)
-        | otherwise = do a <- M.unsafeRead v i; b <- M.unsafeRead v (i + 1); pure ((b - a) / dt)
+      accAt = accelerationAt pb v
       -- shift: how far every sample after the last raise has moved in this sweep;
       -- sPrev: where sample k-1 is now
       go !k !shift !sPrev !count !first

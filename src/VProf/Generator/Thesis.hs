@@ -44,7 +44,7 @@ import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as M
 import Numeric (showFFloat)
 
-import VProf.Generator.RubberBand (Sweep (..), stepLimit, stepMargin, sweep)
+import VProf.Generator.RubberBand (Sweep (..), accelerationAt, stepLimit, stepMargin, sweep)
 import VProf.Generator.Seed (SeedFailure (..), mirror, restFrom)
 import VProf.Profile (trapezoidDistances)
 import VProf.Request (Problem (..), maxSamples)
@@ -201,13 +201,9 @@ chunk pb cap b0 = runST $ do
 -- route end are checked. Returns the samples raised and the first of them.
 chainAtFront :: Problem -> Int -> (Int -> Double) -> M.MVector s Double -> ST s (Int, Int)
 chainAtFront pb f pos v = do
-  let n = M.length v - 1
-      dt = pbDt pb; dv = pbDv pb
+  let dt = pbDt pb; dv = pbDv pb
       aMin = pbAMin pb; aMax = pbAMax pb; jMin = pbJMin pb; jMax = pbJMax pb
-      accAt i
-        | i < 0 = pure (pbA0 pb)
-        | i >= n = pure (pbAEnd pb)
-        | otherwise = do a <- M.unsafeRead v i; b <- M.unsafeRead v (i + 1); pure ((b - a) / dt)
+      accAt = accelerationAt pb v
       -- the left end at k: a_{k-1} rises by dv/dt
       leftOk k = do
         am2 <- accAt (k - 2); am1 <- accAt (k - 1); a0 <- accAt k
