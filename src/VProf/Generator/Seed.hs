@@ -29,6 +29,7 @@ import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
 
+import VProf.Generator.Exact (exactJoin, noProfileFits)
 import VProf.Legality (check)
 import VProf.Profile (Profile (..))
 import VProf.Request (Problem (..), maxSamples)
@@ -316,8 +317,100 @@ num :: Double -> String
 num x = showFFloat Nothing (fromIntegral (round (x * 1e6) :: Integer) / 1e6 :: Double) ""
 
 -- | The seed profile's velocities v_0..v_N.
+--
+-- The passes start from a state the brake policy can save. Braking is not always the
+-- safest way on, though: a step that touches a short low zone must keep below its limit,
+-- and a faster first step may leave that zone behind before the next one, where
+-- braking from the start would still be in it. So when the start (or, on the mirrored
+-- problem, the end) state fails the oracle, the first steps are searched ('leadIn')
+-- before the request is called infeasible.
 seed :: Problem -> Either SeedFailure (U.Vector Double)
-seed pb = do
+seed = seedWithin 2
+
+seedWithin :: Int -> Problem -> Either SeedFailure (U.Vector Double)
+seedWithin depth pb = case seedFrom pb of
+  Left f@(Infeasible "start_velocity" _) | depth > 0, startStuck moving pb -> either (Left . maybe f id) Right (leadIn depth pb)
+  Left f@(Infeasible "end_velocity" _) | depth > 0, startStuck True (mirror pb) -> case leadIn depth (mirror pb) of
+    Right vs -> Right (U.reverse vs)
+    Left (Just g@(LandingFailed _)) -> Left g
+    Left _ -> Left f
+  r -> r
+  where moving = pbVEnd pb > 0 || pbAEnd pb /= 0
+
+-- | The start state fails the oracle: the hardest braking from it breaks a rule (with
+-- the terminal of the two-sided meet's passes, or of the landing at rest).
+startStuck :: Bool -> Problem -> Bool
+startStuck meeting pb = either (const True) (const False) (policyFor pb term (St (pbV0 pb) (pbA0 pb) 0))
+  where term | meeting = Term (pbLength pb + pbTol pb) (pbVEnd pb)
+             | otherwise = Term (pbLength pb) 0
+
+-- | The first step from the start state (a grid over its acceleration range, fastest
+-- first) that keeps every rule and after which the rest can be seeded, on the problem
+-- that starts there (the route shortened by the step, its zones shifted). When no first
+-- step gives a profile but some get past the start's oracle, the start may not be what
+-- stands in the way: the failure is then the end state's, if it has one of its own
+-- ('endFailure'), or else the generator's where the rest failed for want of a join (not
+-- a claim), or else the start's claim stands.
+leadIn :: Int -> Problem -> Either (Maybe SeedFailure) (U.Vector Double)
+leadIn depth pb = case [ r | Right r <- tries ] of
+  (vs : _) -> Right vs
+  [] -> Left (case [ g | Left (Just g) <- tries ] of
+                [] -> Nothing
+                gs | Just f <- endFailure pb -> Just f
+                   | (g : _) <- [ g | g@(_, LandingFailed _) <- gs ] -> Just (unclaimed g)
+                   | otherwise -> Nothing)
+  where
+    tries =
+      [ case seedWithin (depth - 1) (shifted s1 v1 a) of
+          Right vs | legal (U.cons (pbV0 pb) vs) -> Right (U.cons (pbV0 pb) vs)
+                   | otherwise -> Left Nothing
+          -- the first step did not get the start out of trouble
+          Left (Infeasible f _) | f `elem` ["start_velocity", "start_acceleration"] -> Left Nothing
+          Left g -> Left (Just (passed s1 g))
+      | i <- [0 .. 32 :: Int]
+      , let a = hi - (hi - lo) * fromIntegral i / 32
+            st1@(St v1 _ s1) = stepTo e st0 a
+      , stepOk e st0 st1, s1 < pbLength pb ]
+    legal vs = null (check pb (Profile (pbDt pb) vs (pbA0 pb) (pbAEnd pb)))
+    e = Env pb (Term (pbLength pb + pbTol pb) (1 / 0)) True
+    st0 = St (pbV0 pb) (pbA0 pb) 0
+    (lo, hi) = accRange e st0
+    starts = U.toList (pbZoneStarts pb)
+    speeds = U.toList (pbZoneSpeeds pb)
+    shifted s1 v1 a =
+      let later = [ (z - s1, l) | (z, l) <- zip starts speeds, z > s1 ]
+      in pb { pbLength = pbLength pb - s1
+            , pbZoneStarts = U.fromList (0 : map fst later), pbZoneSpeeds = U.fromList (limitAt pb s1 : map snd later)
+            , pbV0 = v1, pbA0 = a }
+    passed s1 g = (s1, g)
+    -- the rest's own claim is about the shortened problem after one chosen first step,
+    -- not a proof for this one: reported as the generator's failure
+    unclaimed (s1, g) = LandingFailed ("braking from the start breaks a rule, and after a legal first step (to "
+                                       ++ num s1 ++ " m) the rest fails: " ++ case g of
+                                         Infeasible _ m -> m
+                                         LandingFailed m -> m)
+
+-- | The end state's own infeasibility, when it ends in motion: its acceleration cannot
+-- be reached, or the end pass (on the mirror) cannot be saved by its brake policy.
+endFailure :: Problem -> Maybe SeedFailure
+endFailure pb
+  | pbVEnd pb <= 0 && pbAEnd pb == 0 = Nothing
+  | sinksBelowZero rv = Just (endAccFailure pb)
+  | otherwise = either (Just . endInfeasible pb (Env rv bTerm True)) (const Nothing) (policyFor rv bTerm rt0)
+  where
+    rv = mirror pb
+    rt0 = St (pbVEnd pb) (pbA0 rv) 0
+    bTerm = Term (pbLength pb + pbTol pb) (pbV0 pb)
+
+endAccFailure :: Problem -> SeedFailure
+endAccFailure pb =
+  Infeasible "end_acceleration"
+    ("end_velocity " ++ num (pbVEnd pb) ++ " m/s with end_acceleration " ++ num (pbAEnd pb)
+     ++ " m/s² cannot be reached: ramping the acceleration up to it within max_jerk "
+     ++ num (pbJMax pb) ++ " m/s³ gains " ++ num (negate (leastDrop (mirror pb))) ++ " m/s, more than the end velocity")
+
+seedFrom :: Problem -> Either SeedFailure (U.Vector Double)
+seedFrom pb = do
   let dt = pbDt pb
       st0 = St (pbV0 pb) (pbA0 pb) 0
   if sinksBelowZero pb
@@ -463,17 +556,15 @@ brakeDistanceTo q st0 v = go st0 (0 :: Int)
 -- already cruise at the same speed limit are tried first (V is that limit and nothing
 -- is clipped), then the levels below the top, from the highest down (a lower V gives a
 -- longer plateau and a gentler dent). The first profile the checker finds legal is the
--- seed; when none is, the request is answered NOT_CONVERGED with the reason.
+-- seed. On a short route there may be no plateau at all; then the join is solved
+-- exactly, as a linear program over the number of steps ("VProf.Generator.Exact"),
+-- which also proves, where it can, that no profile exists. When neither gives an
+-- answer, the request is answered NOT_CONVERGED with the reason.
 meet :: Problem -> Either SeedFailure (U.Vector Double)
 meet pb = do
   let rv = mirror pb
       rt0 = St (pbVEnd pb) (pbA0 rv) 0
-  if sinksBelowZero rv
-    then Left (Infeasible "end_acceleration"
-           ("end_velocity " ++ num (pbVEnd pb) ++ " m/s with end_acceleration " ++ num (pbAEnd pb)
-            ++ " m/s² cannot be reached: ramping the acceleration up to it within max_jerk "
-            ++ num (pbJMax pb) ++ " m/s³ gains " ++ num (negate (leastDrop rv)) ++ " m/s, more than the end velocity"))
-    else Right ()
+  if sinksBelowZero rv then Left (endAccFailure pb) else Right ()
   fEnv <- either (Left . startInfeasible pb (Env pb fTerm True)) Right (policyFor pb fTerm st0)
   bEnv <- either (Left . endInfeasible pb (Env rv bTerm True)) Right (policyFor rv bTerm rt0)
   let fAll = st0 : passFrom fEnv limit (\st -> stS st >= len) st0
@@ -565,7 +656,7 @@ meet pb = do
             (alpha, beta) <- wide v
             let lim = minLimitOn pb (max 0 alpha) (min len beta)
             if lim >= v then Just (v, alpha, beta) else lowPlateau (lim * (1 - 1e-6)) (n - 1)
-  case attempts ++ tuned ++ atEnds ++ softened ++ valley of
+  case attempts ++ tuned ++ atEnds ++ softened ++ valley ++ maybe [] pure (exactJoin pb) of
     (p : _) -> Right p
     []
       | Just why <- noProfileFits pb -> Left (Infeasible (if pbV0 pb > pbVEnd pb then "start_velocity" else "end_velocity") why)
@@ -667,59 +758,6 @@ meet pb = do
     groupRuns (k : ks) = let (run, rest) = go k ks in (k : run) : groupRuns rest
       where go p (x : xs) | x == p + 1 = let (r, t) = go x xs in (x : r, t)
             go _ xs = ([], xs)
-
--- | A proof that no profile joins the start state to the end state within the route,
--- whatever its number of steps N, from bounds that hold for every legal profile (with
--- the checker's rounding slack): the accelerations after the start are within
--- [a0 + (i+1)·j_min·dt, a0 + (i+1)·j_max·dt] and those before the end within
--- [a_end − (i+1)·j_max·dt, a_end − (i+1)·j_min·dt] (i steps away), both clipped to the
--- acceleration range; so each velocity v_k is at least the larger of the two lower
--- bounds (from the start forwards and from the end backwards) and at most the smaller
--- of the upper ones, and the route end s_N, the trapezoid sum, lies between the sums of
--- those bounds. An N fits when every lower bound is below its upper bound and the route
--- end is within reach of the sums. N is bounded because the lower bound from the start
--- alone passes L + tolerance at some step (no sample may: the overshoot rule); when it
--- comes to rest first, or only after many steps, nothing is claimed. Used only when the
--- meet found no join: it explains it as infeasible where it can, and the claim is
--- checked by an independent proof in the tests.
-noProfileFits :: Problem -> Maybe String
-noProfileFits pb
-  | Just n <- nMax, not (any fits [0 .. n]) =
-      Just ("start_velocity " ++ num (pbV0 pb) ++ " m/s with start_acceleration " ++ num (pbA0 pb)
-            ++ " m/s² and end_velocity " ++ num (pbVEnd pb) ++ " m/s with end_acceleration " ++ num (pbAEnd pb)
-            ++ " m/s² cannot both be met within route_length " ++ num len ++ " m: within min/max_acceleration "
-            ++ num (pbAMin pb) ++ "/" ++ num (pbAMax pb) ++ " m/s² and min/max_jerk " ++ num (pbJMin pb) ++ "/"
-            ++ num (pbJMax pb) ++ " m/s³ the velocities reachable from the start and those from which the end state"
-            ++ " can be reached do not overlap over any duration that covers the route")
-  | otherwise = Nothing
-  where
-    dt = pbDt pb
-    len = pbLength pb
-    sl x = 1e-9 * max 1 (abs x)
-    aMin = pbAMin pb - sl (pbAMin pb); aMax = pbAMax pb + sl (pbAMax pb)
-    jMin = pbJMin pb - sl (pbJMin pb); jMax = pbJMax pb + sl (pbJMax pb)
-    vTop = U.maximum (pbZoneSpeeds pb) + sl (U.maximum (pbZoneSpeeds pb))
-    cap = 4096
-    steps i = fromIntegral (i :: Int) * dt
-    accs lo hi a0 j = [ max lo (min hi (a0 + j * steps i)) | i <- [1 .. cap] ]
-    vel v0 sign as = U.fromList (take (cap + 1) (scanl (\v a -> v + sign * a * dt) v0 as))
-    loF = vel (pbV0 pb) 1 (accs aMin aMax (pbA0 pb) jMin)
-    hiF = vel (pbV0 pb) 1 (accs aMin aMax (pbA0 pb) jMax)
-    hiB = vel (pbVEnd pb) (-1) (accs aMin aMax (pbAEnd pb) (negate jMax))
-    loB = vel (pbVEnd pb) (-1) (accs aMin aMax (pbAEnd pb) (negate jMin))
-    -- the first step at which the lower bound from the start is past L + tolerance,
-    -- while that bound is still moving
-    nMax = go 0 0
-      where go k s | k >= cap || loF U.! k <= 0 = Nothing
-                   | s > len + pbTol pb + sl len = Just k
-                   | otherwise = go (k + 1) (s + (loF U.! k + loF U.! (k + 1)) * dt / 2)
-    fits n =
-      let lo k = maximum [negate (sl 0), loF U.! k, loB U.! (n - k)]
-          hi k = minimum [vTop, hiF U.! k, hiB U.! (n - k)]
-          trap f = sum [ (f k + f (k + 1)) * dt / 2 | k <- [0 .. n - 1] ]
-      in all (\k -> lo k <= hi k) [0 .. n]
-           && trap lo <= len + pbTol pb + sl len
-           && trap hi >= len - pbTol pb - sl len
 
 -- | Explain why the end state cannot be reached, from the failure of the backward pass
 -- (positions measured from the route end).
