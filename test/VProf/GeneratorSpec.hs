@@ -541,6 +541,24 @@ spec = do
             certificateHolds pb (n + 1) y `shouldBe` False
           other -> expectationFailure ("no certificates: " ++ show (fmap fst other))
 
+  describe "a start that braking cannot save" $
+    it "gets a legal profile when a faster first step leaves a short low zone behind (the lead-in)" $ do
+      -- braking from 0.04 m/s at +1.337 m/s² still reaches 0.26 m/s inside the 0.243 m/s
+      -- zone [0, 0.016 m); a first step to 0.2407 m/s ends past 0.016 m, beyond it (found by
+      -- the strict property, seed 2, where it had been claimed infeasible)
+      let rq = defaultRequest { rqRouteLength = 5 *~ meter
+                              , rqZones = [ SpeedZone (0 *~ meter) (0.243 *~ mps), SpeedZone (0.016 *~ meter) (0.575 *~ mps)
+                                          , SpeedZone (0.074 *~ meter) (5.274 *~ mps) ]
+                              , rqMinAcceleration = (-2.79) *~ mps2, rqMaxAcceleration = 1.781 *~ mps2
+                              , rqMinJerk = (-2.443) *~ mps3, rqMaxJerk = 2.146 *~ mps3
+                              , rqStartVelocity = 0.04 *~ mps, rqStartAcceleration = 1.337 *~ mps2 }
+          Right pb = validate rq
+          r = generatePure rq
+      resOutcome r `shouldBe` Generated
+      fmap (check pb) (resProfile r) `shouldBe` Just []
+      -- the first step is the fast one: past the zone's end, at no more than its limit
+      fmap (\p -> (distances p U.! 1 > 0.016, prVelocities p U.! 1 <= 0.243)) (resProfile r) `shouldBe` Just (True, True)
+
   describe "degenerate routes" $
     it "a route shorter than the end tolerance gives a one-sample profile that encodes and checks" $ do
       let rq = defaultRequest { rqRouteLength = 0.004 *~ meter }

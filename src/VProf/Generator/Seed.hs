@@ -667,8 +667,10 @@ meet pb = do
     tol = pbTol pb
     dt = pbDt pb
     limit = 8 * 1048576
-    -- what a user can do: of 13 such requests in 10 000 random ones, half the time step
-    -- gave 3 a legal profile (and 3 a proof that none exists on that finer grid)
+    -- what a user can do: before the exact join, 13 requests in 10 000 random ones ended
+    -- here, and half the time step gave 3 of them a legal profile; with the exact join
+    -- none of those 10 000 does (a request it cannot bound, or with more steps than its
+    -- programs take, still may)
     hint = " (a limit of the generator, not a proof that no profile exists; a finer time_step, such as "
            ++ num (dt / 2) ++ " s, may give one)"
     st0 = St (pbV0 pb) (pbA0 pb) 0
