@@ -1,5 +1,6 @@
 -- | Criterion benchmarks of the generator (every reference case, default and thesis
--- mode, and a scaling series) — each profile is checked first and a failure fails the run.
+-- mode, two short routes solved by the exact join, and a scaling series) — each profile
+-- is checked first and a failure fails the run.
 --
 -- > stack bench                                   criterion report
 -- > stack bench --benchmark-arguments=--scaling   scaling series to bench/scaling.csv and .png
@@ -44,10 +45,18 @@ main = do
     forM_ (cases ++ thesisCases) $ \(n, rq) -> certified n rq
     let series = [ (len, nz) | (len, nz) <- [(100, 1), (1000, 10), (2000, 100), (5000, 100), (20000, 100), (2000, 1000)] ]
     forM_ series $ \(len, nz) -> certified (show (len, nz)) (syntheticRoute len nz)
+    -- the short routes: one legal, one proven infeasible
+    forM_ shortRoutes $ \(n, rq) -> do
+      r <- generate rq
+      case (resOutcome r, n) of
+        (Generated, "3118-legal") -> pure ()
+        (Failed (InfeasibleRequest _ _), "8820-infeasible") -> pure ()
+        (other, _) -> putStrLn ("bench: " ++ n ++ " gave " ++ show other) >> exitFailure
     compression <- compressBenchmarks
     defaultMain $
       [ bgroup "cases" [ bench n (nf (resIterations . generatePure) rq) | (n, rq) <- cases ]
       , bgroup "thesis" [ bench n (nf (resIterations . generatePure) rq) | (n, rq) <- thesisCases ]
+      , bgroup "short-route" [ bench n (nf (show . resOutcome . generatePure) rq) | (n, rq) <- shortRoutes ]
       , bgroup "scaling" [ bench (show (round len :: Int) ++ "m-" ++ show nz ++ "limits")
                                   (nf (resIterations . generatePure) (syntheticRoute len nz))
                          | (len, nz) <- series ]

@@ -1,7 +1,7 @@
 {-# LANGUAGE OverloadedStrings #-}
 -- | Synthetic routes for the scaling series: deterministic pseudo-random zones (a linear
 -- congruential generator, so every run measures the same routes).
-module Routes (syntheticRoute, loadCases) where
+module Routes (syntheticRoute, loadCases, shortRoutes) where
 
 import qualified Data.Aeson as A
 import qualified Data.Aeson.KeyMap as KM
@@ -28,6 +28,21 @@ syntheticRoute len nz = defaultRequest
     lcg :: Int -> Int
     lcg x = (1103515245 * x + 12345) `mod` 2147483648
     speed i = 1 + 9 * fromIntegral (iterate lcg (i + 7) !! 3 `mod` 1000) / 1000
+
+-- | Two short routes that end in motion with no plateau to join on (requests 3118 and
+-- 8820 of the moving-end regression tests): the exact join finds a legal profile for
+-- the first and proves the second infeasible, each with linear programs.
+shortRoutes :: [(String, Request)]
+shortRoutes =
+  [ ("3118-legal", short 12.227 6.522 (-2.444, 1.07) (-2.724, 2.746) (6.178, 0) (2.536, -0.617))
+  , ("8820-infeasible", short 7.867 5.795 (-2.967, 2.926) (-2.896, 2.017) (4.835, 0) (2.8975, 2.477)) ]
+  where
+    short len lim (aMin, aMax) (jMin, jMax) (v0, a0) (vE, aE) = defaultRequest
+      { rqRouteLength = len *~ meter, rqZones = [SpeedZone (0 *~ meter) (lim *~ mps)]
+      , rqMinAcceleration = aMin *~ mps2, rqMaxAcceleration = aMax *~ mps2
+      , rqMinJerk = jMin *~ mps3, rqMaxJerk = jMax *~ mps3
+      , rqStartVelocity = v0 *~ mps, rqStartAcceleration = a0 *~ mps2
+      , rqEndVelocity = vE *~ mps, rqEndAcceleration = aE *~ mps2 }
 
 -- | The reference cases, by name.
 loadCases :: IO [(String, Request)]
