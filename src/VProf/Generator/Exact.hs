@@ -228,7 +228,7 @@ exactJoin pb = firstJust [ build n | n <- take 48 candidates ]
           -- v_k takes part in the steps before and after it: the lowest limit anywhere
           -- either of them can lie
           cautious = U.generate (n + 1) (\k -> minLimitOn pb (max 0 (sLo (max 0 (k - 1)))) (sHi (min n (k + 1))))
-          -- the caps read at the positions of a solution, with a margin of a step
+          -- the caps read at the positions of a solution, a centimetre either side
           readAt vs = let s = U.scanl' (+) 0 (U.zipWith (\a b -> (a + b) * dt / 2) vs (U.tail vs))
                           at k = s U.! max 0 (min n k)
                       in U.generate (n + 1) (\k -> minLimitOn pb (max 0 (at (k - 1) - 0.01)) (at (k + 1) + 0.01))

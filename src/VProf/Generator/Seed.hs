@@ -332,7 +332,7 @@ seedWithin depth pb = case seedFrom pb of
   Left f@(Infeasible "start_velocity" _) | depth > 0, startStuck moving pb -> either (Left . maybe f id) Right (leadIn depth pb)
   Left f@(Infeasible "end_velocity" _) | depth > 0, startStuck True (mirror pb) -> case leadIn depth (mirror pb) of
     Right vs -> Right (U.reverse vs)
-    Left (Just g@(LandingFailed _)) -> Left g
+    Left (Just (LandingFailed m)) -> Left (LandingFailed ("seen from the end, backwards in time: " ++ m))
     Left _ -> Left f
   r -> r
   where moving = pbVEnd pb > 0 || pbAEnd pb /= 0
@@ -366,7 +366,7 @@ leadIn depth pb = case [ r | Right r <- tries ] of
                    | otherwise -> Left Nothing
           -- the first step did not get the start out of trouble
           Left (Infeasible f _) | f `elem` ["start_velocity", "start_acceleration"] -> Left Nothing
-          Left g -> Left (Just (passed s1 g))
+          Left g -> Left (Just (s1, g))
       | i <- [0 .. 32 :: Int]
       , let a = hi - (hi - lo) * fromIntegral i / 32
             st1@(St v1 _ s1) = stepTo e st0 a
@@ -382,7 +382,6 @@ leadIn depth pb = case [ r | Right r <- tries ] of
       in pb { pbLength = pbLength pb - s1
             , pbZoneStarts = U.fromList (0 : map fst later), pbZoneSpeeds = U.fromList (limitAt pb s1 : map snd later)
             , pbV0 = v1, pbA0 = a }
-    passed s1 g = (s1, g)
     -- the rest's own claim is about the shortened problem after one chosen first step,
     -- not a proof for this one: reported as the generator's failure
     unclaimed (s1, g) = LandingFailed ("braking from the start breaks a rule, and after a legal first step (to "
