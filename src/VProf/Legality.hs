@@ -25,6 +25,7 @@ module VProf.Legality
   , ruleName
   , check
   , isLegal
+  , legalVelocities
   , renderViolation
   , slack
   ) where
@@ -83,6 +84,11 @@ slack l = 1e-9 * max 1 (abs l)
 
 isLegal :: Problem -> Profile -> Bool
 isLegal pb = null . check pb
+
+-- | The verdict on velocities v_0..v_N at the problem's time step, between its start and
+-- end accelerations.
+legalVelocities :: Problem -> U.Vector Double -> Bool
+legalVelocities pb vs = isLegal pb (Profile (pbDt pb) vs (pbA0 pb) (pbAEnd pb))
 
 check :: Problem -> Profile -> [Violation]
 check pb p

@@ -31,16 +31,15 @@ module VProf.Generator.Exact
   ( exactJoin
   , noProfileFits
   , proofCertificates
-  , joinRows
-  , floorSpeed
   ) where
 
+import Data.Maybe (listToMaybe, mapMaybe)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
 
-import VProf.Legality (check, slack)
+import VProf.Legality (legalVelocities, slack)
 import VProf.LinearProgram
-import VProf.Profile (Profile (..))
+import VProf.Profile (trapezoidDistances)
 import VProf.Request (Problem (..))
 import VProf.SpeedLimit
 
@@ -112,12 +111,11 @@ distanceAbove dt lo u =
 -- at least the distance that bound covers before it drops to u; likewise after m from
 -- the end. When those two distances exceed the route (plus tolerance), no sample is at u
 -- or below. The largest such u, by bisection.
-floorSpeed :: Problem -> Maybe Double
-floorSpeed pb
+floorSpeed :: Problem -> Envelopes -> Maybe Double
+floorSpeed pb env
   | not (excludes 0) = Nothing
   | otherwise = Just (go 0 (max (pbV0 pb) (pbVEnd pb)) (60 :: Int))
   where
-    env = envelopes pb
     dt = pbDt pb
     -- (a micrometre more: the samples may be below zero by the checker's slack)
     room = pbLength pb + pbTol pb + slack (pbLength pb) + 1e-6
@@ -126,9 +124,10 @@ floorSpeed pb
       | n == 0 = lo
       | otherwise = let m = (lo + hi) / 2 in if excludes m then go m hi (n - 1) else go lo m (n - 1)
 
--- | The largest number of steps a legal profile can have, when it is bounded.
-maxSteps :: Problem -> Envelopes -> Maybe Int
-maxSteps pb env = case [ n | Just n <- [past (loF env), past (loB env), byFloor] ] of
+-- | The largest number of steps a legal profile can have, when it is bounded (given the
+-- floor speed, if any).
+maxSteps :: Problem -> Envelopes -> Maybe Double -> Maybe Int
+maxSteps pb env fl = case [ n | Just n <- [past (loF env), past (loB env), byFloor] ] of
   [] -> Nothing
   ns -> Just (minimum ns)
   where
@@ -137,11 +136,11 @@ maxSteps pb env = case [ n | Just n <- [past (loF env), past (loB env), byFloor]
     -- the lower bound covers more than the route after this many steps, still moving:
     -- every profile of more steps would pass the route end (or, from the end, start
     -- before the route start)
-    past lo = let pos = U.scanl' (+) 0 (U.zipWith (\a b -> (a + b) * dt / 2) lo (U.tail lo))
+    past lo = let pos = trapezoidDistances dt lo
               in case U.findIndex (> room) pos of
                    Just n | U.all (> 0) (U.take (n + 1) lo) -> Just n
                    _ -> Nothing
-    byFloor = (\u -> floor (room / (u * dt))) <$> floorSpeed pb
+    byFloor = (\u -> floor (room / (u * dt))) <$> fl
 
 -- | The boxes of an N-step profile: lower and upper velocity bounds at each sample.
 boxes :: Problem -> Envelopes -> Maybe Double -> Int -> (U.Vector Double, U.Vector Double)
@@ -151,7 +150,7 @@ boxes pb env fl n =
   where top = widen 1 (U.maximum (pbZoneSpeeds pb))
 
 trapezoid :: Double -> U.Vector Double -> Double
-trapezoid dt v = U.sum (U.zipWith (\a b -> (a + b) * dt / 2) v (U.drop 1 v))
+trapezoid dt = U.last . trapezoidDistances dt
 
 -- | Can the boxes of N steps hold a profile at all?
 boxFits :: Problem -> Envelopes -> Maybe Double -> Int -> Bool
@@ -204,16 +203,15 @@ joinLp pb w endRoom n caps =
 -- | For a request the meet could not join: the first N (fewest steps first) whose program
 -- gives a profile the checker finds legal.
 exactJoin :: Problem -> Maybe (U.Vector Double)
-exactJoin pb = firstJust [ build n | n <- take 48 candidates ]
+exactJoin pb = listToMaybe (mapMaybe build (take 48 candidates))
   where
     env = envelopes pb
-    fl = floorSpeed pb
+    fl = floorSpeed pb env
     dt = pbDt pb
     len = pbLength pb
     tol = pbTol pb
-    top = maybe envCap id (maxSteps pb env)
+    top = maybe envCap id (maxSteps pb env fl)
     candidates = [ n | n <- [1 .. min lpCap top], boxFits pb env fl n ]
-    legal vs = null (check pb (Profile dt vs (pbA0 pb) (pbAEnd pb)))
     solveWith n caps = case solve (joinLp pb False (tol / 2) n caps) of
       Optimal x -> Just (U.imap (\k v -> if k == 0 then pbV0 pb else if k == n then pbVEnd pb else max 0 v) x)
       _ -> Nothing
@@ -221,19 +219,19 @@ exactJoin pb = firstJust [ build n | n <- take 48 candidates ]
       let (lo, hi) = boxes pb env fl n
           -- positions every legal profile of n steps keeps to: from the box sums
           -- forwards and, from the route end, backwards
-          cumLo = U.scanl' (+) 0 (U.zipWith (\a b -> (a + b) * dt / 2) lo (U.tail lo))
-          cumHi = U.scanl' (+) 0 (U.zipWith (\a b -> (a + b) * dt / 2) hi (U.tail hi))
+          cumLo = trapezoidDistances dt lo
+          cumHi = trapezoidDistances dt hi
           sLo k = max (cumLo U.! k) (len - tol - (cumHi U.! n - cumHi U.! k))
           sHi k = min (cumHi U.! k) (len + tol - (cumLo U.! n - cumLo U.! k))
           -- v_k takes part in the steps before and after it: the lowest limit anywhere
           -- either of them can lie
           cautious = U.generate (n + 1) (\k -> minLimitOn pb (max 0 (sLo (max 0 (k - 1)))) (sHi (min n (k + 1))))
           -- the caps read at the positions of a solution, a centimetre either side
-          readAt vs = let s = U.scanl' (+) 0 (U.zipWith (\a b -> (a + b) * dt / 2) vs (U.tail vs))
+          readAt vs = let s = trapezoidDistances dt vs
                           at k = s U.! max 0 (min n k)
                       in U.generate (n + 1) (\k -> minLimitOn pb (max 0 (at (k - 1) - 0.01)) (at (k + 1) + 0.01))
           refine caps i = case solveWith n caps of
-            Just vs | legal vs -> Just vs
+            Just vs | legalVelocities pb vs -> Just vs
                     | i > 0 -> refine (U.zipWith min caps (readAt vs)) (i - 1 :: Int)
             _ -> Nothing
           single = U.length (pbZoneSpeeds pb) == 1
@@ -241,27 +239,22 @@ exactJoin pb = firstJust [ build n | n <- take 48 candidates ]
       -- solution, start from the highest limit and re-read the caps where the solution
       -- runs, a few times
       in if single then refine cautious 0
-         else firstJust [refine cautious 0, refine (U.replicate (n + 1) (U.maximum (pbZoneSpeeds pb))) 6]
-
-firstJust :: [Maybe a] -> Maybe a
-firstJust xs = case [ x | Just x <- xs ] of
-  (x : _) -> Just x
-  [] -> Nothing
+         else listToMaybe (mapMaybe (uncurry refine) [(cautious, 0), (U.replicate (n + 1) (U.maximum (pbZoneSpeeds pb)), 6)])
 
 -- | The proof that no profile fits: N is bounded, and every N up to the bound either has
 -- boxes that cannot hold a profile or a program with a verified certificate. The bound
 -- and the certificates, by N (the N the boxes rule out have none).
 proofCertificates :: Problem -> Maybe (Int, [(Int, Farkas)])
 proofCertificates pb = do
-  nMax <- maxSteps pb env
-  let fl = floorSpeed pb
-      open = [ n | n <- [0 .. nMax], boxFits pb env fl n ]
+  nMax <- maxSteps pb env fl
+  let open = [ n | n <- [0 .. nMax], boxFits pb env fl n ]
   -- a single sample (N = 0) has no program: it is left unproven
   if nMax > envCap || length open > 64 || any (\n -> n < 1 || n > lpCap) open then Nothing else do
     certs <- mapM certificate open
     pure (nMax, zip open certs)
   where
     env = envelopes pb
+    fl = floorSpeed pb env
     top = widen 1 (U.maximum (pbZoneSpeeds pb))
     certificate n =
       let lp = joinLp pb True (pbTol pb + slack (pbLength pb)) n (U.replicate (n + 1) top)

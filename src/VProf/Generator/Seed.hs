@@ -30,8 +30,7 @@ import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
 
 import VProf.Generator.Exact (exactJoin, noProfileFits)
-import VProf.Legality (check)
-import VProf.Profile (Profile (..))
+import VProf.Legality (legalVelocities)
 import VProf.Request (Problem (..), maxSamples)
 import VProf.SpeedLimit
 
@@ -362,7 +361,7 @@ leadIn depth pb = case [ r | Right r <- tries ] of
   where
     tries =
       [ case seedWithin (depth - 1) (shifted s1 v1 a) of
-          Right vs | legal (U.cons (pbV0 pb) vs) -> Right (U.cons (pbV0 pb) vs)
+          Right vs | legalVelocities pb (U.cons (pbV0 pb) vs) -> Right (U.cons (pbV0 pb) vs)
                    | otherwise -> Left Nothing
           -- the first step did not get the start out of trouble
           Left (Infeasible f _) | f `elem` ["start_velocity", "start_acceleration"] -> Left Nothing
@@ -371,7 +370,6 @@ leadIn depth pb = case [ r | Right r <- tries ] of
       , let a = hi - (hi - lo) * fromIntegral i / 32
             st1@(St v1 _ s1) = stepTo e st0 a
       , stepOk e st0 st1, s1 < pbLength pb ]
-    legal vs = null (check pb (Profile (pbDt pb) vs (pbA0 pb) (pbAEnd pb)))
     e = Env pb (Term (pbLength pb + pbTol pb) (1 / 0)) True
     st0 = St (pbV0 pb) (pbA0 pb) 0
     (lo, hi) = accRange e st0
@@ -710,12 +708,11 @@ meet pb = do
                 bump j = let x = sin (pi * fromIntegral j / fromIntegral k) in x * x
                 cruise = [ v - d * bump j | j <- [1 .. k - 1] ]
             in U.fromList ([pbV0 pb] ++ map stV fRun ++ cruise ++ reverse (pbVEnd pb : map stV bRun))
-          legal vs = null (check pb (Profile dt vs (pbA0 pb) (pbAEnd pb)))
           -- the dent first (the route end met exactly); a cruise without it when the
           -- overshoot is within half the end tolerance
           tries = [ profileWith True k | k <- ks, k > 1 || abs (over k) <= tol / 2 ]
                   ++ [ profileWith False k | k <- ks, k > 1, abs (over k) <= tol / 2 ]
-      in case filter legal tries of
+      in case filter (legalVelocities pb) tries of
            (vs : _) -> Just vs
            [] -> Nothing
     -- the tuned plateau between levels v1 > v2 over the same stretch: for each cruise
