@@ -8,7 +8,7 @@ import VProf.Cli.Compress (compressCommand)
 import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
 import VProf.Cli.Serve (serveCommand)
 import VProf.Service (handleRequest, version)
-import VProf.Wire.CompressConvert (serveCompress)
+import VProf.Wire.Compress (serveCompress)
 
 main :: IO ()
 main = do

@@ -22,9 +22,9 @@ import Graphics.Rendering.Chart.Backend.Cairo
 
 import CompressBench (compressBenchmarks)
 import Routes
-import VProf.Generator
-import VProf.Profile (duration, sampleCount)
-import VProf.Request
+import VProf.Profile.Generate
+import VProf.Profile.Sampled (duration, sampleCount)
+import VProf.Profile.Request
 
 -- | Generate once and insist on a legal profile.
 certified :: String -> Request -> IO ()

@@ -10,8 +10,8 @@ import qualified Data.Text as T
 import qualified Data.Vector as V
 import System.Directory (doesFileExist)
 
-import VProf.Json (requestFromValue)
-import VProf.Request
+import VProf.Profile.Format.Json (requestFromValue)
+import VProf.Profile.Request
 import VProf.Units
 
 -- | A route of the given length with the given number of zones: speeds 1–10 m/s,

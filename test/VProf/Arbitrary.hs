@@ -13,7 +13,7 @@ import System.Directory (doesDirectoryExist)
 import System.Environment (lookupEnv)
 import Test.QuickCheck
 
-import VProf.Request
+import VProf.Profile.Request
 import VProf.Units
 
 newtype RandomRequest = RandomRequest Request deriving (Show)

@@ -11,15 +11,15 @@ import Test.Hspec
 import Test.QuickCheck hiding (generate, Result)
 
 import VProf.Arbitrary
-import VProf.Generator
-import VProf.Generator.RubberBand
-import VProf.Generator.Exact (proofCertificates)
-import VProf.Generator.Seed (mirror)
-import VProf.LinearProgram (Farkas (..))
-import VProf.Json (requestFromJson)
-import VProf.Legality
-import VProf.Profile
-import VProf.Request
+import VProf.Profile.Generate
+import VProf.Profile.Generate.RubberBand
+import VProf.Profile.Generate.Exact (proofCertificates)
+import VProf.Profile.Generate.Seed (mirror)
+import VProf.Numeric.LinearProgram (Farkas (..))
+import VProf.Profile.Format.Json (requestFromJson)
+import VProf.Profile.Legality
+import VProf.Profile.Sampled
+import VProf.Profile.Request
 import VProf.Units
 
 cases :: Int
@@ -362,8 +362,8 @@ spec = do
       withMaxSuccess cases $ property $ forAll (atRest <$> genRequest) $ \rq -> verdict rq
 
     it "ending in motion: a legal, converged profile that ends within tolerance, or a confirmed infeasibility" $
-      -- A moving end is met by the two-sided meet (see VProf.Generator.Seed), and where
-      -- no plateau joins it, by the exact join (VProf.Generator.Exact). Claims that the
+      -- A moving end is met by the two-sided meet (see VProf.Profile.Generate.Seed), and where
+      -- no plateau joins it, by the exact join (VProf.Profile.Generate.Exact). Claims that the
       -- start and end states cannot both be met are confirmed by the state-gap proof,
       -- whose certificates are checked here against rows of the test's own.
       withMaxSuccess cases $ property $ forAll (moving <$> genRequest) $ \rq -> verdict rq

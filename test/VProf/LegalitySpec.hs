@@ -5,9 +5,9 @@ import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 import Test.QuickCheck
 
-import VProf.Legality
-import VProf.Profile
-import VProf.Request
+import VProf.Profile.Legality
+import VProf.Profile.Sampled
+import VProf.Profile.Request
 import VProf.Units
 
 -- | 10 m at up to 2 m/s, then 1 m/s from 6 m; ±1 m/s², ±2 m/s³; dt = 0.5 s.

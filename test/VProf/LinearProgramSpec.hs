@@ -10,7 +10,7 @@ import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 import Test.QuickCheck
 
-import VProf.LinearProgram
+import VProf.Numeric.LinearProgram
 
 inf :: Double
 inf = 1 / 0

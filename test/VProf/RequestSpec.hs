@@ -5,7 +5,7 @@ import Data.List (isInfixOf)
 import Test.Hspec
 import Test.QuickCheck
 
-import VProf.Request
+import VProf.Profile.Request
 import VProf.Units
 
 fields :: Request -> [String]

@@ -12,9 +12,9 @@ import VProf.Compress
 import VProf.Compress.Format.Log
 import VProf.Compress.Format.Rapid
 import VProf.Compress.Format.Tum
-import VProf.Compress.Geometry (qangle, qnormalize)
+import VProf.Geometry.Polyline (qangle, qnormalize)
 import VProf.Compress.TestData
-import VProf.Compress.Vec
+import VProf.Geometry.Vec
 
 genTrack :: Gen Track
 genTrack = do

@@ -6,9 +6,9 @@ import Test.Hspec
 import Test.QuickCheck
 
 import VProf.Compress
-import VProf.Compress.Geometry
+import VProf.Geometry.Polyline
 import VProf.Compress.Objective
-import VProf.Compress.Vec
+import VProf.Geometry.Vec
 
 -- | A random path: K waypoints, segment durations 1–2.5 s, positions in a 1 m cube,
 -- orientations turning up to 0.8 rad per segment.

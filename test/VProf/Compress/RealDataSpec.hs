@@ -5,10 +5,10 @@ import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 
 import VProf.Compress
-import VProf.Compress.Geometry (qangle, qdot)
+import VProf.Geometry.Polyline (qangle, qdot)
 import VProf.Compress.Objective
 import VProf.Compress.TestData
-import VProf.Compress.Vec
+import VProf.Geometry.Vec
 
 threePercent :: Recording -> Int
 threePercent (Recording tr) = round (0.03 * fromIntegral (trackLength tr) :: Double)

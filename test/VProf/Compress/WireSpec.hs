@@ -9,7 +9,7 @@ import Test.Hspec
 
 import VProf.Compress
 import VProf.Compress.TestData
-import VProf.Wire.CompressConvert
+import VProf.Wire.Compress
 import VProf.Wire.Messages
 
 request :: Track -> Word -> CompressRequestMsg

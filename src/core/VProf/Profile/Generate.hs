@@ -1,0 +1,194 @@
+-- | The velocity-profile generator: validation, the rubber band iterations, convergence,
+-- and the verdict of the independent checker.
+--
+-- The iteration itself is pure ('iterations' is a lazy list of snapshots); 'generate'
+-- walks it with the wall clock to honour the time budget, 'generatePure' with the
+-- iteration cap only. Either way the result never passes an illegal profile off as
+-- success: 'Generated' carries a profile the checker found legal, anything else is a
+-- 'Failed' with the reason and, where there is one, the best profile and its violations.
+module VProf.Profile.Generate
+  ( Result (..)
+  , Outcome (..)
+  , Failure (..)
+  , generate
+  , generatePure
+  , generateProblem
+  , iterations
+  , Snapshot (..)
+  , failureField
+  , renderFailure
+  , thesisHorizon
+  ) where
+
+import qualified Data.Vector.Unboxed as U
+import GHC.Clock (getMonotonicTime)
+import System.Timeout (timeout)
+import Control.Exception (evaluate)
+
+import VProf.Profile.Generate.RubberBand
+import VProf.Profile.Generate.Seed
+import VProf.Profile.Generate.Thesis
+import VProf.Profile.Legality
+import VProf.Profile.Sampled
+import VProf.Profile.Request
+
+-- | Why there is no legal profile.
+data Failure
+  = InvalidRequest [FieldError]
+  | InfeasibleRequest String String   -- ^ field, explanation
+  | NotConverged String
+  deriving (Eq, Show)
+
+failureField :: Failure -> String
+failureField = \case
+  InvalidRequest (e : _) -> feField e
+  InvalidRequest [] -> ""
+  InfeasibleRequest f _ -> f
+  NotConverged _ -> ""
+
+renderFailure :: Failure -> String
+renderFailure = \case
+  InvalidRequest es -> unlines (map renderFieldError es)
+  InfeasibleRequest f m -> "infeasible (" ++ f ++ "): " ++ m
+  NotConverged m -> "not converged: " ++ m
+
+data Outcome
+  = Generated                 -- ^ legal, converged
+  | Failed Failure
+  deriving (Eq, Show)
+
+data Result = Result
+  { resOutcome    :: !Outcome
+  , resProfile    :: !(Maybe Profile)   -- ^ the legal profile, or the best attempt
+  , resViolations :: ![Violation]        -- ^ the checker's verdict on 'resProfile'
+  , resIterations :: !Int
+  , resConverged  :: !Bool
+  , resAlgorithm  :: !Algorithm
+  , resTimeStep   :: !Double
+  , resVelStep    :: !Double
+  , resSeconds    :: !Double             -- ^ wall-clock compute time (0 from 'generatePure')
+  } deriving (Eq, Show)
+
+-- | The state after each pass.
+data Snapshot = Snapshot
+  { snVel       :: !(U.Vector Double)
+  , snIteration :: !Int
+  , snChanged   :: !Int
+  , snDone      :: !Bool    -- ^ fixed point: a raising pass changed nothing
+  }
+
+-- | The passes of the rubber band for a problem: the starting profile (iteration 0)
+-- and the profile after each pass (in thesis mode after each chunk of passes), ending at
+-- the fixed point or going on until the iteration cap. Raising passes only ever raise,
+-- so the sequence is monotone and cannot cycle.
+iterations :: Problem -> Either Failure [Snapshot]
+iterations pb = case pbAlgorithm pb of
+  Band -> case seed pb of
+    Left f -> Left (seedFailure f)
+    Right v0 -> Right (Snapshot v0 0 0 False : go 1 v0)
+  Thesis -> case thesisStages pb of
+    -- the thesis mode's start and run-in fail where the request may be infeasible: the
+    -- default generator's analysis says whether it is (and why)
+    Left tf -> Left (case seed pb of
+                       Left f@(Infeasible _ _) -> seedFailure f
+                       _ -> NotConverged ("thesis mode: " ++ seedMessage tf))
+    Right stages -> Right [ Snapshot (stgVel st) (stgPasses st) (stgChanged st) (stgDone st) | st <- stages ]
+  where
+    go !i v =
+      let PassResult v' changed = pass pb v
+          done = changed == 0
+      in Snapshot v' i changed done : if done then [] else go (i + 1) v'
+    seedFailure = \case
+      Infeasible f m -> InfeasibleRequest f m
+      LandingFailed m -> NotConverged ("seed: " ++ m)
+    seedMessage = \case
+      Infeasible _ m -> m
+      LandingFailed m -> m
+
+-- | The verdict on the last snapshot.
+finish :: Problem -> Double -> Int -> Bool -> Maybe String -> U.Vector Double -> Result
+finish pb secs iters done stopReason v =
+  let prof = Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)
+      vs = check pb prof
+      outcome
+        | null vs && done = Generated
+        | null vs = Failed (NotConverged (maybe "stopped before the fixed point" id stopReason
+                                          ++ "; the best profile so far is legal"))
+        | otherwise = Failed (NotConverged (maybe "the fixed point of the iteration breaks limits: "
+                                                  (++ "; the best profile breaks limits: ") stopReason
+                                           ++ summarise vs))
+  in Result outcome (Just prof) vs iters done (pbAlgorithm pb) (pbDt pb) (pbDv pb) secs
+  where
+    summarise vs = show (length vs) ++ " violation(s), first " ++ renderViolation (head vs)
+
+-- | Generate with the iteration cap only (no clock): a pure function of the problem.
+generatePure :: Request -> Result
+generatePure rq = case validate rq of
+  Left es -> invalid rq es
+  Right pb -> case iterations pb of
+    Left f -> failed pb f
+    Right snaps ->
+      let capped = take (pbMaxIter pb + 1) snaps
+          lastSnap = last capped
+          reason = if snDone lastSnap then Nothing else Just (capReason pb)
+      in finish pb 0 (snIteration lastSnap) (snDone lastSnap) reason (snVel lastSnap)
+
+capReason :: Problem -> String
+capReason pb = "iteration cap of " ++ show (pbMaxIter pb) ++ " reached"
+
+invalid :: Request -> [FieldError] -> Result
+invalid rq es = Result (Failed (InvalidRequest es)) Nothing [] 0 False (rqAlgorithm rq) 0 0 0
+
+failed :: Problem -> Failure -> Result
+failed pb f = Result (Failed f) Nothing [] 0 False (pbAlgorithm pb) (pbDt pb) (pbDv pb) 0
+
+-- | Generate with the iteration cap and the wall-clock budget.
+generate :: Request -> IO Result
+generate rq = case validate rq of
+  Left es -> pure (invalid rq es)
+  Right pb -> generateProblem pb
+
+-- | The wall-clock budget binds the whole generation: iterations are checked between
+-- passes, and the forward pass that seeds them is stopped by a timeout at the budget
+-- (plus a quarter, at least 50 ms), answering NOT_CONVERGED rather than running on.
+generateProblem :: Problem -> IO Result
+generateProblem pb = do
+  t0 <- getMonotonicTime
+  let limitSec = pbBudget pb + max 0.05 (pbBudget pb / 4)
+  r <- timeout (ceiling (limitSec * 1e6)) (generateWithin pb t0)
+  case r of
+    Just res -> pure res
+    Nothing -> do
+      t1 <- getMonotonicTime
+      pure (failed pb (NotConverged ("time budget of " ++ show (pbBudget pb)
+                                     ++ " s spent before the first pass finished")))
+        { resSeconds = t1 - t0 }
+
+generateWithin :: Problem -> Double -> IO Result
+generateWithin pb t0 = do
+  let elapsed = do t <- getMonotonicTime; pure (t - t0)
+  case iterations pb of
+    Left f -> do
+      _ <- evaluate f
+      secs <- elapsed
+      pure (failed pb f) { resSeconds = secs }
+    Right snaps -> do
+      let walk (sn : rest) = do
+            _ <- evaluate (snVel sn)
+            secs <- elapsed
+            if snDone sn
+              then pure (sn, Nothing)
+              else if snIteration sn >= pbMaxIter pb
+                then pure (sn, Just (capReason pb))
+                else if secs > pbBudget pb
+                  then pure (sn, Just ("time budget of " ++ show (pbBudget pb) ++ " s spent after "
+                                       ++ show (snIteration sn) ++ " iterations"))
+                  else case rest of
+                    [] -> pure (sn, Nothing)
+                    _ -> walk rest
+          walk [] = error "iterations: empty"
+      (sn, reason) <- walk snaps
+      let r0 = finish pb 0 (snIteration sn) (snDone sn) reason (snVel sn)
+      _ <- evaluate (length (resViolations r0))
+      secs <- elapsed
+      pure r0 { resSeconds = secs }

@@ -1,0 +1,279 @@
+-- | The exact join of a short route with a moving end, where the two-sided meet of
+-- "VProf.Profile.Generate.Seed" finds no plateau to join on.
+--
+-- With its number of steps N fixed, a profile is its velocities v_0..v_N, and every rule
+-- of the checker but the speed limits is linear in them: the acceleration and jerk
+-- ranges (the jerks into the first and out of the last acceleration included), the start
+-- and end velocities, and the route end (the trapezoid sum s_N; no earlier sample can be
+-- further, the velocities being non-negative). The speed limits are linear too once it is
+-- known which zones each step touches. So for each N the question "is there a legal
+-- profile of N steps?" is a small linear program ("VProf.Numeric.LinearProgram"):
+--
+-- * to build a profile ('exactJoin'), each velocity is capped by the lowest limit
+--   anywhere its steps might lie (the positions every legal profile of N steps must
+--   keep to, from the bounds below); a solution is then legal by construction, and the
+--   checker confirms it. When those caps are too cautious, the caps are re-read at the
+--   positions of the last solution a few times.
+-- * to prove that none exists ('noProfileFits'), each velocity is only capped by the
+--   highest limit, and every rule is widened by the checker's rounding slack; a program
+--   without a solution then comes with a Farkas certificate: multipliers of its rows
+--   that combine them into an inequality no velocities can meet. That is checked before
+--   it is believed, and the tests check it again with rows of their own.
+--
+-- Which N need a program: each velocity lies in a box, from the start forwards (the
+-- accelerations within a_0 + (i+1)·dt·[j_min, j_max] after i steps, clipped to the
+-- acceleration range) and from the end backwards; an N whose boxes do not overlap, or
+-- whose box sums cannot reach the route end or stay within it, has no profile. N is
+-- bounded when the lower bound from the start (or the one from the end, backwards)
+-- covers more than the route while still moving, or when every profile is proven to stay
+-- above some speed u > 0 (see 'floorSpeed'): then N·dt·u ≤ L + tolerance.
+module VProf.Profile.Generate.Exact
+  ( exactJoin
+  , noProfileFits
+  , proofCertificates
+  ) where
+
+import Data.Maybe (listToMaybe, mapMaybe)
+import qualified Data.Vector.Unboxed as U
+import Numeric (showFFloat)
+
+import VProf.Profile.Legality (legalVelocities, slack)
+import VProf.Numeric.LinearProgram
+import VProf.Profile.Sampled (trapezoidDistances)
+import VProf.Profile.Request (Problem (..))
+import VProf.Profile.SpeedLimit
+
+-- | Velocity bounds k steps from the start and from the end, for every legal profile
+-- (with the checker's slack): loF/hiF from the start, loB/hiB from the end (index = steps
+-- before the end).
+data Envelopes = Envelopes
+  { loF, hiF, loB, hiB :: !(U.Vector Double) }
+
+-- | How many steps the envelopes cover (and the largest N considered at all).
+envCap :: Int
+envCap = 4096
+
+-- | The largest N solved as a linear program (dense; a short route's join).
+lpCap :: Int
+lpCap = 320
+
+widen :: Double -> Double -> Double
+widen sign x = x + sign * slack x
+
+envelopes :: Problem -> Envelopes
+envelopes pb =
+  Envelopes (U.zipWith max (vel (pbV0 pb) 1 (accs (pbA0 pb) jMin)) (hardest (pbV0 pb) (pbA0 pb) aMin aMax))
+            (vel (pbV0 pb) 1 (accs (pbA0 pb) jMax))
+            (U.zipWith max (vel (pbVEnd pb) (-1) (accs (pbAEnd pb) (negate jMin))) (hardest (pbVEnd pb) (negate (pbAEnd pb)) (negate aMax) (negate aMin)))
+            (vel (pbVEnd pb) (-1) (accs (pbAEnd pb) (negate jMax)))
+  where
+    dt = pbDt pb
+    aMin = widen (-1) (pbAMin pb); aMax = widen 1 (pbAMax pb)
+    jMin = widen (-1) (pbJMin pb); jMax = widen 1 (pbJMax pb)
+    accs a0 j = U.generate envCap (\i -> max aMin (min aMax (a0 + j * fromIntegral (i + 1) * dt)))
+    vel v0 sign as = U.scanl' (\v a -> v + sign * a * dt) v0 as
+    -- The hardest braking from (v, a) that can still keep the velocity from going below
+    -- zero later (the acceleration raised back at max_jerk must reach zero first): every
+    -- legal profile from that state is at least as fast at every step. While it brakes
+    -- with the least acceleration the jerk allows, no profile has less; once it rides the
+    -- edge (its lowest future velocity, raising the acceleration as fast as allowed, is
+    -- zero), a profile slower at some step would have both less velocity and less
+    -- acceleration there, so a lowest future velocity below zero. From the end, the same
+    -- on the problem mirrored in time (accelerations negated, their range flipped).
+    hardest v0 a0 lo0 hi0 = U.unfoldrExactN (envCap + 1) next (v0, a0, True)
+      where
+        next (v, a, first)
+          | first = (v, (v, a, False))
+          | v <= 0 && a >= 0 = (v, (v, a, False))
+          | otherwise =
+              let lo = max lo0 (a + jMin * dt); hi = min hi0 (a + jMax * dt)
+                  x | keeps v lo = lo
+                    | not (keeps v hi) = hi
+                    | otherwise = bisect v lo hi (60 :: Int)
+                  v' = v + x * dt
+              in (v', (v', x, False))
+    keeps v x = go (v + x * dt) (x + jMax * dt)
+      where go w y | y >= 0 = w >= negate (slack 0)
+                   | otherwise = go (w + y * dt) (y + jMax * dt)
+    bisect v l h n
+      | n == 0 = h
+      | otherwise = let m = (l + h) / 2 in if keeps v m then bisect v l m (n - 1) else bisect v m h (n - 1)
+
+-- | The distance a lower bound covers before it first drops to u or below (all of it,
+-- when it never does within the envelopes).
+distanceAbove :: Double -> U.Vector Double -> Double -> Double
+distanceAbove dt lo u =
+  let m = maybe (U.length lo - 1) id (U.findIndex (<= u) lo)
+  in U.sum (U.zipWith (\a b -> (a + b) * dt / 2) (U.take m lo) (U.slice 1 m lo))
+
+-- | A speed every legal profile stays above at every sample, when there is one: if some
+-- v_m ≤ u, then v_m's lower bound from the start is ≤ u, so the samples before m cover
+-- at least the distance that bound covers before it drops to u; likewise after m from
+-- the end. When those two distances exceed the route (plus tolerance), no sample is at u
+-- or below. The largest such u, by bisection.
+floorSpeed :: Problem -> Envelopes -> Maybe Double
+floorSpeed pb env
+  | not (excludes 0) = Nothing
+  | otherwise = Just (go 0 (max (pbV0 pb) (pbVEnd pb)) (60 :: Int))
+  where
+    dt = pbDt pb
+    -- (a micrometre more: the samples may be below zero by the checker's slack)
+    room = pbLength pb + pbTol pb + slack (pbLength pb) + 1e-6
+    excludes u = distanceAbove dt (loF env) u + distanceAbove dt (loB env) u > room
+    go lo hi n
+      | n == 0 = lo
+      | otherwise = let m = (lo + hi) / 2 in if excludes m then go m hi (n - 1) else go lo m (n - 1)
+
+-- | The largest number of steps a legal profile can have, when it is bounded (given the
+-- floor speed, if any).
+maxSteps :: Problem -> Envelopes -> Maybe Double -> Maybe Int
+maxSteps pb env fl = case [ n | Just n <- [past (loF env), past (loB env), byFloor] ] of
+  [] -> Nothing
+  ns -> Just (minimum ns)
+  where
+    dt = pbDt pb
+    room = pbLength pb + pbTol pb + slack (pbLength pb)
+    -- the lower bound covers more than the route after this many steps, still moving:
+    -- every profile of more steps would pass the route end (or, from the end, start
+    -- before the route start)
+    past lo = let pos = trapezoidDistances dt lo
+              in case U.findIndex (> room) pos of
+                   Just n | U.all (> 0) (U.take (n + 1) lo) -> Just n
+                   _ -> Nothing
+    byFloor = (\u -> floor (room / (u * dt))) <$> fl
+
+-- | The boxes of an N-step profile: lower and upper velocity bounds at each sample.
+boxes :: Problem -> Envelopes -> Maybe Double -> Int -> (U.Vector Double, U.Vector Double)
+boxes pb env fl n =
+  ( U.generate (n + 1) (\k -> maximum [negate (slack 0), maybe 0 id fl, loF env U.! k, loB env U.! (n - k)])
+  , U.generate (n + 1) (\k -> minimum [top, hiF env U.! k, hiB env U.! (n - k)]) )
+  where top = widen 1 (U.maximum (pbZoneSpeeds pb))
+
+trapezoid :: Double -> U.Vector Double -> Double
+trapezoid dt = U.last . trapezoidDistances dt
+
+-- | Can the boxes of N steps hold a profile at all?
+boxFits :: Problem -> Envelopes -> Maybe Double -> Int -> Bool
+boxFits pb env fl n =
+  let (lo, hi) = boxes pb env fl n
+      dt = pbDt pb
+      len = pbLength pb
+      room = pbTol pb + slack len
+  in n >= 0 && U.and (U.zipWith (<=) lo hi) && trapezoid dt lo <= len + room && trapezoid dt hi >= len - room
+
+-- | The rows of the N-step program over v_0..v_N, in this order (the tests rebuild them
+-- in the same order to check a certificate): the N accelerations a_k·dt = v_{k+1} − v_k;
+-- the jerk into a_0, j·dt² = v_1 − v_0 − a_start·dt; the N − 1 jerks between, v_{k+2} −
+-- 2v_{k+1} + v_k; the jerk out of a_{N−1}, v_{N−1} − v_N = j·dt² − a_end·dt; and the
+-- route end, s_N/dt = Σ (v_k + v_{k+1})/2. @w@ widens each range by the checker's slack
+-- (proofs); without it each is narrowed by a millionth (built profiles keep clear of
+-- the checker's rounding). @endRoom@ is the distance allowed either side of the route end.
+joinRows :: Problem -> Bool -> Double -> Int -> [Row]
+joinRows pb w endRoom n =
+  [ Row [(k, -1), (k + 1, 1)] (aLo * dt) (aHi * dt) | k <- [0 .. n - 1] ]
+  ++ [ Row [(0, -1), (1, 1)] ((pbA0 pb + jLo * dt) * dt) ((pbA0 pb + jHi * dt) * dt) ]
+  ++ [ Row [(k, 1), (k + 1, -2), (k + 2, 1)] (jLo * dt * dt) (jHi * dt * dt) | k <- [0 .. n - 2] ]
+  ++ [ Row [(n - 1, 1), (n, -1)] ((jLo * dt - pbAEnd pb) * dt) ((jHi * dt - pbAEnd pb) * dt) ]
+  ++ [ Row [ (k, if k == 0 || k == n then 0.5 else 1) | k <- [0 .. n] ] ((len - endRoom) / dt) ((len + endRoom) / dt) ]
+  where
+    dt = pbDt pb
+    len = pbLength pb
+    sl sign x = if w then widen sign x else x - sign * 1e-6 * max 1 (abs x)
+    aLo = sl (-1) (pbAMin pb); aHi = sl 1 (pbAMax pb)
+    jLo = sl (-1) (pbJMin pb); jHi = sl 1 (pbJMax pb)
+
+-- | The N-step program with per-sample caps: v_0 and v_N pinned (within the slack when
+-- widened), the others within [0, cap_k]; maximising the velocities (the fastest profile
+-- of that many steps).
+joinLp :: Problem -> Bool -> Double -> Int -> U.Vector Double -> Lp
+joinLp pb w endRoom n caps =
+  Lp { lpCols = n + 1
+     , lpColLo = U.generate (n + 1) (\k -> pin k (pbV0 pb - s0) (pbVEnd pb - sE) (if w then negate (slack 0) else 0))
+     , lpColHi = U.generate (n + 1) (\k -> pin k (pbV0 pb + s0) (pbVEnd pb + sE) (caps U.! k))
+     , lpRows = joinRows pb w endRoom n
+     , lpObjective = U.replicate (n + 1) (if w then 0 else -1)
+     }
+  where
+    s0 = if w then slack (pbV0 pb) else 0
+    sE = if w then slack (pbVEnd pb) else 0
+    pin k a b c | k == 0 = a
+                | k == n = b
+                | otherwise = c
+
+-- | For a request the meet could not join: the first N (fewest steps first) whose program
+-- gives a profile the checker finds legal.
+exactJoin :: Problem -> Maybe (U.Vector Double)
+exactJoin pb = listToMaybe (mapMaybe build (take 48 candidates))
+  where
+    env = envelopes pb
+    fl = floorSpeed pb env
+    dt = pbDt pb
+    len = pbLength pb
+    tol = pbTol pb
+    top = maybe envCap id (maxSteps pb env fl)
+    candidates = [ n | n <- [1 .. min lpCap top], boxFits pb env fl n ]
+    solveWith n caps = case solve (joinLp pb False (tol / 2) n caps) of
+      Optimal x -> Just (U.imap (\k v -> if k == 0 then pbV0 pb else if k == n then pbVEnd pb else max 0 v) x)
+      _ -> Nothing
+    build n =
+      let (lo, hi) = boxes pb env fl n
+          -- positions every legal profile of n steps keeps to: from the box sums
+          -- forwards and, from the route end, backwards
+          cumLo = trapezoidDistances dt lo
+          cumHi = trapezoidDistances dt hi
+          sLo k = max (cumLo U.! k) (len - tol - (cumHi U.! n - cumHi U.! k))
+          sHi k = min (cumHi U.! k) (len + tol - (cumLo U.! n - cumLo U.! k))
+          -- v_k takes part in the steps before and after it: the lowest limit anywhere
+          -- either of them can lie
+          cautious = U.generate (n + 1) (\k -> minLimitOn pb (max 0 (sLo (max 0 (k - 1)))) (sHi (min n (k + 1))))
+          -- the caps read at the positions of a solution, a centimetre either side
+          readAt vs = let s = trapezoidDistances dt vs
+                          at k = s U.! max 0 (min n k)
+                      in U.generate (n + 1) (\k -> minLimitOn pb (max 0 (at (k - 1) - 0.01)) (at (k + 1) + 0.01))
+          refine caps i = case solveWith n caps of
+            Just vs | legalVelocities pb vs -> Just vs
+                    | i > 0 -> refine (U.zipWith min caps (readAt vs)) (i - 1 :: Int)
+            _ -> Nothing
+          single = U.length (pbZoneSpeeds pb) == 1
+      -- one zone: the cautious caps are exact; several: when the cautious caps leave no
+      -- solution, start from the highest limit and re-read the caps where the solution
+      -- runs, a few times
+      in if single then refine cautious 0
+         else listToMaybe (mapMaybe (uncurry refine) [(cautious, 0), (U.replicate (n + 1) (U.maximum (pbZoneSpeeds pb)), 6)])
+
+-- | The proof that no profile fits: N is bounded, and every N up to the bound either has
+-- boxes that cannot hold a profile or a program with a verified certificate. The bound
+-- and the certificates, by N (the N the boxes rule out have none).
+proofCertificates :: Problem -> Maybe (Int, [(Int, Farkas)])
+proofCertificates pb = do
+  nMax <- maxSteps pb env fl
+  let open = [ n | n <- [0 .. nMax], boxFits pb env fl n ]
+  -- a single sample (N = 0) has no program: it is left unproven
+  if nMax > envCap || length open > 64 || any (\n -> n < 1 || n > lpCap) open then Nothing else do
+    certs <- mapM certificate open
+    pure (nMax, zip open certs)
+  where
+    env = envelopes pb
+    fl = floorSpeed pb env
+    top = widen 1 (U.maximum (pbZoneSpeeds pb))
+    certificate n =
+      let lp = joinLp pb True (pbTol pb + slack (pbLength pb)) n (U.replicate (n + 1) top)
+      in case solve lp of
+           Infeasible f | certifies lp f -> Just f
+           _ -> Nothing
+
+num :: Double -> String
+num x = showFFloat Nothing (fromIntegral (round (x * 1e6) :: Integer) / 1e6 :: Double) ""
+
+-- | The claim that no profile joins the start state to the end state within the route,
+-- with the reason, when it can be proven ('proofCertificates').
+noProfileFits :: Problem -> Maybe String
+noProfileFits pb = do
+  (nMax, certs) <- proofCertificates pb
+  pure ("start_velocity " ++ num (pbV0 pb) ++ " m/s with start_acceleration " ++ num (pbA0 pb)
+        ++ " m/s² and end_velocity " ++ num (pbVEnd pb) ++ " m/s with end_acceleration " ++ num (pbAEnd pb)
+        ++ " m/s² cannot both be met within route_length " ++ num (pbLength pb) ++ " m: within min/max_acceleration "
+        ++ num (pbAMin pb) ++ "/" ++ num (pbAMax pb) ++ " m/s² and min/max_jerk " ++ num (pbJMin pb) ++ "/"
+        ++ num (pbJMax pb) ++ " m/s³ no profile of up to " ++ show nMax ++ " steps of " ++ num (pbDt pb)
+        ++ " s covers the route (and none can have more)"
+        ++ (if null certs then "" else "; for " ++ show (length certs) ++ " of these step counts a linear program proves it"))

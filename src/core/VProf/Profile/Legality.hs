@@ -1,0 +1,137 @@
+-- | The legality checker: does a sampled profile obey every limit of a problem?
+--
+-- It is independent of the generators: it shares no code with them beyond the
+-- 'Problem' and 'Profile' types (it even does its own zone look-up), and it returns
+-- every violation, not the first. A profile is legal when 'check' returns [].
+--
+-- Rules (profile as defined in "VProf.Profile.Sampled"):
+--
+-- * @negative_velocity@: v_k >= 0;
+-- * @speed@: for every step, max(v_k, v_{k+1}) <= the lowest speed limit anywhere on
+--   [s_k, s_{k+1}] (for a single-sample profile, v_0 <= the limit at 0);
+-- * @acceleration@: a_min <= a_k <= a_max;
+-- * @jerk@: j_min <= j <= j_max, including the jerk into the first acceleration (from the
+--   start acceleration) and out of the last (into the end acceleration);
+-- * @start_velocity@ / @end_velocity@: v_0 and v_N equal the requested values;
+-- * @route_end@: |s_N − L| <= end tolerance;
+-- * @overshoot@: no s_k beyond L + end tolerance.
+--
+-- Comparisons allow a rounding slack of 1e-9 relative to the limit (at least 1e-9
+-- absolute): profiles travel as decimal text and doubles, and a limit met to nine
+-- digits is met.
+module VProf.Profile.Legality
+  ( Rule (..)
+  , Violation (..)
+  , ruleName
+  , check
+  , isLegal
+  , legalVelocities
+  , renderViolation
+  , slack
+  ) where
+
+import qualified Data.Vector.Unboxed as U
+import Numeric (showFFloat)
+
+import VProf.Profile.Sampled
+import VProf.Profile.Request (Problem (..))
+
+data Rule
+  = NegativeVelocity | Speed | AccelerationRule | JerkRule
+  | StartVelocity | EndVelocity | RouteEnd | Overshoot | EmptyProfile
+  deriving (Eq, Ord, Show, Enum, Bounded)
+
+ruleName :: Rule -> String
+ruleName = \case
+  NegativeVelocity -> "negative_velocity"
+  Speed -> "speed"
+  AccelerationRule -> "acceleration"
+  JerkRule -> "jerk"
+  StartVelocity -> "start_velocity"
+  EndVelocity -> "end_velocity"
+  RouteEnd -> "route_end"
+  Overshoot -> "overshoot"
+  EmptyProfile -> "empty"
+
+data Violation = Violation
+  { vRule   :: !Rule
+  , vSample :: !Int     -- ^ the sample, or the first sample of the offending step
+  , vValue  :: !Double  -- ^ SI
+  , vLimit  :: !Double  -- ^ SI
+  } deriving (Eq, Show)
+
+renderViolation :: Violation -> String
+renderViolation (Violation r k v l) =
+  ruleName r ++ " at sample " ++ show k ++ ": " ++ num v ++ " " ++ unit ++ relation ++ num l ++ " " ++ unit
+  where
+    num x = showFFloat (Just 6) x ""
+    unit = case r of
+      AccelerationRule -> "m/s²"
+      JerkRule -> "m/s³"
+      RouteEnd -> "m"
+      Overshoot -> "m"
+      _ -> "m/s"
+    relation = case r of
+      StartVelocity -> " instead of "
+      EndVelocity -> " instead of "
+      RouteEnd -> " off the route end by more than "
+      NegativeVelocity -> " below "
+      _ -> " beyond the limit "
+
+-- | The rounding slack allowed around a limit.
+slack :: Double -> Double
+slack l = 1e-9 * max 1 (abs l)
+
+isLegal :: Problem -> Profile -> Bool
+isLegal pb = null . check pb
+
+-- | The verdict on velocities v_0..v_N at the problem's time step, between its start and
+-- end accelerations.
+legalVelocities :: Problem -> U.Vector Double -> Bool
+legalVelocities pb vs = isLegal pb (Profile (pbDt pb) vs (pbA0 pb) (pbAEnd pb))
+
+check :: Problem -> Profile -> [Violation]
+check pb p
+  | U.null v = [Violation EmptyProfile 0 0 0]
+  | otherwise = concat
+      [ [ Violation NegativeVelocity k (v U.! k) 0 | k <- U.toList (U.findIndices (< negate (slack 0)) v) ]
+      , speedViolations
+      , [ Violation AccelerationRule k a (if a > aMax then aMax else aMin)
+        | k <- U.toList (U.findIndices (\a -> a > aMax + slack aMax || a < aMin - slack aMin) acc), let a = acc U.! k ]
+      , [ Violation JerkRule k j (if j > jMax then jMax else jMin)
+        | k <- U.toList (U.findIndices (\j -> j > jMax + slack jMax || j < jMin - slack jMin) allJerks), let j = allJerks U.! k ]
+      , [ Violation StartVelocity 0 (U.head v) (pbV0 pb) | abs (U.head v - pbV0 pb) > slack (pbV0 pb) ]
+      , [ Violation EndVelocity n (U.last v) (pbVEnd pb) | abs (U.last v - pbVEnd pb) > slack (pbVEnd pb) ]
+      , [ Violation RouteEnd n (U.last s) (pbTol pb) | abs (U.last s - len) > pbTol pb + slack len ]
+      , [ Violation Overshoot k (s U.! k) (len + pbTol pb) | k <- U.toList (U.findIndices (> len + pbTol pb + slack len) s) ]
+      ]
+  where
+    dt = prDt p
+    v = prVelocities p
+    n = U.length v - 1
+    s = distances p
+    len = pbLength pb
+    aMin = pbAMin pb; aMax = pbAMax pb; jMin = pbJMin pb; jMax = pbJMax pb
+    acc = U.zipWith (\a b -> (b - a) / dt) v (U.tail v)
+    -- jerk into a_0 is "at sample 0"; j between a_k and a_{k+1} at sample k+1; out of the
+    -- last acceleration at sample N. A single sample: start → end acceleration.
+    accAll = U.cons (prStartAcc p) acc `U.snoc` prEndAcc p
+    allJerks = U.zipWith (\a b -> (b - a) / dt) accAll (U.tail accAll)
+
+    starts = pbZoneStarts pb
+    speeds = pbZoneSpeeds pb
+    nz = U.length starts
+    -- the zone holding at x: the last whose start is <= x (the first zone before 0)
+    zoneAt x = go 0 (nz - 1)
+      where go lo hi | lo >= hi = lo
+                     | otherwise = let mid = (lo + hi + 1) `div` 2
+                                   in if starts U.! mid <= x then go mid hi else go lo (mid - 1)
+    -- lowest limit on the closed interval [a, b]: every zone that holds somewhere on it
+    lowestOn a b = let i = zoneAt a; j = zoneAt b in U.minimum (U.slice i (j - i + 1) speeds)
+    stepLimit k = let a = s U.! k; b = s U.! (k + 1) in if a <= b then lowestOn a b else lowestOn b a
+    stepTop k = max (v U.! k) (v U.! (k + 1))
+    speedViolations
+      | n == 0 = [ Violation Speed 0 (U.head v) l | let l = lowestOn 0 0, U.head v > l + slack l ]
+      | otherwise =
+          [ Violation Speed k (stepTop k) (stepLimit k)
+          | k <- U.toList (U.findIndices id (U.generate n (\k -> let l = stepLimit k in stepTop k > l + slack l))) ]

@@ -1,0 +1,282 @@
+-- | What a user asks of the velocity-profile generator, in physical units, and its
+-- validation.
+--
+-- 'Request' is what arrives (from Protobuf, JSON or Haskell code); every optional knob is
+-- a 'Maybe'. 'validate' checks it all at once and returns either every problem, each
+-- naming the field and the value, or a 'Problem': the same request in SI doubles with
+-- the defaults filled in, which is what the generator and the checker work on.
+module VProf.Profile.Request
+  ( -- * The request
+    Request (..)
+  , SpeedZone (..)
+  , Algorithm (..)
+  , defaultRequest
+    -- * Validated problem
+  , Problem (..)
+  , FieldError (..)
+  , validate
+  , renderFieldError
+    -- * Defaults and caps
+  , defaultTimeStep
+  , defaultTimeBudget
+  , defaultEndTolerance
+  , defaultMaxIterations
+  , maxSamples
+  , autoVelocityStep
+  , largestVelocityStep
+  , isPowerOfTwo
+  ) where
+
+import Data.List (sortOn)
+import qualified Data.Vector.Unboxed as U
+import Numeric (showFFloat)
+
+import VProf.Units
+
+-- | One zone of the speed-limit function: the limit holds from 'zoneStart' to the next
+-- zone's start (the last zone to the route end).
+data SpeedZone = SpeedZone
+  { zoneStart :: !(Length Double)
+  , zoneSpeed :: !(Velocity Double)
+  } deriving (Eq, Show)
+
+-- | Which generator runs.
+data Algorithm
+  = Band    -- ^ seeded windowed raise iteration: the default, fast and near time-optimal
+  | Thesis  -- ^ the thesis's windowed iteration, grown from rest to a legal fixed point
+  deriving (Eq, Show, Enum, Bounded)
+
+data Request = Request
+  { rqRouteLength       :: !(Length Double)
+  , rqZones             :: ![SpeedZone]
+  , rqMinAcceleration   :: !(Acceleration Double)
+  , rqMaxAcceleration   :: !(Acceleration Double)
+  , rqMinJerk           :: !(Jerk Double)
+  , rqMaxJerk           :: !(Jerk Double)
+  , rqStartVelocity     :: !(Velocity Double)
+  , rqStartAcceleration :: !(Acceleration Double)
+  , rqEndVelocity       :: !(Velocity Double)
+  , rqEndAcceleration   :: !(Acceleration Double)
+  , rqTimeStep          :: !(Maybe (Time Double))      -- ^ default 'defaultTimeStep'
+  , rqVelocityStep      :: !(Maybe (Velocity Double))  -- ^ default 'autoVelocityStep'
+  , rqMaxIterations     :: !(Maybe Int)                -- ^ default 'defaultMaxIterations'
+  , rqTimeBudget        :: !(Maybe (Time Double))      -- ^ default 'defaultTimeBudget'
+  , rqEndTolerance      :: !(Maybe (Length Double))    -- ^ default 'defaultEndTolerance'
+  , rqAlgorithm         :: !Algorithm
+  } deriving (Eq, Show)
+
+-- | A request with everything at its default: a 10 m route at 1 m/s, ±1 m/s², ±1 m/s³,
+-- from rest to rest. Handy to build requests with record update.
+defaultRequest :: Request
+defaultRequest = Request
+  { rqRouteLength = 10 *~ meter
+  , rqZones = [SpeedZone (0 *~ meter) (1 *~ mps)]
+  , rqMinAcceleration = (-1) *~ mps2
+  , rqMaxAcceleration = 1 *~ mps2
+  , rqMinJerk = (-1) *~ mps3
+  , rqMaxJerk = 1 *~ mps3
+  , rqStartVelocity = 0 *~ mps
+  , rqStartAcceleration = 0 *~ mps2
+  , rqEndVelocity = 0 *~ mps
+  , rqEndAcceleration = 0 *~ mps2
+  , rqTimeStep = Nothing
+  , rqVelocityStep = Nothing
+  , rqMaxIterations = Nothing
+  , rqTimeBudget = Nothing
+  , rqEndTolerance = Nothing
+  , rqAlgorithm = Band
+  }
+
+defaultTimeStep :: Double
+defaultTimeStep = 0.125
+
+defaultTimeBudget :: Double
+defaultTimeBudget = 1.0
+
+defaultEndTolerance :: Double
+defaultEndTolerance = 0.01
+
+-- | The default iteration cap: passes of the rubber band. Thesis mode grows its profile
+-- from rest a sample at a time, some ten passes a sample, but each of its passes visits
+-- only the samples that can still change, so its cap is higher.
+defaultMaxIterations :: Algorithm -> Int
+defaultMaxIterations = \case
+  Band -> 100000
+  Thesis -> 4000000
+
+-- | The largest profile the generator will make: 2²⁰ samples (36 hours at the default
+-- 0.125 s step). A request whose route cannot be driven in that many samples, even at
+-- its highest speed limit, is refused by 'validate'.
+maxSamples :: Int
+maxSamples = 1048576
+
+-- | A validated request: SI doubles, defaults filled in. Zones are parallel unboxed
+-- vectors sorted by start; the first starts at 0.
+data Problem = Problem
+  { pbLength     :: !Double
+  , pbZoneStarts :: !(U.Vector Double)
+  , pbZoneSpeeds :: !(U.Vector Double)
+  , pbAMin       :: !Double
+  , pbAMax       :: !Double
+  , pbJMin       :: !Double
+  , pbJMax       :: !Double
+  , pbV0         :: !Double
+  , pbA0         :: !Double
+  , pbVEnd       :: !Double
+  , pbAEnd       :: !Double
+  , pbDt         :: !Double
+  , pbDv         :: !Double
+  , pbMaxIter    :: !Int
+  , pbBudget     :: !Double
+  , pbTol        :: !Double
+  , pbAlgorithm  :: !Algorithm
+  } deriving (Eq, Show)
+
+-- | One problem with one field: the proto field name, the offending value as given, and
+-- what is wrong.
+data FieldError = FieldError
+  { feField   :: !String
+  , feValue   :: !String
+  , feMessage :: !String
+  } deriving (Eq, Show)
+
+-- | "max_jerk = -1.0 m/s³: must be > 0"
+renderFieldError :: FieldError -> String
+renderFieldError (FieldError f v m) = f ++ " = " ++ v ++ ": " ++ m
+
+-- | The automatic velocity step: the largest power of two that is at most a quarter of
+-- the smallest of |j|·dt² and |a|·dt, so that one step of velocity changes acceleration
+-- by at most a quarter of what the jerk allows in one time step. The rubber band can then
+-- move a single sample without breaking the jerk limit wherever the profile is smooth.
+autoVelocityStep :: Double -> Double -> Double -> Double -> Double -> Double
+autoVelocityStep dt aMin aMax jMin jMax =
+  let bound = minimum [abs jMin * dt * dt, jMax * dt * dt, abs aMin * dt, aMax * dt] / 4
+  in 2 ^^ (floor (logBase 2 bound) :: Int)
+
+-- | The largest velocity step with which a single sample can rise on a flat stretch:
+-- raising it alone changes one jerk by 2·dv/dt² and one acceleration by dv/dt.
+largestVelocityStep :: Double -> Double -> Double -> Double -> Double -> Double
+largestVelocityStep dt aMin aMax jMin jMax =
+  minimum [abs jMin * dt * dt / 2, jMax * dt * dt / 2, abs aMin * dt, aMax * dt]
+
+isPowerOfTwo :: Double -> Bool
+isPowerOfTwo x = x > 0 && not (isInfinite x) && let (m, _) = decodeFloat x in abs m == 2 ^ (52 :: Int)
+
+-- | Check everything; return every problem at once.
+validate :: Request -> Either [FieldError] Problem
+validate rq =
+  case errors of
+    [] -> Right problem
+    es -> Left es
+  where
+    len = si (rqRouteLength rq)
+    zones = [(si (zoneStart z), si (zoneSpeed z)) | z <- rqZones rq]
+    aMin = si (rqMinAcceleration rq); aMax = si (rqMaxAcceleration rq)
+    jMin = si (rqMinJerk rq); jMax = si (rqMaxJerk rq)
+    v0 = si (rqStartVelocity rq); a0 = si (rqStartAcceleration rq)
+    vE = si (rqEndVelocity rq); aE = si (rqEndAcceleration rq)
+    dt = maybe defaultTimeStep si (rqTimeStep rq)
+    budget = maybe defaultTimeBudget si (rqTimeBudget rq)
+    tol = maybe defaultEndTolerance si (rqEndTolerance rq)
+    maxIt = maybe (defaultMaxIterations (rqAlgorithm rq)) id (rqMaxIterations rq)
+    dvGiven = fmap si (rqVelocityStep rq)
+    -- the thesis mode grows its profile from rest one step per pass, so it takes the
+    -- coarsest step that still works
+    dvAuto = case rqAlgorithm rq of
+      Band -> autoVelocityStep dt aMin aMax jMin jMax
+      Thesis -> 2 ^^ (floor (logBase 2 (largestVelocityStep dt aMin aMax jMin jMax)) :: Int)
+    dv = maybe dvAuto id dvGiven
+
+    finite x = not (isNaN x || isInfinite x)
+    num x = showFFloat Nothing x ""
+    err f x unit m = [FieldError f (num x ++ unit) m]
+    check c f x unit m = if c then [] else err f x unit m
+    checkFinite f x unit k = if finite x then k else err f x unit "must be a finite number"
+
+    limitAt s = case [v | (st, v) <- zones, st <= s] of
+      [] -> Nothing
+      vs -> Just (last vs)
+    firstSpeed = case zones of ((_, v) : _) -> Just v; [] -> Nothing
+    lastSpeed = limitAt len
+
+    errors = concat
+      [ checkFinite "route_length" len " m" $ check (len > 0) "route_length" len " m" "must be > 0"
+      , zoneErrors
+      , checkFinite "min_acceleration" aMin " m/s²" $ check (aMin < 0) "min_acceleration" aMin " m/s²" "must be < 0"
+      , checkFinite "max_acceleration" aMax " m/s²" $ check (aMax > 0) "max_acceleration" aMax " m/s²" "must be > 0"
+      , checkFinite "min_jerk" jMin " m/s³" $ check (jMin < 0) "min_jerk" jMin " m/s³" "must be < 0"
+      , checkFinite "max_jerk" jMax " m/s³" $ check (jMax > 0) "max_jerk" jMax " m/s³" "must be > 0"
+      , checkFinite "start_velocity" v0 " m/s" $ concat
+          [ check (v0 >= 0) "start_velocity" v0 " m/s" "must be >= 0"
+          , case firstSpeed of
+              Just v | v0 > v, finite v -> err "start_velocity" v0 " m/s" ("is above the limit of the first zone, " ++ num v ++ " m/s")
+              _ -> [] ]
+      , checkFinite "end_velocity" vE " m/s" $ concat
+          [ check (vE >= 0) "end_velocity" vE " m/s" "must be >= 0"
+          , case lastSpeed of
+              Just v | vE > v, finite v -> err "end_velocity" vE " m/s" ("is above the limit of the zone at the route end, " ++ num v ++ " m/s")
+              _ -> [] ]
+      , checkFinite "start_acceleration" a0 " m/s²" $
+          check (not (finite aMin && finite aMax) || (a0 >= aMin && a0 <= aMax)) "start_acceleration" a0 " m/s²"
+            ("must lie within [min_acceleration, max_acceleration] = [" ++ num aMin ++ ", " ++ num aMax ++ "] m/s²")
+      , checkFinite "end_acceleration" aE " m/s²" $
+          check (not (finite aMin && finite aMax) || (aE >= aMin && aE <= aMax)) "end_acceleration" aE " m/s²"
+            ("must lie within [min_acceleration, max_acceleration] = [" ++ num aMin ++ ", " ++ num aMax ++ "] m/s²")
+      , checkFinite "time_step" dt " s" $ check (dt > 0 && dt <= 1) "time_step" dt " s" "must be > 0 and at most 1 s"
+      , case dvGiven of
+          Nothing -> []
+          Just d -> checkFinite "velocity_step" d " m/s" $ concat
+            [ check (d > 0) "velocity_step" d " m/s" "must be > 0"
+            , if d > 0 && finite jMin && finite jMax && finite aMin && finite aMax && finite dt && dt > 0
+                 && d > largestVelocityStep dt aMin aMax jMin jMax
+                then err "velocity_step" d " m/s"
+                       ("is too coarse: one sample raised by one step must fit inside the jerk and acceleration ranges at time_step "
+                        ++ num dt ++ " s, i.e. the step must be at most min(|j|·dt²/2, |a|·dt) = "
+                        ++ num (largestVelocityStep dt aMin aMax jMin jMax)
+                        ++ " m/s (suggested: " ++ num dvAuto ++ " m/s, or 0 for automatic)")
+                else [] ]
+      , check (maxIt > 0) "max_iterations" (fromIntegral maxIt :: Double) "" "must be > 0"
+      , checkFinite "time_budget" budget " s" $ check (budget > 0) "time_budget" budget " s" "must be > 0"
+      , checkFinite "end_tolerance" tol " m" $ check (tol > 0) "end_tolerance" tol " m" "must be > 0"
+      , sizeErrors
+      ]
+
+    zoneErrors
+      | null zones = [FieldError "speed_limits" "[]" "must hold at least one zone"]
+      | otherwise = concat
+          [ concat [ checkFinite (fld i "start_distance") st " m" $ concat
+                       [ check (st >= 0) (fld i "start_distance") st " m" "must be >= 0"
+                       , check (not (finite len) || st < len) (fld i "start_distance") st " m"
+                           ("lies at or beyond the route end, route_length = " ++ num len ++ " m") ]
+                   | (i, (st, _)) <- izones ]
+          , concat [ checkFinite (fld i "velocity") v " m/s" $ check (v > 0) (fld i "velocity") v " m/s" "must be > 0"
+                   | (i, (_, v)) <- izones ]
+          , case zones of
+              ((st, _) : _) | finite st && st /= 0 -> err (fld (0 :: Int) "start_distance") st " m" "the first zone must start at 0"
+              _ -> []
+          , concat [ err (fld i "start_distance") st " m"
+                       ("must be greater than the previous zone's start, " ++ num prev ++ " m (zones must be sorted and must not overlap)")
+                   | ((_, (prev, _)), (i, (st, _))) <- zip izones (drop 1 izones), finite st, finite prev, st <= prev ]
+          ]
+    izones = zip [0 :: Int ..] zones
+    fld i f = "speed_limits[" ++ show i ++ "]." ++ f
+
+    -- The samples the profile needs at the very least: the route at its top speed.
+    sizeErrors
+      | all finite [len, dt] && len > 0 && dt > 0 && not (null zones) && all (\(_, v) -> finite v && v > 0) zones =
+          let lower = len / maximum (map snd zones) / dt
+          in check (lower <= fromIntegral maxSamples) "route_length" len " m"
+               ("needs at least " ++ show (ceiling lower :: Integer) ++ " samples at time_step " ++ num dt
+                ++ " s, above the cap of " ++ show maxSamples ++ " samples; split the route or raise time_step")
+      | otherwise = []
+
+    sorted = sortOn fst zones
+    problem = Problem
+      { pbLength = len
+      , pbZoneStarts = U.fromList (map fst sorted)
+      , pbZoneSpeeds = U.fromList (map snd sorted)
+      , pbAMin = aMin, pbAMax = aMax, pbJMin = jMin, pbJMax = jMax
+      , pbV0 = v0, pbA0 = a0, pbVEnd = vE, pbAEnd = aE
+      , pbDt = dt, pbDv = dv, pbMaxIter = maxIt, pbBudget = budget, pbTol = tol
+      , pbAlgorithm = rqAlgorithm rq
+      }

@@ -1,0 +1,191 @@
+-- | @vprof compress@: read a recording, compress it, write the path, print the table.
+-- Exit codes: 0 ok, 1 tolerance not met, 2 invalid input.
+module VProf.Cli.Compress
+  ( compressCommand
+  , CompressOptions (..)
+  , compressOptions
+  , runCompress
+  ) where
+
+import Control.Exception (IOException, evaluate, try)
+import Control.Monad (when)
+import qualified Data.Aeson as A
+import qualified Data.ByteString.Char8 as B
+import qualified Data.ByteString.Lazy.Char8 as BL
+import Data.Char (toLower)
+import Data.List (intercalate)
+import GHC.Clock (getMonotonicTime)
+import Options.Applicative
+import System.Exit (ExitCode (..))
+import System.FilePath (takeExtension, takeFileName)
+import System.IO (hPutStrLn, stderr)
+import Numeric.Units.Dimensional.Prelude (metre, milli, (*~))
+import Prelude
+
+import VProf.Compress
+import VProf.Compress.Format.Csv
+import VProf.Compress.Format.Log
+import VProf.Compress.Format.Rapid
+import VProf.Compress.Format.Tum
+import VProf.Compress.Objective (prepare, toPathA)
+import VProf.Plot.Compress
+import VProf.Compress.Format.Report
+
+data InFormat = InTum | InLog | InMod deriving (Show, Eq)
+data OutFormat = OutTum | OutMod | OutCsv deriving (Show, Eq)
+data Stop = StopPoints Int | StopMargin Double | StopTolerance Double deriving (Show, Eq)
+
+data CompressOptions = CompressOptions
+  { coInput        :: FilePath
+  , coInputFormat  :: Maybe InFormat
+  , coWeights      :: (Double, Double, Double)
+  , coStop         :: Maybe Stop
+  , coMethod       :: Method
+  , coOutput       :: Maybe FilePath
+  , coOutputFormat :: Maybe OutFormat
+  , coReport       :: Bool
+  , coReportJson   :: Bool
+  , coPlot         :: Maybe FilePath
+  , coRapid        :: RapidOptions
+  }
+
+compressCommand :: Parser (IO ExitCode)
+compressCommand = runCompress <$> compressOptions
+
+compressOptions :: Parser CompressOptions
+compressOptions = CompressOptions
+  <$> strArgument (metavar "RECORDING" <> help "recorded motion: TUM text, Polhemus CSV log or RAPID .mod")
+  <*> optional (option (eitherReader inFmt) (long "input-format" <> metavar "tum|log|mod"
+        <> help "format of RECORDING (default: from the extension; .log and .csv are logs, .mod is RAPID, else TUM)"))
+  <*> option (eitherReader weights) (long "weights" <> metavar "P,O,V" <> value (1, 1, 1)
+        <> help "weights of position, orientation and velocity error as the thesis's vekt = [p o v], in its units (mm, degrees, m/s) (default 1,1,1)")
+  <*> optional stopP
+  <*> option (eitherReader method) (long "method" <> metavar "thesis|rdp" <> value MethodThesis
+        <> help "thesis: weighted least squares (default); rdp: 3-D Ramer-Douglas-Peucker baseline")
+  <*> optional (strOption (short 'o' <> long "output" <> metavar "OUT" <> help "write the path here"))
+  <*> optional (option (eitherReader outFmt) (long "output-format" <> metavar "tum|mod|csv"
+        <> help "format of OUT (default: from its extension, .mod RAPID, .csv CSV, else TUM)"))
+  <*> switch (long "report" <> help "print the table of measures (thesis table 1), with the other method at the same number of points")
+  <*> switch (long "report-json" <> help "print the measures as JSON")
+  <*> optional (strOption (long "plot" <> metavar "FILE.png|.svg" <> help "plot raw and fitted position, orientation and speed"))
+  <*> rapidP
+  where
+    stopP = (StopPoints <$> option (eitherReader posInt) (long "points" <> metavar "K" <> help "waypoints wanted (default: 3 % of the samples)"))
+        <|> (StopMargin <$> option auto (long "margin" <> metavar "M" <> help "stop removing points when the error passes M times the grown path's error"))
+        <|> (StopTolerance <$> option auto (long "tolerance" <> metavar "MM" <> help "largest position error allowed, mm"))
+    rapidP = RapidOptions
+      <$> strOption (long "rapid-module" <> metavar "NAME" <> value (roModule defaultRapidOptions) <> showDefault <> help "RAPID module name")
+      <*> strOption (long "rapid-speed" <> metavar "SPEED" <> value (roSpeed defaultRapidOptions) <> showDefault <> help "RAPID speed data")
+      <*> strOption (long "rapid-zone" <> metavar "ZONE" <> value (roZone defaultRapidOptions) <> showDefault <> help "RAPID zone data")
+      <*> strOption (long "rapid-tool" <> metavar "TOOL" <> value (roTool defaultRapidOptions) <> showDefault <> help "RAPID tool data")
+      <*> strOption (long "rapid-wobj" <> metavar "WOBJ" <> value (roWobj defaultRapidOptions) <> showDefault <> help "RAPID work object")
+    inFmt s = case map toLower s of
+      "tum" -> Right InTum
+      "log" -> Right InLog
+      "mod" -> Right InMod
+      _ -> Left ("--input-format " ++ s ++ ": expected tum, log or mod")
+    outFmt s = case map toLower s of
+      "tum" -> Right OutTum
+      "mod" -> Right OutMod
+      "csv" -> Right OutCsv
+      _ -> Left ("--output-format " ++ s ++ ": expected tum, mod or csv")
+    method s = case map toLower s of
+      "thesis" -> Right MethodThesis
+      "rdp" -> Right MethodRdp
+      _ -> Left ("--method " ++ s ++ ": expected thesis or rdp")
+    posInt s = case reads s of
+      [(k, "")] | k >= (2 :: Int) -> Right k
+      _ -> Left ("--points " ++ s ++ ": expected a whole number >= 2")
+    weights s = case mapM readD (splitOn ',' s) of
+      Just [p, o, v] | all (>= 0) [p, o, v] && (p > 0 || v > 0) -> Right (p, o, v)
+      _ -> Left ("--weights " ++ s ++ ": expected three numbers >= 0, P,O,V, with P or V > 0")
+    readD x = case reads x of
+      [(d, "")] -> Just (d :: Double)
+      _ -> Nothing
+
+splitOn :: Char -> String -> [String]
+splitOn c s = case break (== c) s of
+  (a, _ : b) -> a : splitOn c b
+  (a, []) -> [a]
+
+runCompress :: CompressOptions -> IO ExitCode
+runCompress o = do
+  let file = coInput o
+      fmt = maybe (guessIn file) id (coInputFormat o)
+  src <- try (B.readFile file)
+  case src of
+    Left e -> failInput ("cannot read " ++ file ++ ": " ++ show (e :: IOException))
+    Right bytes -> case parseWith fmt bytes of
+      Left e -> failInput (file ++ ": " ++ e)
+      Right tr -> go (Recording tr)
+  where
+    failInput msg = hPutStrLn stderr ("vprof compress: " ++ msg) >> pure (ExitFailure 2)
+    guessIn f = case map toLower (takeExtension f) of
+      ".log" -> InLog
+      ".csv" -> InLog
+      ".mod" -> InMod
+      _ -> InTum
+    parseWith InTum = parseTum
+    parseWith InLog = parseLog
+    parseWith InMod = parseRapid
+    (wp, wo, wv) = coWeights o
+    settings = Settings
+      { sMethod = coMethod o
+      , sWeights = thesisWeights wp wo wv
+      , sPoints = case coStop o of Just (StopPoints k) -> Just k; _ -> Nothing
+      , sMargin = case coStop o of Just (StopMargin m) -> Just m; _ -> Nothing
+      , sTolerance = case coStop o of Just (StopTolerance t) -> Just (t *~ milli metre); _ -> Nothing
+      }
+    go rec = do
+      t0 <- getMonotonicTime
+      res <- evaluate (compress settings rec)
+      case res of
+        Left (_, msg) -> failInput msg
+        Right out -> do
+          _ <- evaluate (mPoints (oMetrics out))
+          t1 <- getMonotonicTime
+          let k = mPoints (oMetrics out)
+              other = if coMethod o == MethodThesis then MethodRdp else MethodThesis
+              cmpSettings = settings { sMethod = other, sPoints = Just k, sMargin = Nothing, sTolerance = Nothing }
+              name m = if m == MethodThesis then "thesis" else "rdp"
+          cols <- if coReport o || coReportJson o
+            then do
+              c0 <- getMonotonicTime
+              cmp <- evaluate (compress cmpSettings rec)
+              cm <- case cmp of
+                Right oc -> evaluate (mPoints (oMetrics oc)) >> pure (Just oc)
+                Left _ -> pure Nothing
+              c1 <- getMonotonicTime
+              pure (ReportColumn (name (coMethod o)) (oMetrics out) (Just (t1 - t0))
+                    : [ ReportColumn (name other ++ " (same points)") (oMetrics oc) (Just (c1 - c0)) | Just oc <- [cm] ])
+            else pure []
+          when (coReport o) $ do
+            putStrLn ("vprof compress " ++ coInput o ++ ": " ++ show (mSamples (oMetrics out)) ++ " samples -> "
+                      ++ show k ++ " points (" ++ name (coMethod o) ++ ", weights " ++ intercalate "," (map show [wp, wo, wv])
+                      ++ ", stop: " ++ oStop out ++ ")")
+            putStr (renderReport (wp, wo, wv) cols)
+          when (coReportJson o) $ BL.putStrLn (A.encode (reportJson (sWeights settings) cols))
+          let tr = pathTrack (oPath out)
+              outFmt f = maybe (guessOut f) id (coOutputFormat o)
+              render f = case outFmt f of
+                OutTum -> renderTum tr
+                OutCsv -> renderCsv tr
+                OutMod -> BL.pack (renderRapid (coRapid o) tr)
+          case coOutput o of
+            Just f -> BL.writeFile f (render f)
+            Nothing -> when (not (coReport o || coReportJson o) && coPlot o == Nothing) $ BL.putStr (render "")
+          case coPlot o of
+            Just f -> plotCompression f (takeFileName (coInput o) ++ ", " ++ show k ++ " points") (prepare rec) (toPathA (oPath out))
+            Nothing -> pure ()
+          if oToleranceMet out
+            then pure ExitSuccess
+            else do
+              hPutStrLn stderr ("vprof compress: tolerance not met: largest position error "
+                                ++ show (mPositionMax (oMetrics out) * 1e3) ++ " mm with " ++ show k ++ " points")
+              pure (ExitFailure 1)
+    guessOut f = case map toLower (takeExtension f) of
+      ".mod" -> OutMod
+      ".csv" -> OutCsv
+      _ -> case coOutputFormat o of
+        Just x -> x
+        Nothing -> OutTum

@@ -1,0 +1,223 @@
+{-# LANGUAGE OverloadedStrings #-}
+-- | The velocity-profile commands of the @vprof@ executable:
+--
+-- > vprof REQUEST [--format pb|csv|json|table] [-o FILE] [--plot FILE.png|.svg|.pdf]
+-- > vprof check REQUEST PROFILE
+--
+-- REQUEST is a binary ProfileRequest (@.pb@, or any other extension) or its proto3 JSON
+-- form (@.json@). Exit codes: 0 legal and converged, 1 illegal, infeasible or not
+-- converged, 2 invalid input.
+module VProf.Cli.Profile
+  ( generateOptions
+  , checkCommand
+  , encodeCommand
+  , readRequest
+  , readProfile
+  ) where
+
+import Control.Exception (IOException, try)
+import qualified Data.Aeson as A
+import qualified Data.ByteString as B
+import qualified Data.ByteString.Lazy as BL
+import qualified Data.ByteString.Lazy.Char8 as BLC
+import Data.Char (toLower)
+import Data.ProtocolBuffers (getField)
+import qualified Data.Vector.Unboxed as U
+import Options.Applicative
+import System.Exit
+import System.FilePath (takeExtension)
+import System.IO
+
+import VProf.Profile.Generate
+import VProf.Profile.Format.Json
+import VProf.Profile.Legality
+import VProf.Profile.Format.Text
+import VProf.Plot.Profile
+import VProf.Profile.Sampled
+import VProf.Profile.Request
+import VProf.Units
+import VProf.Wire.Profile
+import VProf.Wire.Messages
+import VProf.Wire.Validate (MsgType (..), validateWire)
+
+data Format = FPb | FCsv | FJson | FTable deriving (Eq, Show)
+
+data GenOpts = GenOpts
+  { goRequest :: FilePath
+  , goFormat :: Maybe Format
+  , goOutput :: Maybe FilePath
+  , goPlot :: Maybe FilePath
+  , goAlgorithm :: Maybe Algorithm
+  , goBudget :: Maybe Double
+  }
+
+formatReader :: ReadM Format
+formatReader = eitherReader $ \s -> case map toLower s of
+  "pb" -> Right FPb
+  "csv" -> Right FCsv
+  "json" -> Right FJson
+  "table" -> Right FTable
+  _ -> Left ("--format: unknown format " ++ show s ++ " (pb, csv, json or table)")
+
+algorithmReader :: ReadM Algorithm
+algorithmReader = eitherReader $ \s -> case map toLower s of
+  "band" -> Right Band
+  "default" -> Right Band
+  "thesis" -> Right Thesis
+  _ -> Left ("--algorithm: unknown algorithm " ++ show s ++ " (band or thesis)")
+
+-- | The default command: generate a profile.
+generateOptions :: Parser (IO ExitCode)
+generateOptions = runGenerate <$> (GenOpts
+  <$> strArgument (metavar "REQUEST" <> help "a ProfileRequest: binary protobuf (.pb) or proto3 JSON (.json)")
+  <*> optional (option formatReader (long "format" <> short 'f' <> metavar "pb|csv|json|table"
+        <> help "write the profile in this format (default: from -o's extension, else only the summary)"))
+  <*> optional (strOption (long "output" <> short 'o' <> metavar "FILE" <> help "write the profile here instead of standard output"))
+  <*> optional (strOption (long "plot" <> metavar "FILE.png|.svg|.pdf" <> help "draw v, a, j and s over t with the speed limit"))
+  <*> optional (option algorithmReader (long "algorithm" <> metavar "band|thesis" <> help "override the request's algorithm"))
+  <*> optional (option auto (long "time-budget" <> metavar "SECONDS" <> help "override the request's time budget")))
+
+-- | Read a request file; Left is a message for the user.
+readRequest :: FilePath -> IO (Either String Request)
+readRequest path = do
+  r <- try (B.readFile path)
+  pure $ case r of
+    Left (e :: IOException) -> Left (path ++ ": " ++ show e)
+    Right bytes
+      | map toLower (takeExtension path) == ".json" ->
+          either (\e -> Left (path ++ ": not a valid JSON ProfileRequest: " ++ e)) Right (requestFromJson (BL.fromStrict bytes))
+      | otherwise -> case validateWire TProfileRequest bytes >> decodeBare bytes of
+          Left e -> Left (path ++ ": not a valid binary ProfileRequest: " ++ e)
+          Right m -> Right (requestFromMsg m)
+
+runGenerate :: GenOpts -> IO ExitCode
+runGenerate o = do
+  er <- readRequest (goRequest o)
+  case er of
+    Left e -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
+    Right rq0 -> do
+      let rq = rq0 { rqAlgorithm = maybe (rqAlgorithm rq0) id (goAlgorithm o)
+                   , rqTimeBudget = maybe (rqTimeBudget rq0) (Just . (*~ second)) (goBudget o) }
+      res <- generate rq
+      let fmt = case (goFormat o, goOutput o) of
+            (Just f, _) -> Just f
+            (Nothing, Just out) -> Just (formatFromExt out)
+            (Nothing, Nothing) -> Nothing
+          toStdout = goOutput o == Nothing && fmt /= Nothing
+          summaryHandle = if toStdout then stderr else stdout
+      hPutStr summaryHandle (summary res)
+      case (fmt, resOutcome res) of
+        (Just f, _) -> writeProfile f (goOutput o) res
+        _ -> pure ()
+      case (goPlot o, resProfile res, validate rq) of
+        (Just plotPath, Just p, Right pb) -> do
+          case plotFormat plotPath of
+            Left e -> hPutStrLn stderr ("vprof: " ++ e)
+            Right _ -> plotProfile plotPath "vprof velocity profile" pb p >> hPutStrLn summaryHandle ("plot:          " ++ plotPath)
+        _ -> pure ()
+      pure $ case resOutcome res of
+        Generated -> ExitSuccess
+        Failed (InvalidRequest _) -> ExitFailure 2
+        Failed _ -> ExitFailure 1
+
+formatFromExt :: FilePath -> Format
+formatFromExt path = case map toLower (takeExtension path) of
+  ".csv" -> FCsv
+  ".json" -> FJson
+  ".pb" -> FPb
+  ".bin" -> FPb
+  _ -> FTable
+
+writeProfile :: Format -> Maybe FilePath -> Result -> IO ()
+writeProfile f out res = case f of
+  FPb -> let bytes = encodeBare (resultToMsg 0 res) in maybe (B.hPut stdout bytes) (`B.writeFile` bytes) out
+  FJson -> let bytes = A.encode (profileToJson res) in maybe (BLC.putStrLn bytes) (`BL.writeFile` bytes) out
+  FCsv -> text (maybe "" csv (resProfile res))
+  FTable -> text (maybe "" table (resProfile res))
+  where text s = maybe (putStr s) (`writeFile` s) out
+
+-- | @vprof check REQUEST PROFILE@
+checkCommand :: Parser (IO ExitCode)
+checkCommand = runCheck
+  <$> strArgument (metavar "REQUEST" <> help "the request the profile answers (.pb or .json)")
+  <*> strArgument (metavar "PROFILE" <> help "the profile: CSV (t,s,v,a,j), JSON or binary ProfileResponse")
+
+runCheck :: FilePath -> FilePath -> IO ExitCode
+runCheck reqPath profPath = do
+  er <- readRequest reqPath
+  ep <- readProfile profPath
+  case (er, ep) of
+    (Left e, _) -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
+    (_, Left e) -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
+    (Right rq, Right (dt, vs)) -> case validate rq { rqTimeStep = Just (dt *~ second) } of
+      Left es -> mapM_ (hPutStrLn stderr . ("vprof: " ++) . renderFieldError) es >> pure (ExitFailure 2)
+      Right pb -> do
+        let p = Profile dt vs (pbA0 pb) (pbAEnd pb)
+            vio = check pb p
+        putStrLn (show (sampleCount p) ++ " samples, dt " ++ show dt ++ " s, duration " ++ show (duration p)
+                  ++ " s, final distance " ++ show (finalDistance p) ++ " m")
+        if null vio
+          then putStrLn "legal: no violations" >> pure ExitSuccess
+          else do
+            putStrLn ("illegal: " ++ show (length vio) ++ " violation(s)")
+            mapM_ (putStrLn . ("  " ++) . renderViolation) vio
+            pure (ExitFailure 1)
+
+-- | A profile file: the time step and the velocities.
+readProfile :: FilePath -> IO (Either String (Double, U.Vector Double))
+readProfile path = do
+  r <- try (B.readFile path)
+  pure $ case r of
+    Left (e :: IOException) -> Left (path ++ ": " ++ show e)
+    Right bytes -> case map toLower (takeExtension path) of
+      ".csv" -> fromColumns =<< parseCsv (BLC.unpack (BL.fromStrict bytes))
+      ".json" -> case A.eitherDecodeStrict bytes of
+        Left e -> Left (path ++ ": " ++ e)
+        Right (A.Object _) -> case A.eitherDecodeStrict bytes :: Either String ProfileJson of
+          Left e -> Left (path ++ ": " ++ e)
+          Right (ProfileJson ts vs) -> fromColumns (zip ts vs)
+        Right _ -> Left (path ++ ": expected a JSON object with time and velocity arrays")
+      _ -> case decodeBare bytes of
+        Left e -> Left (path ++ ": not a binary ProfileResponse: " ++ e)
+        Right m -> fromColumns (zip (getField (prsTime m)) (getField (prsVelocity m)))
+  where
+    parseCsv txt = case lines txt of
+      (hdr : rest) | takeWhile (/= ',') hdr == "t" ->
+        mapM parseRow (zip [2 :: Int ..] (filter (not . null) rest))
+      _ -> Left (path ++ ": expected a CSV header t,s,v,a,j")
+    parseRow (ln, row) = case splitOn ',' row of
+      (t : _ : v : _) -> case (reads t, reads v) of
+        ([(t', "")], [(v', "")]) -> Right (t', v')
+        _ -> Left (path ++ ":" ++ show ln ++ ": cannot read t and v from " ++ show row)
+      _ -> Left (path ++ ":" ++ show ln ++ ": expected 5 columns, got " ++ show row)
+    splitOn c s = case break (== c) s of
+      (a, _ : b) -> a : splitOn c b
+      (a, []) -> [a]
+    fromColumns :: [(Double, Double)] -> Either String (Double, U.Vector Double)
+    fromColumns rows = case rows of
+      ((t0, _) : (t1, _) : _) ->
+        let dt = t1 - t0
+            uneven = [ (k, t) | (k, (t, _)) <- zip [0 :: Int ..] rows, abs (t - (t0 + fromIntegral k * dt)) > 1e-9 * max 1 (abs t) ]
+        in if dt <= 0 then Left (path ++ ": times must increase")
+           else case uneven of
+             ((k, t) : _) -> Left (path ++ ": sample " ++ show k ++ " at t = " ++ show t ++ " is off the uniform time step " ++ show dt)
+             [] -> Right (dt, U.fromList (map snd rows))
+      [(_, v)] -> Right (1, U.singleton v)
+      [] -> Left (path ++ ": no samples")
+
+data ProfileJson = ProfileJson [Double] [Double]
+instance A.FromJSON ProfileJson where
+  parseJSON = A.withObject "profile" $ \o -> ProfileJson <$> o A..: "time" <*> o A..: "velocity"
+
+-- | @vprof encode REQUEST.json OUT.pb@: the binary form of a JSON request.
+encodeCommand :: Parser (IO ExitCode)
+encodeCommand = run
+  <$> strArgument (metavar "REQUEST" <> help "a ProfileRequest in JSON (or binary)")
+  <*> strArgument (metavar "OUT.pb" <> help "where to write the binary ProfileRequest")
+  <*> option auto (long "request-id" <> value 0 <> metavar "N" <> help "request_id to set")
+  where
+    run inp out rid = do
+      er <- readRequest inp
+      case er of
+        Left e -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
+        Right rq -> B.writeFile out (encodeBare (requestToMsg rid rq)) >> pure ExitSuccess

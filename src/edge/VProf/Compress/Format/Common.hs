@@ -1,0 +1,67 @@
+-- | Small helpers shared by the recording formats: data lines, numeric fields, the
+-- track they make, and one-pose-a-line output.
+module VProf.Compress.Format.Common
+  ( readDouble
+  , trackFromRows
+  , dataLines
+  , numberFields
+  , renderPoseLines
+  ) where
+
+import qualified Data.ByteString.Builder as BB
+import qualified Data.ByteString.Char8 as B
+import qualified Data.ByteString.Lazy as BL
+import Data.List (intercalate)
+import Numeric (showFFloat)
+import qualified Data.Text.Encoding as TE
+import qualified Data.Text.Read as TR
+import qualified Data.Vector.Unboxed as U
+
+import VProf.Compress.Types
+import VProf.Geometry.Vec
+
+-- | The recording made of parsed data lines (time, position, orientation); a problem
+-- with it names the format and counts samples by data line.
+trackFromRows :: String -> [(Double, P3, Q4)] -> Either String Track
+trackFromRows format rows =
+  case recordingFromArrays (U.fromList [t | (t, _, _) <- rows])
+                           (pfromList [p | (_, p, _) <- rows])
+                           (pfromList [q | (_, _, q) <- rows]) of
+    Left e -> Left (format ++ ": " ++ e ++ " (sample k is the k-th data line, counting from 0)")
+    Right (Recording tr) -> Right tr
+
+-- | A decimal number (optional sign, fraction, exponent) filling the whole string.
+readDouble :: B.ByteString -> Maybe Double
+readDouble s0 =
+  let s = B.strip s0
+      s' = case B.uncons s of
+        Just ('.', _) -> B.cons '0' s
+        Just ('-', r) | Just ('.', _) <- B.uncons r -> B.append (B.pack "-0") r
+        _ -> s
+  in case TR.double (TE.decodeLatin1 s') of
+       Right (d, rest) | rest == mempty, not (isNaN d || isInfinite d) -> Just d
+       _ -> Nothing
+
+-- | The data lines of a file with their numbers (from 1): each line stripped and cut of
+-- the leading characters @skip@ accepts; blank lines and lines starting with @#@ left out.
+dataLines :: (Char -> Bool) -> B.ByteString -> [(Int, B.ByteString)]
+dataLines skip src = [ (i, s) | (i, l) <- zip [1 ..] (B.lines src)
+                              , let s = B.dropWhile skip (B.strip l), not (B.null s), B.head s /= '#' ]
+
+-- | The fields of data line i as numbers; an error names the format, line and column.
+numberFields :: String -> Int -> [B.ByteString] -> Either String [Double]
+numberFields format i = traverse field . zip [1 :: Int ..]
+  where
+    field (c, w) = case readDouble w of
+      Just d -> Right d
+      Nothing -> Left (format ++ " line " ++ show i ++ ", column " ++ show c ++ ": not a number: " ++ show (B.unpack w))
+
+-- | One pose a line after a header line: the time (6 decimals), then the numbers @cols@
+-- makes of the position and orientation (9 decimals), separated by @sep@.
+renderPoseLines :: String -> String -> (P3 -> Q4 -> [Double]) -> Track -> BL.ByteString
+renderPoseLines header sep cols (Track ts ps qs) = BB.toLazyByteString $
+  BB.string7 header <> BB.char7 '\n' <>
+  mconcat [ line t p q | (t, p, q) <- zip3 (U.toList ts) (ptoList ps) (ptoList qs) ]
+  where
+    line t p q = BB.string7 (intercalate sep (showFFloat (Just 6) t "" : map num (cols p q))) <> BB.char7 '\n'
+    num v = showFFloat (Just 9) v ""

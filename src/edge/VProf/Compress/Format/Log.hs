@@ -1,0 +1,34 @@
+-- | The Polhemus-style CSV log of the thesis (figure 33, @lesLog.m@): one sample a line,
+-- comma-separated: time (ms), x, y, z (mm), quaternion w, x, y, z, then any further
+-- columns (ignored). Blank lines and lines starting with @#@ are skipped.
+module VProf.Compress.Format.Log
+  ( parseLog
+  , logTimeScale
+  ) where
+
+import qualified Data.ByteString.Char8 as B
+
+import VProf.Compress.Format.Common (dataLines, numberFields, trackFromRows)
+import VProf.Compress.Types
+import VProf.Geometry.Vec
+
+-- | Seconds per unit of the log's time column (the sensor writes milliseconds).
+logTimeScale :: Double
+logTimeScale = 1e-3
+
+parseLog :: B.ByteString -> Either String Track
+parseLog src = do
+  rows <- traverse row (dataLines (\c -> c == '|' || c == ' ') src)
+  trackFromRows "log" rows
+  where
+    row (i, l) =
+      let cols = map B.strip (B.split ',' l)
+      in if length cols < 8
+           then Left ("log line " ++ show i ++ ": expected at least 8 comma-separated numbers "
+                      ++ "(time ms, x y z mm, qw qx qy qz), got " ++ show (length cols))
+           else do
+             vs <- numberFields "log" i (take 8 cols)
+             case vs of
+               [t, x, y, z, qw, qx, qy, qz] ->
+                 Right (t * logTimeScale, P3 (x * 1e-3) (y * 1e-3) (z * 1e-3), Q4 qw qx qy qz)
+               _ -> Left "impossible"

@@ -1,0 +1,178 @@
+-- | ABB RAPID modules (thesis figures 34–35, @lesMod.m@ and @LagRapidBane.m@).
+--
+-- Reading: every @robtarget@ declaration (position in mm, orientation quaternion
+-- [q1 q2 q3 q4] = [w x y z]) and, in order, the @MoveL@ / @PaintL@ / @MoveJ@ instructions
+-- that use them; the @\\T:=@ of a move is the time it takes, so the waypoint times are the
+-- running sum (the first move starts at 0, or at the time in a @! vprof start time:@
+-- comment). Writing: one @CONST robtarget@ a waypoint and a @MoveL@ with @\\T:=@ for every
+-- segment, so that the recorded timing is kept.
+module VProf.Compress.Format.Rapid
+  ( RapidOptions (..)
+  , defaultRapidOptions
+  , parseRapid
+  , renderRapid
+  ) where
+
+import qualified Data.ByteString.Char8 as B
+import Data.Char (isAlphaNum, isSpace, toLower)
+import Data.List (isPrefixOf)
+import qualified Data.Map.Strict as M
+import qualified Data.Vector.Unboxed as U
+import Numeric (showFFloat)
+
+import VProf.Compress.Format.Common (readDouble)
+import VProf.Compress.Types
+import VProf.Geometry.Vec
+
+data RapidOptions = RapidOptions
+  { roModule :: !String   -- ^ module name
+  , roSpeed  :: !String   -- ^ speed data, e.g. v500 (the \T:= time overrides the speed)
+  , roZone   :: !String   -- ^ zone data, e.g. z10 or fine
+  , roTool   :: !String   -- ^ tool data name
+  , roWobj   :: !String   -- ^ work object name
+  } deriving (Show, Eq)
+
+defaultRapidOptions :: RapidOptions
+defaultRapidOptions = RapidOptions "VprofPath" "v500" "z10" "tool0" "wobj0"
+
+-- | One statement (up to ';') with the line it starts on; comments removed.
+statements :: String -> ([(Int, String)], Maybe Double)
+statements src = go (zip [1 ..] (lines src)) Nothing "" Nothing []
+  where
+    go [] _ _ st acc = (reverse acc, st)
+    go ((i, l) : rest) start cur st acc =
+      let (code, comment) = break (== '!') l
+          st' = case parseStart comment of
+                  Just t -> Just t
+                  Nothing -> st
+          -- MODULE, PROC, ENDPROC ... end without ';': a line starting with a keyword
+          -- begins a new statement
+          startsNew = case words (lower code) of
+            (w : _) -> w `elem` keywords
+            [] -> False
+          (start', cur', acc')
+            | startsNew && not (all isSpace cur) = (Nothing, "", (maybe i id start, trim cur) : acc)
+            | otherwise = (start, cur, acc)
+      in split i rest start' (cur' ++ " ") code st' acc'
+    keywords = [ "module", "endmodule", "proc", "endproc", "func", "endfunc", "trap", "endtrap"
+               , "local", "const", "pers", "var", "movel", "movej", "paintl", "moveabsj", "movec" ]
+    split i rest start cur code st acc =
+      case break (== ';') code of
+        (a, ';' : b) ->
+          let s0 = maybe i id start
+              stmt = trim (cur ++ a)
+          in split i rest Nothing "" b st (if null stmt then acc else (s0, stmt) : acc)
+        (a, _) ->
+          let cur' = cur ++ a
+              start' = if all isSpace cur' then Nothing else Just (maybe i id start)
+          in go rest start' cur' st acc
+    parseStart c =
+      let c' = dropWhile (\x -> x == '!' || isSpace x) c
+          key = "vprof start time:"
+      in if key `isPrefixOf` map toLower c'
+           then readDouble (B.pack (drop (length key) c'))
+           else Nothing
+
+trim :: String -> String
+trim = f . f where f = reverse . dropWhile isSpace
+
+lower :: String -> String
+lower = map toLower
+
+-- | Parse a module into a path (positions in m).
+parseRapid :: B.ByteString -> Either String Track
+parseRapid bs = do
+  let (stmts, startT) = statements (B.unpack bs)
+  targets <- M.fromList <$> traverse robtarget [ s | s@(_, x) <- stmts, "robtarget" `elem` words (lower (map sep x)) ]
+  let moves = [ s | s@(_, x) <- stmts, isMove x ]
+  if null moves then Left "RAPID: no MoveL/PaintL/MoveJ instruction found" else Right ()
+  steps <- traverse (move targets) (zip [0 :: Int ..] moves)
+  let times = scanl1 (+) (maybe 0 id startT : map fst (tail steps))
+      poses = map snd steps
+      ts = U.fromList times
+      ps = pfromList (map fst poses)
+      qs = pfromList (map snd poses)
+  case recordingFromArrays ts ps qs of
+    Left e -> Left ("RAPID: " ++ e ++ " (waypoint k is the k-th move, counting from 0)")
+    Right (Recording tr) -> Right tr
+  where
+    sep c = if c == ':' || c == '=' then ' ' else c
+    isMove x = case words x of
+      (w : _) -> lower w `elem` ["movel", "paintl", "movej"]
+      _ -> False
+    robtarget (ln, x) = do
+      let (lhs, rhs) = breakOn ":=" x
+          name = case reverse (words lhs) of
+            (n : _) -> n
+            [] -> ""
+      if null rhs then Left ("RAPID line " ++ show ln ++ ": robtarget " ++ name ++ " has no value") else Right ()
+      let nums = numbersIn (drop 2 rhs)
+      case nums of
+        Right (x1 : y1 : z1 : q1 : q2 : q3 : q4 : _) ->
+          Right (name, (P3 (x1 * 1e-3) (y1 * 1e-3) (z1 * 1e-3), Q4 q1 q2 q3 q4))
+        Right ns -> Left ("RAPID line " ++ show ln ++ ": robtarget " ++ name
+                          ++ " needs [[x,y,z],[q1,q2,q3,q4],...], found " ++ show (length ns) ++ " numbers")
+        Left bad -> Left ("RAPID line " ++ show ln ++ ": robtarget " ++ name ++ ": not a number: " ++ show bad)
+    move targets (k, (ln, x)) = do
+      let afterInstr = dropWhile isSpace (dropWhile (not . isSpace) x)
+          name = trim (takeWhile (/= ',') afterInstr)
+      pose <- maybe (Left ("RAPID line " ++ show ln ++ ": move to " ++ show name ++ ", which is not a declared robtarget")) Right
+                    (M.lookup name targets)
+      dt <- case breakOn "\\t:=" (lower x) of
+        (_, "") | k == 0 -> Right 0
+                | otherwise -> Left ("RAPID line " ++ show ln ++ ": move to " ++ name
+                                     ++ " has no \\T:= time; every move after the first needs one")
+        (pre, rest) ->
+          let numTxt = takeWhile (\c -> not (isSpace c) && c /= ',' && c /= '\\') (drop 4 rest)
+              _ = pre
+          in case readDouble (B.pack numTxt) of
+               Just d | d > 0 || k == 0 -> Right d
+               _ -> Left ("RAPID line " ++ show ln ++ ": move to " ++ name ++ ": \\T:= " ++ show numTxt
+                          ++ " is not a positive time")
+      Right (dt, pose)
+
+breakOn :: String -> String -> (String, String)
+breakOn pat = go ""
+  where
+    go acc s | pat `isPrefixOf` map toLower s = (reverse acc, s)
+             | otherwise = case s of
+                 [] -> (reverse acc, [])
+                 (c : cs) -> go (c : acc) cs
+
+-- | All numbers in a bracketed RAPID value (commas, brackets and whitespace separate).
+numbersIn :: String -> Either String [Double]
+numbersIn s = traverse num (wordsBy (\c -> c `elem` ",[]" || isSpace c) s)
+  where
+    num w = maybe (Left w) Right (readDouble (B.pack w))
+    wordsBy p str = case dropWhile p str of
+      "" -> []
+      str' -> let (w, rest) = break p str' in w : wordsBy p rest
+
+-- | A module with one robtarget a waypoint (mm) and timed MoveL instructions.
+renderRapid :: RapidOptions -> Track -> String
+renderRapid o (Track ts ps qs) = unlines $
+  [ "MODULE " ++ roModule o
+  , "  ! generated by vprof compress: " ++ show k ++ " waypoints"
+  , "  ! positions in mm, orientation quaternion [q1,q2,q3,q4] = [w,x,y,z]"
+  , "  ! vprof start time: " ++ fixed 6 (U.head ts)
+  ] ++
+  [ "  CONST robtarget " ++ nm j ++ " := [[" ++ commas (map (fixed 4 . (* 1000)) [x, y, z]) ++ "],["
+      ++ commas (map (fixed 9) [w, a, b, c]) ++ "],[0,0,0,0],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];"
+  | (j, P3 x y z, Q4 w a b c) <- zip3 [0 :: Int ..] (ptoList ps) (ptoList qs) ] ++
+  [ ""
+  , "  PROC main()"
+  ] ++
+  [ "    MoveL " ++ nm j ++ ", " ++ roSpeed o ++ timing j ++ ", " ++ roZone o ++ ", " ++ roTool o
+      ++ "\\WObj:=" ++ roWobj o ++ ";"
+  | j <- [0 .. k - 1] ] ++
+  [ "  ENDPROC"
+  , "ENDMODULE"
+  ]
+  where
+    k = U.length ts
+    nm j = "p" ++ show j
+    timing j | j == 0 = ""
+             | otherwise = "\\T:=" ++ fixed 6 (ts U.! j - ts U.! (j - 1))
+    commas = foldr1 (\a b -> a ++ "," ++ b)
+    fixed d v = showFFloat (Just d) v ""
+    _ = isAlphaNum

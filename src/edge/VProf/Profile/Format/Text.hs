@@ -1,0 +1,59 @@
+-- | Text renderings of a generated profile: the summary a person reads, CSV (columns
+-- exactly @t,s,v,a,j@, SI units, full precision) and an aligned table.
+module VProf.Profile.Format.Text
+  ( summary
+  , csv
+  , table
+  ) where
+
+import Data.List (intercalate)
+import qualified Data.Vector.Unboxed as U
+import Numeric (showFFloat)
+import Text.Printf (printf)
+
+import VProf.Profile.Generate
+import VProf.Profile.Legality
+import VProf.Profile.Sampled
+import VProf.Profile.Request (Algorithm (..))
+
+f3 :: Double -> String
+f3 x = showFFloat (Just 3) x ""
+
+summary :: Result -> String
+summary r = unlines $
+  [ "algorithm:     " ++ (case resAlgorithm r of Band -> "band"; Thesis -> "thesis") ]
+  ++ (case resProfile r of
+        Nothing -> []
+        Just p ->
+          [ "duration:      " ++ f3 (duration p) ++ " s"
+          , "distance:      " ++ showFFloat (Just 4) (finalDistance p) "" ++ " m"
+          , "samples:       " ++ show (sampleCount p) ++ " (dt " ++ show (prDt p) ++ " s, dv " ++ show (resVelStep r) ++ " m/s)"
+          , "peak speed:    " ++ f3 (peakVelocity p) ++ " m/s" ])
+  ++
+  [ "iterations:    " ++ show (resIterations r)
+  , "converged:     " ++ yn (resConverged r)
+  , "legal:         " ++ yn (resProfile r /= Nothing && null (resViolations r))
+  , "compute time:  " ++ showFFloat (Just 2) (resSeconds r * 1000) "" ++ " ms"
+  ]
+  ++ [ "violations:    " ++ show (length (resViolations r)) | not (null (resViolations r)) ]
+  ++ map (("  " ++) . renderViolation) (take 10 (resViolations r))
+  ++ (case resOutcome r of
+        Generated -> []
+        Failed f -> ["error:         " ++ renderFailure f])
+  where yn b = if b then "yes" else "no"
+
+rows :: Profile -> [(Double, Double, Double, Double, Double)]
+rows p = zip5 (U.toList (times p)) (U.toList (distances p)) (U.toList (prVelocities p))
+              (U.toList (accelerations p) ++ [prEndAcc p]) (U.toList (jerks p) ++ [0])
+  where
+    zip5 (a : as) (b : bs) (c : cs) (d : ds) (e : es) = (a, b, c, d, e) : zip5 as bs cs ds es
+    zip5 _ _ _ _ _ = []
+
+-- | CSV with a header @t,s,v,a,j@; doubles printed so that they read back exactly.
+csv :: Profile -> String
+csv p = unlines ("t,s,v,a,j" : [ intercalate "," (map show [t, s, v, a, j]) | (t, s, v, a, j) <- rows p ])
+
+table :: Profile -> String
+table p = unlines $
+  printf "%10s %12s %10s %10s %10s" ("t [s]" :: String) ("s [m]" :: String) ("v [m/s]" :: String) ("a [m/s2]" :: String) ("j [m/s3]" :: String)
+  : [ printf "%10.3f %12.4f %10.5f %10.5f %10.5f" t s v a j | (t, s, v, a, j) <- rows p ]

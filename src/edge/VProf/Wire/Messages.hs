@@ -1,0 +1,287 @@
+{-# LANGUAGE DataKinds #-}
+{-# LANGUAGE DeriveGeneric #-}
+-- | The Haskell side of @proto/vprof/v1/vprof.proto@, as records of Debian's @protobuf@
+-- package. Field numbers and types mirror the schema one to one; every proto3 scalar is
+-- 'Optional' (proto3 omits defaults, so an absent field means 0 / false / ""), repeated
+-- scalars are 'Packed'. Records list their fields in field-number order, which is the
+-- order the encoder writes them in, as protoc-generated code does.
+--
+-- Nothing here knows about units: "VProf.Wire.Profile" turns these records into the
+-- @dimensional@ domain types and back (the thesis's "message handler").
+module VProf.Wire.Messages
+  ( -- * Velocity profiles
+    SpeedLimitMsg (..)
+  , ProfileRequestMsg (..)
+  , ErrorMsg (..)
+  , ViolationMsg (..)
+  , ProfileResponseMsg (..)
+  , AlgorithmEnum (..)
+  , ErrorCodeEnum (..)
+    -- * Path compression
+  , PosesMsg (..)
+  , CompressRequestMsg (..)
+  , CompressMetricsMsg (..)
+  , CompressedPathMsg (..)
+  , CompressMethodEnum (..)
+    -- * Daemon envelope
+  , PingMsg (..)
+  , PongMsg (..)
+  , RequestMsg (..)
+  , ResponseMsg (..)
+    -- * Encoding helpers
+  , encodeBare
+  , decodeBare
+  , nonDefault
+  , orDefault
+  , Monoid' (..)
+  , enumField
+  , getEnum
+  ) where
+
+import Data.ByteString (ByteString)
+import Data.Int (Int32)
+import Data.ProtocolBuffers
+import Data.Serialize (runGet, runPut)
+import Data.Text (Text)
+import Data.Word (Word32, Word64)
+import GHC.Generics (Generic)
+
+-- | Encode one bare message (no length prefix).
+encodeBare :: Encode a => a -> ByteString
+encodeBare = runPut . encodeMessage
+
+-- | Decode one bare message (no length prefix).
+decodeBare :: Decode a => ByteString -> Either String a
+decodeBare = runGet decodeMessage
+
+-- | proto3 writes a scalar only when it is not the default; so do we, so that
+-- our bytes equal protoc's.
+nonDefault :: (Eq a, Monoid' a) => a -> Maybe a
+nonDefault x = if isZero' x then Nothing else Just x
+
+-- | An absent proto3 scalar is its default.
+orDefault :: Monoid' a => Maybe a -> a
+orDefault = maybe zero' id
+
+-- | The defaults of proto3 scalars.
+class Eq a => Monoid' a where
+  zero' :: a
+  -- | Is this the value proto3 leaves out? For doubles, -0.0 is not: protoc writes it.
+  isZero' :: a -> Bool
+  isZero' = (== zero')
+instance Monoid' Double where
+  zero' = 0
+  isZero' x = x == 0 && not (isNegativeZero x)
+instance Monoid' Word32 where zero' = 0
+instance Monoid' Word64 where zero' = 0
+instance Monoid' Int32 where zero' = 0
+instance Monoid' Bool where zero' = False
+instance Monoid' Text where zero' = mempty
+
+-- | An enum field: absent when it is the zero value, as proto3 writes it.
+enumField :: (Enum e) => e -> Maybe e
+enumField e = if fromEnum e == 0 then Nothing else Just e
+
+-- | Read an enum field; absent means the zero value.
+getEnum :: (Enum e) => Maybe e -> e
+getEnum = maybe (toEnum 0) id
+
+----------------------------------------------------------------------------- enums
+-- Constructors are in wire-number order starting at 0, so 'fromEnum' is the wire number.
+-- A number this version does not know decodes to the catch-all (see each 'Enum').
+
+data AlgorithmEnum = AlgorithmDefault | AlgorithmBand | AlgorithmThesis
+  deriving (Eq, Show, Bounded)
+
+instance Enum AlgorithmEnum where
+  fromEnum AlgorithmDefault = 0
+  fromEnum AlgorithmBand = 1
+  fromEnum AlgorithmThesis = 2
+  toEnum 1 = AlgorithmBand
+  toEnum 2 = AlgorithmThesis
+  toEnum _ = AlgorithmDefault
+
+data ErrorCodeEnum
+  = ErrUnspecified | ErrInvalidArgument | ErrInfeasible | ErrNotConverged
+  | ErrMalformed | ErrFrameTooLarge | ErrUnsupported | ErrInternal
+  deriving (Eq, Show, Bounded, Enum)
+
+data CompressMethodEnum = CompressDefault | CompressThesis | CompressRdp
+  deriving (Eq, Show, Bounded)
+
+instance Enum CompressMethodEnum where
+  fromEnum CompressDefault = 0
+  fromEnum CompressThesis = 1
+  fromEnum CompressRdp = 2
+  toEnum 1 = CompressThesis
+  toEnum 2 = CompressRdp
+  toEnum _ = CompressDefault
+
+----------------------------------------------------------------------------- profiles
+
+data SpeedLimitMsg = SpeedLimitMsg
+  { slStartDistance :: Optional 1 (Value Double)
+  , slVelocity      :: Optional 2 (Value Double)
+  } deriving (Generic, Show, Eq)
+instance Encode SpeedLimitMsg
+instance Decode SpeedLimitMsg
+
+data ProfileRequestMsg = ProfileRequestMsg
+  { prqRequestId         :: Optional 1 (Value Word64)
+  , prqRouteLength       :: Optional 2 (Value Double)
+  , prqSpeedLimits       :: Repeated 3 (Message SpeedLimitMsg)
+  , prqMinAcceleration   :: Optional 4 (Value Double)
+  , prqMaxAcceleration   :: Optional 5 (Value Double)
+  , prqMinJerk           :: Optional 6 (Value Double)
+  , prqMaxJerk           :: Optional 7 (Value Double)
+  , prqStartVelocity     :: Optional 8 (Value Double)
+  , prqStartAcceleration :: Optional 9 (Value Double)
+  , prqEndVelocity       :: Optional 10 (Value Double)
+  , prqEndAcceleration   :: Optional 11 (Value Double)
+  , prqTimeStep          :: Optional 12 (Value Double)
+  , prqVelocityStep      :: Optional 13 (Value Double)
+  , prqMaxIterations     :: Optional 14 (Value Word32)
+  , prqTimeBudget        :: Optional 15 (Value Double)
+  , prqEndTolerance      :: Optional 16 (Value Double)
+  , prqAlgorithm         :: Optional 17 (Enumeration AlgorithmEnum)
+  } deriving (Generic, Show, Eq)
+instance Encode ProfileRequestMsg
+instance Decode ProfileRequestMsg
+
+data ErrorMsg = ErrorMsg
+  { errCode    :: Optional 1 (Enumeration ErrorCodeEnum)
+  , errField   :: Optional 2 (Value Text)
+  , errMessage :: Optional 3 (Value Text)
+  } deriving (Generic, Show, Eq)
+instance Encode ErrorMsg
+instance Decode ErrorMsg
+
+data ViolationMsg = ViolationMsg
+  { vioRule    :: Optional 1 (Value Text)
+  , vioSample  :: Optional 2 (Value Word32)
+  , vioValue   :: Optional 3 (Value Double)
+  , vioLimit   :: Optional 4 (Value Double)
+  , vioMessage :: Optional 5 (Value Text)
+  } deriving (Generic, Show, Eq)
+instance Encode ViolationMsg
+instance Decode ViolationMsg
+
+data ProfileResponseMsg = ProfileResponseMsg
+  { prsRequestId    :: Optional 1 (Value Word64)
+  , prsTimeStep     :: Optional 2 (Value Double)
+  , prsVelocityStep :: Optional 3 (Value Double)
+  , prsTime         :: Packed 4 (Value Double)
+  , prsDistance     :: Packed 5 (Value Double)
+  , prsVelocity     :: Packed 6 (Value Double)
+  , prsAcceleration :: Packed 7 (Value Double)
+  , prsJerk         :: Packed 8 (Value Double)
+  , prsIterations   :: Optional 9 (Value Word32)
+  , prsConverged    :: Optional 10 (Value Bool)
+  , prsLegal        :: Optional 11 (Value Bool)
+  , prsComputeTime  :: Optional 12 (Value Double)
+  , prsViolations   :: Repeated 13 (Message ViolationMsg)
+  , prsError        :: Optional 14 (Message ErrorMsg)
+  , prsErrors       :: Repeated 15 (Message ErrorMsg)
+  , prsDuration     :: Optional 16 (Value Double)
+  , prsAlgorithm    :: Optional 17 (Enumeration AlgorithmEnum)
+  } deriving (Generic, Show, Eq)
+instance Encode ProfileResponseMsg
+instance Decode ProfileResponseMsg
+
+----------------------------------------------------------------------------- compression
+
+data PosesMsg = PosesMsg
+  { posTime :: Packed 1 (Value Double)
+  , posX    :: Packed 2 (Value Double)
+  , posY    :: Packed 3 (Value Double)
+  , posZ    :: Packed 4 (Value Double)
+  , posQw   :: Packed 5 (Value Double)
+  , posQx   :: Packed 6 (Value Double)
+  , posQy   :: Packed 7 (Value Double)
+  , posQz   :: Packed 8 (Value Double)
+  } deriving (Generic, Show, Eq)
+instance Encode PosesMsg
+instance Decode PosesMsg
+
+data CompressRequestMsg = CompressRequestMsg
+  { crqRequestId         :: Optional 1 (Value Word64)
+  , crqRecording         :: Optional 2 (Message PosesMsg)
+  , crqMethod            :: Optional 3 (Enumeration CompressMethodEnum)
+  , crqPoints            :: Optional 4 (Value Word32)
+  , crqMargin            :: Optional 5 (Value Double)
+  , crqTolerance         :: Optional 6 (Value Double)
+  , crqWeightPosition    :: Optional 7 (Value Double)
+  , crqWeightOrientation :: Optional 8 (Value Double)
+  , crqWeightVelocity    :: Optional 9 (Value Double)
+  } deriving (Generic, Show, Eq)
+instance Encode CompressRequestMsg
+instance Decode CompressRequestMsg
+
+data CompressMetricsMsg = CompressMetricsMsg
+  { cmPositionSse      :: Optional 1 (Value Double)
+  , cmPositionRmse     :: Optional 2 (Value Double)
+  , cmPositionMean     :: Optional 3 (Value Double)
+  , cmPositionMax      :: Optional 4 (Value Double)
+  , cmOrientationRmse  :: Optional 5 (Value Double)
+  , cmOrientationMean  :: Optional 6 (Value Double)
+  , cmOrientationMax   :: Optional 7 (Value Double)
+  , cmVelocityRmse     :: Optional 8 (Value Double)
+  , cmVelocityMean     :: Optional 9 (Value Double)
+  , cmVelocityMax      :: Optional 10 (Value Double)
+  , cmGeometricRmse    :: Optional 11 (Value Double)
+  , cmGeometricMax     :: Optional 12 (Value Double)
+  , cmLengthRatio      :: Optional 13 (Value Double)
+  , cmOrientationRatio :: Optional 14 (Value Double)
+  , cmPoints           :: Optional 15 (Value Word32)
+  , cmSamples          :: Optional 16 (Value Word32)
+  , cmReduction        :: Optional 17 (Value Double)
+  } deriving (Generic, Show, Eq)
+instance Encode CompressMetricsMsg
+instance Decode CompressMetricsMsg
+
+data CompressedPathMsg = CompressedPathMsg
+  { cpRequestId   :: Optional 1 (Value Word64)
+  , cpPath        :: Optional 2 (Message PosesMsg)
+  , cpMetrics     :: Optional 3 (Message CompressMetricsMsg)
+  , cpComputeTime :: Optional 4 (Value Double)
+  , cpError       :: Optional 5 (Message ErrorMsg)
+  } deriving (Generic, Show, Eq)
+instance Encode CompressedPathMsg
+instance Decode CompressedPathMsg
+
+----------------------------------------------------------------------------- envelope
+
+data PingMsg = PingMsg
+  { pingPayload :: Optional 1 (Value Text)
+  } deriving (Generic, Show, Eq)
+instance Encode PingMsg
+instance Decode PingMsg
+
+data PongMsg = PongMsg
+  { pongPayload :: Optional 1 (Value Text)
+  , pongVersion :: Optional 2 (Value Text)
+  } deriving (Generic, Show, Eq)
+instance Encode PongMsg
+instance Decode PongMsg
+
+-- | @oneof body@ is, on the wire, a set of optional fields of which at most one is present;
+-- the Haskell package has no oneof, so the envelope keeps them as optional fields and
+-- "VProf.Wire.Envelope" enforces "exactly one".
+data RequestMsg = RequestMsg
+  { reqRequestId :: Optional 1 (Value Word64)
+  , reqProfile   :: Optional 2 (Message ProfileRequestMsg)
+  , reqCompress  :: Optional 3 (Message CompressRequestMsg)
+  , reqPing      :: Optional 4 (Message PingMsg)
+  } deriving (Generic, Show, Eq)
+instance Encode RequestMsg
+instance Decode RequestMsg
+
+data ResponseMsg = ResponseMsg
+  { rspRequestId  :: Optional 1 (Value Word64)
+  , rspProfile    :: Optional 2 (Message ProfileResponseMsg)
+  , rspCompressed :: Optional 3 (Message CompressedPathMsg)
+  , rspPong       :: Optional 4 (Message PongMsg)
+  , rspError      :: Optional 5 (Message ErrorMsg)
+  } deriving (Generic, Show, Eq)
+instance Encode ResponseMsg
+instance Decode ResponseMsg
