@@ -1,30 +1,4 @@
 -- | The @vprof@ executable: a thin shell over the library's commands.
 module Main (main) where
 
-import Options.Applicative
-import System.Exit
-
-import VProf.Cli.Compress (compressCommand)
-import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
-import VProf.Cli.Serve (serveCommand)
-import VProf.Service (handleRequest, version)
-import VProf.Wire.Compress (serveCompress)
-
-main :: IO ()
-main = do
-  action <- customExecParser (prefs showHelpOnEmpty) (info (commands <**> helper <**> versionFlag) desc)
-  action >>= exitWith
-  where
-    versionFlag = infoOption version (long "version" <> help "print the version")
-    desc = fullDesc
-      <> failureCode 2
-      <> header "vprof - jerk-limited velocity profiles and path compression for robot automation stacks"
-      <> progDesc "vprof REQUEST generates a velocity profile from a ProfileRequest (.pb or .json). \
-                  \Exit codes: 0 ok, 1 illegal/infeasible/not converged, 2 invalid input."
-    commands = hsubparser
-      ( command "generate" (info generateOptions (progDesc "Generate a velocity profile (the default command)"))
-     <> command "check" (info checkCommand (progDesc "Check a profile (CSV, JSON or pb) against a request; exit 1 on any violation"))
-     <> command "encode" (info encodeCommand (progDesc "Write the binary protobuf form of a (JSON) ProfileRequest"))
-     <> command "compress" (info compressCommand (progDesc "Compress a recorded 6-DOF motion into a few timed straight moves"))
-     <> command "serve" (info (serveCommand (handleRequest serveCompress)) (progDesc "Serve length-delimited Request/Response messages over TCP or --stdio"))
-      ) <|> generateOptions
+import VProf.Cli (main)

@@ -1,7 +1,7 @@
 {-# LANGUAGE OverloadedStrings #-}
 -- | Robustness of the daemon, parameterised by the request handler so that the same tests
--- run against the test handler (this branch) and against @VProf.Service.handleRequest@
--- (after the merge: @robustnessSpec (HandlerUnderTest handleRequest True)@).
+-- run against the test handler ("VProf.TestHandler") and against the real one
+-- ("VProf.Service"'s 'VProf.Service.service').
 --
 -- Every test abuses an in-process server on a free loopback port and then checks that it
 -- still answers a valid ping and a valid profile request correctly.
@@ -31,7 +31,7 @@ import VProf.Wire.Framing
 import VProf.Wire.Messages
 
 data HandlerUnderTest = HandlerUnderTest
-  { hutHandler :: RequestMsg -> IO ResponseMsg
+  { hutHandler :: Handler
   , hutReal    :: Bool  -- ^ the real generator: also check what only it can answer
   }
 

@@ -4,7 +4,7 @@ module VProf.ServerSpec (spec) where
 
 import Control.Concurrent
 import Control.Concurrent.Async
-import Control.Exception
+import Control.Exception hiding (Handler)
 import Control.Monad
 import Data.IORef
 import qualified Data.ByteString as B
@@ -18,16 +18,28 @@ import VProf.Robustness
 import VProf.Server
 import VProf.TestClient
 import VProf.TestHandler
-import VProf.Wire.Envelope (classify, Incoming (..), pongResponse, requestIdOf)
+import VProf.Wire.Envelope (Incoming (..), pongResponse)
 import VProf.Wire.Framing (FrameResult (..), frame)
 import VProf.Wire.Messages
 
 -- | A handler that counts how many calls run at once.
-countingHandler :: IORef (Int, Int) -> Double -> RequestMsg -> IO ResponseMsg
-countingHandler ref secs req = do
+countingHandler :: IORef (Int, Int) -> Double -> Handler
+countingHandler ref secs = testHandler { handlerAnswer = \rid inc -> do
   atomicModifyIORef' ref (\(cur, hi) -> ((cur + 1, max hi (cur + 1)), ()))
   threadDelay (round (secs * 1e6)) `finally` atomicModifyIORef' ref (\(cur, hi) -> ((cur - 1, hi), ()))
-  testHandler req
+  testAnswer rid inc }
+
+-- | The test handler, but with this answer for profile bodies and the time limit a profile
+-- request's own budget gives.
+onProfile :: (Word64 -> IO ResponseMsg) -> Handler
+onProfile f = Handler answer limit
+  where
+    answer rid = \case
+      InProfile _ -> f rid
+      inc -> testAnswer rid inc
+    limit = \case
+      InProfile p -> orDefault (getField (prqTimeBudget p))
+      inc -> handlerTimeLimit testHandler inc
 
 spec :: Spec
 spec = do
@@ -44,9 +56,7 @@ spec = do
 
   describe "hard timeout" $
     it "answers INTERNAL after time_budget + grace and stays usable" $ do
-      let stuck req = case classify req of
-            Right (InProfile _) -> forever (threadDelay 1000000) >> testHandler req
-            _ -> testHandler req
+      let stuck = onProfile (\rid -> forever (threadDelay 1000000) >> testAnswer rid (InPing (PingMsg (putField Nothing))))
       withServer quietConfig { cfgGrace = 0.3, cfgWorkers = 1 } stuck $ \s -> withClient (serverPort s) $ \c -> do
         t0 <- getMonotonicTime
         let p = (simpleProfileRequest 3) { prqTimeBudget = putField' 0.2 }
@@ -60,9 +70,7 @@ spec = do
 
   describe "handler failures" $ do
     it "answers INTERNAL when the handler throws, and the connection lives on" $ do
-      let bad req = case classify req of
-            Right (InProfile _) -> throwIO (userError "boom")
-            _ -> testHandler req
+      let bad = onProfile (\_ -> throwIO (userError "boom"))
       withServer quietConfig bad $ \s -> withClient (serverPort s) $ \c -> do
         r <- roundTrip c (profileMsg 8 (simpleProfileRequest 8))
         fst <$> errorOf r `shouldBe` Just ErrInternal
@@ -70,14 +78,14 @@ spec = do
         r2 <- roundTrip c (pingMsg 9 "p")
         orDefault (getField (rspRequestId r2)) `shouldBe` (9 :: Word64)
     it "answers INTERNAL when the response hides an exception in a lazy field" $ do
-      let lazyBad req = pure (pongResponse (requestIdOf req) (error "lazy bomb") "v")
+      let lazyBad = testHandler { handlerAnswer = \rid _ -> pure (pongResponse rid (error "lazy bomb") "v") }
       withServer quietConfig lazyBad $ \s -> withClient (serverPort s) $ \c -> do
         r <- roundTrip c (pingMsg 10 "p")
         fst <$> errorOf r `shouldBe` Just ErrInternal
         r2 <- roundTrip c (pingMsg 11 "p")
         fst <$> errorOf r2 `shouldBe` Just ErrInternal  -- same handler, still answered
     it "echoes the envelope's request_id even when the handler does not" $ do
-      let forgetful req = testHandler req >>= \r -> pure r { rspRequestId = putField' 0 `asTypeOf` rspRequestId r }
+      let forgetful = testHandler { handlerAnswer = \rid inc -> testAnswer rid inc >>= \r -> pure r { rspRequestId = putField' 0 `asTypeOf` rspRequestId r } }
       withServer quietConfig forgetful $ \s -> withClient (serverPort s) $ \c -> do
         r <- roundTrip c (pingMsg 12345678901234 "p")
         orDefault (getField (rspRequestId r)) `shouldBe` (12345678901234 :: Word64)

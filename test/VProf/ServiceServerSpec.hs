@@ -4,7 +4,7 @@ module VProf.ServiceServerSpec (spec) where
 import Test.Hspec
 
 import VProf.Robustness
-import VProf.Service (handleRequest, unsupportedCompress)
+import VProf.Service (service)
 
 spec :: Spec
-spec = robustnessSpec (HandlerUnderTest (handleRequest unsupportedCompress) True)
+spec = robustnessSpec (HandlerUnderTest service True)

@@ -1,11 +1,12 @@
 {-# LANGUAGE OverloadedStrings #-}
--- | Request handlers for the daemon's own tests (the real one is VProf.Service after the
--- merge). 'testHandler': ping -> pong echoing the payload (a payload @sleep:SECONDS@ makes
+-- | A request handler for the daemon's own tests, apart from the real one in
+-- "VProf.Service". 'testHandler': ping -> pong echoing the payload (a payload @sleep:SECONDS@ makes
 -- it sleep first, for drain tests); profile -> a trivial ProfileResponse echoing
 -- request_id (no samples: it is NOT a generator); compress -> CompressedPath with Error
 -- UNSUPPORTED.
 module VProf.TestHandler
   ( testHandler
+  , testAnswer
   , pingMsg
   , profileMsg
   , requestWith
@@ -18,20 +19,23 @@ import Data.Text (Text)
 import qualified Data.Text as T
 import Data.Word (Word64)
 
+import VProf.Server (Handler (..))
 import VProf.Wire.Envelope
 import VProf.Wire.Messages
 
-testHandler :: RequestMsg -> IO ResponseMsg
-testHandler req = case classify req of
-  Left e -> pure (errorResponse rid (getEnum (getField (errCode e)))
-                    (orDefault (getField (errField e))) (orDefault (getField (errMessage e))))
-  Right (InPing p) -> do
+-- | The stub as a server 'Handler', with a time limit of a second for every body.
+testHandler :: Handler
+testHandler = Handler testAnswer (const 1)
+
+testAnswer :: Word64 -> Incoming -> IO ResponseMsg
+testAnswer rid = \case
+  InPing p -> do
     let payload = orDefault (getField (pingPayload p)) :: Text
     case T.stripPrefix "sleep:" payload of
       Just s | [(secs, "")] <- reads (T.unpack s) -> threadDelay (round ((secs :: Double) * 1e6))
       _ -> pure ()
     pure (pongResponse rid payload "stub")
-  Right (InProfile p) -> pure . profileResponse rid $ ProfileResponseMsg
+  InProfile p -> pure . profileResponse rid $ ProfileResponseMsg
     { prsRequestId = putField (getField (prqRequestId p))
     , prsTimeStep = putField (Just 0.125)
     , prsVelocityStep = putField Nothing
@@ -47,12 +51,11 @@ testHandler req = case classify req of
     , prsDuration = putField Nothing
     , prsAlgorithm = putField (enumField AlgorithmBand)
     }
-  Right (InCompress c) -> pure . compressedResponse rid $ CompressedPathMsg
+  InCompress c -> pure . compressedResponse rid $ CompressedPathMsg
     { cpRequestId = putField (getField (crqRequestId c))
     , cpPath = putField Nothing, cpMetrics = putField Nothing, cpComputeTime = putField Nothing
     , cpError = putField (Just (mkError ErrUnsupported "compress" "the test handler does not compress"))
     }
-  where rid = requestIdOf req
 
 -- | An envelope with the given bodies set.
 requestWith :: Word64 -> Maybe ProfileRequestMsg -> Maybe CompressRequestMsg -> Maybe PingMsg -> RequestMsg

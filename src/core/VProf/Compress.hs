@@ -8,6 +8,7 @@ module VProf.Compress
   , Outcome (..)
   , compress
   , validateSettings
+  , module VProf.Validation
   , module VProf.Compress.Types
   , module VProf.Compress.Metrics
   ) where
@@ -21,6 +22,7 @@ import VProf.Compress.Metrics
 import VProf.Compress.Objective
 import VProf.Compress.Rdp
 import VProf.Compress.Types
+import VProf.Validation
 
 data Method = MethodThesis | MethodRdp deriving (Show, Eq)
 
@@ -43,35 +45,35 @@ data Outcome = Outcome
   , oStop        :: !String     -- ^ why the point count stopped where it did
   } deriving (Show)
 
--- | Check settings against a recording of n samples; errors name the setting and value.
-validateSettings :: Int -> Settings -> Either (String, String) ()
-validateSettings n s = do
-  let Weights p o v = sWeights s
-      chk name ok val msg = if ok then Right () else Left (name, name ++ " = " ++ val ++ ": " ++ msg)
-      finite x = not (isNaN x || isInfinite x)
-  chk "weights" (all (\x -> finite x && x >= 0) [p, o, v]) (show (p, o, v)) "weights must be finite and >= 0"
-  chk "weights" (p > 0 || v > 0) (show (p, o, v)) "the position or the velocity weight must be > 0"
-  case sPoints s of
-    Just k -> chk "points" (k >= 2 && k <= n) (show k) ("must be between 2 and the number of samples (" ++ show n ++ ")")
-    Nothing -> Right ()
-  case sMargin s of
-    Just m -> do
-      chk "margin" (finite m && m >= 1) (show m) "must be a number >= 1"
-      chk "margin" (sMethod s == MethodThesis) (show m) "only the thesis method has a margin"
-    Nothing -> Right ()
-  case fmap (/~ metre) (sTolerance s) of
-    Just t -> chk "tolerance" (finite t && t > 0) (show t) "must be > 0"
-    Nothing -> Right ()
+-- | Check settings against a recording of n samples: every problem at once, in SI and
+-- in the core's field names (@weights.position@, @weights.orientation@,
+-- @weights.velocity@, @weights@, @points@, @margin@, @tolerance@); an interface
+-- re-expresses them in its own names and units with 'inUserTerms'.
+validateSettings :: Int -> Settings -> [FieldError]
+validateSettings n s = concat
+  [ concat [ ensureFinite f w "" (ensure (w >= 0) (fieldError f w "" "must be >= 0"))
+           | (f, w) <- [("weights.position", p), ("weights.orientation", o), ("weights.velocity", v)] ]
+  , ensure (not (all finite [p, v]) || p > 0 || v > 0)
+      (literalError "weights" (show (p, o, v)) "the position or the velocity weight must be > 0")
+  , case sPoints s of
+      Just k -> ensure (k >= 2 && k <= n)
+                  (fieldError "points" (fromIntegral k) "" ("must be between 2 and the number of samples, " ++ show n))
+      Nothing -> []
+  , case sMargin s of
+      Just m -> ensureFinite "margin" m "" $ concat
+        [ ensure (m >= 1) (fieldError "margin" m "" "must be a number >= 1")
+        , ensure (sMethod s == MethodThesis) (fieldError "margin" m "" "only the thesis method has a margin") ]
+      Nothing -> []
+  , case fmap (/~ metre) (sTolerance s) of
+      Just t -> ensureFinite "tolerance" t "m" (ensure (t > 0) (fieldError "tolerance" t "m" "must be > 0"))
+      Nothing -> []
+  ]
+  where Weights p o v = sWeights s
 
 -- | Compress a recording. For RDP, a tolerance is the classic RDP epsilon (geometric
 -- distance); for the thesis method it bounds the time-synchronous position error.
-compress :: Settings -> Recording -> Either (String, String) Outcome
-compress s rec = do
-  let pr = prepare rec
-      tolM = fmap (/~ metre) (sTolerance s)
-      n = U.length (prT pr)
-  validateSettings n s
-  pure $ case sMethod s of
+compress :: Settings -> Recording -> Either [FieldError] Outcome
+compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
     MethodThesis ->
       let cfg = defaultFitConfig { fcWeights = sWeights s, fcPoints = sPoints s
                                  , fcMargin = sMargin s, fcTolerance = tolM }
@@ -86,4 +88,8 @@ compress s rec = do
           pa = rdpPath pr stop
           m = computeMetrics pr pa
           tolOk = maybe True (\e -> mGeometricMax m <= e + 1e-12) tolM
-      in Outcome (fromPathA pa) m tolOk (totalCost pr (sWeights s) pa) (show stop)
+      in Outcome (fromPathA pa) m tolOk (totalCost pr (sWeights s) pa) (show stop))
+  where
+    pr = prepare rec
+    tolM = fmap (/~ metre) (sTolerance s)
+    n = U.length (prT pr)

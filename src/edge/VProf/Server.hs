@@ -4,15 +4,17 @@
 --
 -- Every message on the stream is a length-delimited @vprof.v1.Request@ (see
 -- "VProf.Wire.Framing"); every request is answered by one @vprof.v1.Response@, in order,
--- echoing its @request_id@. The server knows nothing about velocity profiles: it takes the
--- request handler as a parameter (after the merge, @VProf.Service.handleRequest@).
+-- echoing its @request_id@. The server knows nothing about what the bodies ask: it
+-- decodes and classifies each request ("VProf.Wire.Envelope") and hands the one body to a
+-- 'Handler' (the real one is "VProf.Service"'s), which also says how long that body may
+-- take.
 --
 -- What the server guarantees whatever the handler or the clients do:
 --
 -- * at most 'cfgWorkers' handler calls run at once (a semaphore), so generation never takes
 --   every CPU of the robot computer;
--- * every handler call is guarded by a hard timeout (the request's @time_budget@, default
---   1 s, plus 'cfgGrace'); past it the client gets Error INTERNAL instead of a hang;
+-- * every handler call is guarded by a hard timeout (the handler's 'handlerTimeLimit' for
+--   the body, plus 'cfgGrace'); past it the client gets Error INTERNAL instead of a hang;
 -- * a handler exception (or a response that cannot be encoded) is answered with
 --   Error INTERNAL; the connection and the daemon live on;
 -- * a length prefix above 'cfgMaxFrameBytes' is answered with FRAME_TOO_LARGE and the
@@ -24,7 +26,7 @@
 -- * 'stopServer' (SIGTERM / SIGINT in 'serve') stops accepting, lets every request whose
 --   bytes have started to arrive finish and be answered, then returns.
 module VProf.Server
-  ( Handler
+  ( Handler (..)
   , ServerConfig (..)
   , defaultServerConfig
   , resolveWorkers
@@ -66,9 +68,16 @@ import System.Timeout (timeout)
 import VProf.Wire.Envelope
 import VProf.Wire.Framing
 import VProf.Wire.Messages
+import VProf.Version (versionString)
 import VProf.Wire.Validate (MsgType (TRequest), validateWire)
 
-type Handler = RequestMsg -> IO ResponseMsg
+-- | What the server runs for one classified request body.
+data Handler = Handler
+  { handlerAnswer    :: Word64 -> Incoming -> IO ResponseMsg
+    -- ^ the envelope's request_id and its one body
+  , handlerTimeLimit :: Incoming -> Double
+    -- ^ seconds the body may take; the hard timeout adds 'cfgGrace'
+  }
 
 data ServerConfig = ServerConfig
   { cfgHost           :: String  -- ^ default 127.0.0.1
@@ -77,8 +86,7 @@ data ServerConfig = ServerConfig
   , cfgMaxFrameBytes  :: Int     -- ^ default 4 MiB
   , cfgIdleTimeout    :: Double  -- ^ s; 0 or less means never
   , cfgQuiet          :: Bool    -- ^ no per-request log lines
-  , cfgGrace          :: Double  -- ^ s added to a request's time budget for the hard timeout
-  , cfgCompressTimeout :: Double -- ^ s, budget of a compress request (it has no time_budget)
+  , cfgGrace          :: Double  -- ^ s added to the handler's time limit for the hard timeout
   , cfgMaxConnections :: Int     -- ^ connections served at once; more wait in the backlog
   , cfgVersion        :: Text    -- ^ for logs
   } deriving (Show)
@@ -92,9 +100,8 @@ defaultServerConfig = ServerConfig
   , cfgIdleTimeout = 60
   , cfgQuiet = False
   , cfgGrace = 5
-  , cfgCompressTimeout = 60
   , cfgMaxConnections = 256
-  , cfgVersion = "0.1.0"
+  , cfgVersion = T.pack versionString
   }
 
 resolveWorkers :: ServerConfig -> IO Int
@@ -189,7 +196,7 @@ processFrame env body bytesIn = do
         Left e -> pure (rid, "invalid", errorResponse rid (getEnum (getField (errCode e)))
                                    (orDefault (getField (errField e)))
                                    (orDefault (getField (errMessage e))))
-        Right inc -> (rid, incomingKind inc,) <$> guarded env (limitFor (envCfg env) inc) rid req
+        Right inc -> (rid, incomingKind inc,) <$> guarded env rid inc
   out <- encodeOrInternal rid resp
   t1 <- getMonotonicTime
   let (outcome, iters, conv, legal) = outcomeOf resp
@@ -219,22 +226,11 @@ encodeOrInternal rid resp = do
     Left (e :: SomeException) ->
       pure (encodeBare (errorResponse rid ErrInternal "" ("response could not be encoded: " <> tshow e)))
 
--- | The hard timeout of a request, in seconds.
-limitFor :: ServerConfig -> Incoming -> Double
-limitFor cfg = \case
-  InProfile p ->
-    let b = orDefault (getField (prqTimeBudget p)) :: Double
-        budget | isNaN b || isInfinite b || b <= 0 = 1.0
-               | otherwise = min b 3600
-    in budget + cfgGrace cfg
-  InCompress _ -> cfgCompressTimeout cfg + cfgGrace cfg
-  InPing _ -> cfgGrace cfg
-
 -- | Run the handler in a worker thread holding a semaphore slot; answer INTERNAL on an
 -- exception or when the hard timeout passes (the worker is then killed in the background
 -- and gives its slot back only when it has really stopped).
-guarded :: Env -> Double -> Word64 -> RequestMsg -> IO ResponseMsg
-guarded env limitS rid req = do
+guarded :: Env -> Word64 -> Incoming -> IO ResponseMsg
+guarded env rid inc = do
   result <- newEmptyMVar
   tid <- mask_ $ do
     waitQSem (envSem env)
@@ -246,13 +242,14 @@ guarded env limitS rid req = do
       _ <- forkIO (killThread tid)
       pure (errorResponse rid ErrInternal ""
              ("the handler did not answer within " <> T.pack (showFFloat (Just 1) limitS "")
-              <> " s (time_budget + grace)"))
+              <> " s (its time limit + grace)"))
     Just (Left (e :: SomeException)) ->
       pure (errorResponse rid ErrInternal "" ("the handler failed: " <> tshow e))
     Just (Right resp) -> pure resp
   where
+    limitS = handlerTimeLimit (envHandler env) inc + cfgGrace (envCfg env)
     work = do
-      resp <- envHandler env req
+      resp <- handlerAnswer (envHandler env) rid inc
       let resp' = resp { rspRequestId = putField (nonDefault rid) }
       _ <- evaluate (B.length (encodeBare resp'))  -- force it here, inside the guard
       pure resp'

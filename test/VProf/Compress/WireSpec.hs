@@ -9,6 +9,7 @@ import Test.Hspec
 
 import VProf.Compress
 import VProf.Compress.TestData
+import VProf.Service.Compress (serveCompress)
 import VProf.Wire.Compress
 import VProf.Wire.Messages
 

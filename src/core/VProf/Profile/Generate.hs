@@ -1,5 +1,5 @@
 -- | The velocity-profile generator: validation, the rubber band iterations, convergence,
--- and the verdict of the independent checker.
+-- and the verdict of the independent checker, as a 'Result'.
 --
 -- The iteration itself is pure ('iterations' is a lazy list of snapshots); 'generate'
 -- walks it with the wall clock to honour the time budget, 'generatePure' with the
@@ -7,16 +7,12 @@
 -- success: 'Generated' carries a profile the checker found legal, anything else is a
 -- 'Failed' with the reason and, where there is one, the best profile and its violations.
 module VProf.Profile.Generate
-  ( Result (..)
-  , Outcome (..)
-  , Failure (..)
+  ( module VProf.Profile.Result
   , generate
   , generatePure
   , generateProblem
   , iterations
   , Snapshot (..)
-  , failureField
-  , renderFailure
   , thesisHorizon
   ) where
 
@@ -31,43 +27,7 @@ import VProf.Profile.Generate.Thesis
 import VProf.Profile.Legality
 import VProf.Profile.Sampled
 import VProf.Profile.Request
-
--- | Why there is no legal profile.
-data Failure
-  = InvalidRequest [FieldError]
-  | InfeasibleRequest String String   -- ^ field, explanation
-  | NotConverged String
-  deriving (Eq, Show)
-
-failureField :: Failure -> String
-failureField = \case
-  InvalidRequest (e : _) -> feField e
-  InvalidRequest [] -> ""
-  InfeasibleRequest f _ -> f
-  NotConverged _ -> ""
-
-renderFailure :: Failure -> String
-renderFailure = \case
-  InvalidRequest es -> unlines (map renderFieldError es)
-  InfeasibleRequest f m -> "infeasible (" ++ f ++ "): " ++ m
-  NotConverged m -> "not converged: " ++ m
-
-data Outcome
-  = Generated                 -- ^ legal, converged
-  | Failed Failure
-  deriving (Eq, Show)
-
-data Result = Result
-  { resOutcome    :: !Outcome
-  , resProfile    :: !(Maybe Profile)   -- ^ the legal profile, or the best attempt
-  , resViolations :: ![Violation]        -- ^ the checker's verdict on 'resProfile'
-  , resIterations :: !Int
-  , resConverged  :: !Bool
-  , resAlgorithm  :: !Algorithm
-  , resTimeStep   :: !Double
-  , resVelStep    :: !Double
-  , resSeconds    :: !Double             -- ^ wall-clock compute time (0 from 'generatePure')
-  } deriving (Eq, Show)
+import VProf.Profile.Result
 
 -- | The state after each pass.
 data Snapshot = Snapshot

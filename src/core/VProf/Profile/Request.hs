@@ -29,9 +29,9 @@ module VProf.Profile.Request
 
 import Data.List (sortOn)
 import qualified Data.Vector.Unboxed as U
-import Numeric (showFFloat)
 
 import VProf.Units
+import VProf.Validation
 
 -- | One zone of the speed-limit function: the limit holds from 'zoneStart' to the next
 -- zone's start (the last zone to the route end).
@@ -132,18 +132,6 @@ data Problem = Problem
   , pbAlgorithm  :: !Algorithm
   } deriving (Eq, Show)
 
--- | One problem with one field: the proto field name, the offending value as given, and
--- what is wrong.
-data FieldError = FieldError
-  { feField   :: !String
-  , feValue   :: !String
-  , feMessage :: !String
-  } deriving (Eq, Show)
-
--- | "max_jerk = -1.0 m/s³: must be > 0"
-renderFieldError :: FieldError -> String
-renderFieldError (FieldError f v m) = f ++ " = " ++ v ++ ": " ++ m
-
 -- | The automatic velocity step: the largest power of two that is at most a quarter of
 -- the smallest of |j|·dt² and |a|·dt, so that one step of velocity changes acceleration
 -- by at most a quarter of what the jerk allows in one time step. The rubber band can then
@@ -165,9 +153,7 @@ isPowerOfTwo x = x > 0 && not (isInfinite x) && let (m, _) = decodeFloat x in ab
 -- | Check everything; return every problem at once.
 validate :: Request -> Either [FieldError] Problem
 validate rq =
-  case errors of
-    [] -> Right problem
-    es -> Left es
+  validated [errors] problem
   where
     len = si (rqRouteLength rq)
     zones = [(si (zoneStart z), si (zoneSpeed z)) | z <- rqZones rq]
@@ -187,11 +173,10 @@ validate rq =
       Thesis -> 2 ^^ (floor (logBase 2 (largestVelocityStep dt aMin aMax jMin jMax)) :: Int)
     dv = maybe dvAuto id dvGiven
 
-    finite x = not (isNaN x || isInfinite x)
-    num x = showFFloat Nothing x ""
-    err f x unit m = [FieldError f (num x ++ unit) m]
-    check c f x unit m = if c then [] else err f x unit m
-    checkFinite f x unit k = if finite x then k else err f x unit "must be a finite number"
+    num = showNumber
+    err f x unit m = [fieldError f x unit m]
+    check c f x unit m = ensure c (fieldError f x unit m)
+    checkFinite = ensureFinite
 
     limitAt s = case [v | (st, v) <- zones, st <= s] of
       [] -> Nothing
@@ -200,61 +185,61 @@ validate rq =
     lastSpeed = limitAt len
 
     errors = concat
-      [ checkFinite "route_length" len " m" $ check (len > 0) "route_length" len " m" "must be > 0"
+      [ checkFinite "route_length" len "m" $ check (len > 0) "route_length" len "m" "must be > 0"
       , zoneErrors
-      , checkFinite "min_acceleration" aMin " m/s²" $ check (aMin < 0) "min_acceleration" aMin " m/s²" "must be < 0"
-      , checkFinite "max_acceleration" aMax " m/s²" $ check (aMax > 0) "max_acceleration" aMax " m/s²" "must be > 0"
-      , checkFinite "min_jerk" jMin " m/s³" $ check (jMin < 0) "min_jerk" jMin " m/s³" "must be < 0"
-      , checkFinite "max_jerk" jMax " m/s³" $ check (jMax > 0) "max_jerk" jMax " m/s³" "must be > 0"
-      , checkFinite "start_velocity" v0 " m/s" $ concat
-          [ check (v0 >= 0) "start_velocity" v0 " m/s" "must be >= 0"
+      , checkFinite "min_acceleration" aMin "m/s²" $ check (aMin < 0) "min_acceleration" aMin "m/s²" "must be < 0"
+      , checkFinite "max_acceleration" aMax "m/s²" $ check (aMax > 0) "max_acceleration" aMax "m/s²" "must be > 0"
+      , checkFinite "min_jerk" jMin "m/s³" $ check (jMin < 0) "min_jerk" jMin "m/s³" "must be < 0"
+      , checkFinite "max_jerk" jMax "m/s³" $ check (jMax > 0) "max_jerk" jMax "m/s³" "must be > 0"
+      , checkFinite "start_velocity" v0 "m/s" $ concat
+          [ check (v0 >= 0) "start_velocity" v0 "m/s" "must be >= 0"
           , case firstSpeed of
-              Just v | v0 > v, finite v -> err "start_velocity" v0 " m/s" ("is above the limit of the first zone, " ++ num v ++ " m/s")
+              Just v | v0 > v, finite v -> err "start_velocity" v0 "m/s" ("is above the limit of the first zone, " ++ num v ++ " m/s")
               _ -> [] ]
-      , checkFinite "end_velocity" vE " m/s" $ concat
-          [ check (vE >= 0) "end_velocity" vE " m/s" "must be >= 0"
+      , checkFinite "end_velocity" vE "m/s" $ concat
+          [ check (vE >= 0) "end_velocity" vE "m/s" "must be >= 0"
           , case lastSpeed of
-              Just v | vE > v, finite v -> err "end_velocity" vE " m/s" ("is above the limit of the zone at the route end, " ++ num v ++ " m/s")
+              Just v | vE > v, finite v -> err "end_velocity" vE "m/s" ("is above the limit of the zone at the route end, " ++ num v ++ " m/s")
               _ -> [] ]
-      , checkFinite "start_acceleration" a0 " m/s²" $
-          check (not (finite aMin && finite aMax) || (a0 >= aMin && a0 <= aMax)) "start_acceleration" a0 " m/s²"
+      , checkFinite "start_acceleration" a0 "m/s²" $
+          check (not (finite aMin && finite aMax) || (a0 >= aMin && a0 <= aMax)) "start_acceleration" a0 "m/s²"
             ("must lie within [min_acceleration, max_acceleration] = [" ++ num aMin ++ ", " ++ num aMax ++ "] m/s²")
-      , checkFinite "end_acceleration" aE " m/s²" $
-          check (not (finite aMin && finite aMax) || (aE >= aMin && aE <= aMax)) "end_acceleration" aE " m/s²"
+      , checkFinite "end_acceleration" aE "m/s²" $
+          check (not (finite aMin && finite aMax) || (aE >= aMin && aE <= aMax)) "end_acceleration" aE "m/s²"
             ("must lie within [min_acceleration, max_acceleration] = [" ++ num aMin ++ ", " ++ num aMax ++ "] m/s²")
-      , checkFinite "time_step" dt " s" $ check (dt > 0 && dt <= 1) "time_step" dt " s" "must be > 0 and at most 1 s"
+      , checkFinite "time_step" dt "s" $ check (dt > 0 && dt <= 1) "time_step" dt "s" "must be > 0 and at most 1 s"
       , case dvGiven of
           Nothing -> []
-          Just d -> checkFinite "velocity_step" d " m/s" $ concat
-            [ check (d > 0) "velocity_step" d " m/s" "must be > 0"
+          Just d -> checkFinite "velocity_step" d "m/s" $ concat
+            [ check (d > 0) "velocity_step" d "m/s" "must be > 0"
             , if d > 0 && finite jMin && finite jMax && finite aMin && finite aMax && finite dt && dt > 0
                  && d > largestVelocityStep dt aMin aMax jMin jMax
-                then err "velocity_step" d " m/s"
+                then err "velocity_step" d "m/s"
                        ("is too coarse: one sample raised by one step must fit inside the jerk and acceleration ranges at time_step "
                         ++ num dt ++ " s, i.e. the step must be at most min(|j|·dt²/2, |a|·dt) = "
                         ++ num (largestVelocityStep dt aMin aMax jMin jMax)
                         ++ " m/s (suggested: " ++ num dvAuto ++ " m/s, or 0 for automatic)")
                 else [] ]
       , check (maxIt > 0) "max_iterations" (fromIntegral maxIt :: Double) "" "must be > 0"
-      , checkFinite "time_budget" budget " s" $ check (budget > 0) "time_budget" budget " s" "must be > 0"
-      , checkFinite "end_tolerance" tol " m" $ check (tol > 0) "end_tolerance" tol " m" "must be > 0"
+      , checkFinite "time_budget" budget "s" $ check (budget > 0) "time_budget" budget "s" "must be > 0"
+      , checkFinite "end_tolerance" tol "m" $ check (tol > 0) "end_tolerance" tol "m" "must be > 0"
       , sizeErrors
       ]
 
     zoneErrors
-      | null zones = [FieldError "speed_limits" "[]" "must hold at least one zone"]
+      | null zones = [literalError "speed_limits" "[]" "must hold at least one zone"]
       | otherwise = concat
-          [ concat [ checkFinite (fld i "start_distance") st " m" $ concat
-                       [ check (st >= 0) (fld i "start_distance") st " m" "must be >= 0"
-                       , check (not (finite len) || st < len) (fld i "start_distance") st " m"
+          [ concat [ checkFinite (fld i "start_distance") st "m" $ concat
+                       [ check (st >= 0) (fld i "start_distance") st "m" "must be >= 0"
+                       , check (not (finite len) || st < len) (fld i "start_distance") st "m"
                            ("lies at or beyond the route end, route_length = " ++ num len ++ " m") ]
                    | (i, (st, _)) <- izones ]
-          , concat [ checkFinite (fld i "velocity") v " m/s" $ check (v > 0) (fld i "velocity") v " m/s" "must be > 0"
+          , concat [ checkFinite (fld i "velocity") v "m/s" $ check (v > 0) (fld i "velocity") v "m/s" "must be > 0"
                    | (i, (_, v)) <- izones ]
           , case zones of
-              ((st, _) : _) | finite st && st /= 0 -> err (fld (0 :: Int) "start_distance") st " m" "the first zone must start at 0"
+              ((st, _) : _) | finite st && st /= 0 -> err (fld (0 :: Int) "start_distance") st "m" "the first zone must start at 0"
               _ -> []
-          , concat [ err (fld i "start_distance") st " m"
+          , concat [ err (fld i "start_distance") st "m"
                        ("must be greater than the previous zone's start, " ++ num prev ++ " m (zones must be sorted and must not overlap)")
                    | ((_, (prev, _)), (i, (st, _))) <- zip izones (drop 1 izones), finite st, finite prev, st <= prev ]
           ]
@@ -265,7 +250,7 @@ validate rq =
     sizeErrors
       | all finite [len, dt] && len > 0 && dt > 0 && not (null zones) && all (\(_, v) -> finite v && v > 0) zones =
           let lower = len / maximum (map snd zones) / dt
-          in check (lower <= fromIntegral maxSamples) "route_length" len " m"
+          in check (lower <= fromIntegral maxSamples) "route_length" len "m"
                ("needs at least " ++ show (ceiling lower :: Integer) ++ " samples at time_step " ++ num dt
                 ++ " s, above the cap of " ++ show maxSamples ++ " samples; split the route or raise time_step")
       | otherwise = []

@@ -21,6 +21,8 @@ module VProf.Profile.Sampled
   , jerkIntoFirst
   , peakVelocity
   , finalDistance
+  , Columns (..)
+  , columns
   , Sample (..)
   , samples
   ) where
@@ -86,6 +88,23 @@ peakVelocity p = if U.null (prVelocities p) then 0 else U.maximum (prVelocities 
 finalDistance :: Profile -> Double
 finalDistance p = let d = distances p in if U.null d then 0 else U.last d
 
+-- | The profile as five columns of N+1 values, one row a sample: time, distance,
+-- velocity, the acceleration toward the next sample (the end acceleration at N) and the
+-- jerk (0 at N). Every output format writes these rows.
+data Columns = Columns
+  { colTime         :: !(U.Vector Double)
+  , colDistance     :: !(U.Vector Double)
+  , colVelocity     :: !(U.Vector Double)
+  , colAcceleration :: !(U.Vector Double)
+  , colJerk         :: !(U.Vector Double)
+  } deriving (Eq, Show)
+
+columns :: Profile -> Columns
+columns p
+  | U.null (prVelocities p) = Columns U.empty U.empty U.empty U.empty U.empty
+  | otherwise = Columns (times p) (distances p) (prVelocities p)
+                        (U.snoc (accelerations p) (prEndAcc p)) (U.snoc (jerks p) 0)
+
 -- | One sample with its units, as a controller consumes it.
 data Sample = Sample
   { smTime         :: !(Time Double)
@@ -98,8 +117,7 @@ data Sample = Sample
 samples :: Profile -> [Sample]
 samples p =
   [ Sample (fromSI t) (fromSI s) (fromSI v) (fromSI a) (fromSI j)
-  | (t, s, v, a, j) <- zip5 (U.toList (times p)) (U.toList (distances p)) (U.toList (prVelocities p))
-                            (U.toList (accelerations p) ++ [prEndAcc p]) (U.toList (jerks p) ++ [0]) ]
-  where
-    zip5 (a : as) (b : bs) (c : cs) (d : ds) (e : es) = (a, b, c, d, e) : zip5 as bs cs ds es
-    zip5 _ _ _ _ _ = []
+  | k <- [0 .. U.length colTime - 1]
+  , let at c = U.unsafeIndex c k
+        t = at colTime; s = at colDistance; v = at colVelocity; a = at colAcceleration; j = at colJerk ]
+  where Columns{..} = columns p

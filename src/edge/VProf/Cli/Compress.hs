@@ -13,7 +13,7 @@ import qualified Data.Aeson as A
 import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy.Char8 as BL
 import Data.Char (toLower)
-import Data.List (intercalate)
+import Data.List (intercalate, isPrefixOf)
 import GHC.Clock (getMonotonicTime)
 import Options.Applicative
 import System.Exit (ExitCode (..))
@@ -97,11 +97,20 @@ compressOptions = CompressOptions
       [(k, "")] | k >= (2 :: Int) -> Right k
       _ -> Left ("--points " ++ s ++ ": expected a whole number >= 2")
     weights s = case mapM readD (splitOn ',' s) of
-      Just [p, o, v] | all (>= 0) [p, o, v] && (p > 0 || v > 0) -> Right (p, o, v)
-      _ -> Left ("--weights " ++ s ++ ": expected three numbers >= 0, P,O,V, with P or V > 0")
+      Just [p, o, v] | all (\x -> finite x && x >= 0) [p, o, v] && (p > 0 || v > 0) -> Right (p, o, v)
+      _ -> Left ("--weights " ++ s ++ ": expected three finite numbers >= 0, P,O,V, with P or V > 0")
     readD x = case reads x of
       [(d, "")] -> Just (d :: Double)
       _ -> Nothing
+
+-- | The compression settings as this command's options, in the units it takes them in.
+optionName :: String -> Maybe UserField
+optionName = \case
+  "points" -> Just (UserField "--points" "" 1)
+  "margin" -> Just (UserField "--margin" "" 1)
+  "tolerance" -> Just (UserField "--tolerance" "mm" 1000)
+  f | "weights" `isPrefixOf` f -> Just (UserField "--weights" "" 1)
+  _ -> Nothing
 
 splitOn :: Char -> String -> [String]
 splitOn c s = case break (== c) s of
@@ -140,7 +149,7 @@ runCompress o = do
       t0 <- getMonotonicTime
       res <- evaluate (compress settings rec)
       case res of
-        Left (_, msg) -> failInput msg
+        Left errs -> failInput (intercalate "; " (map renderFieldError (inUserTerms optionName errs)))
         Right out -> do
           _ <- evaluate (mPoints (oMetrics out))
           t1 <- getMonotonicTime

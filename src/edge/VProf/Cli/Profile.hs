@@ -11,24 +11,20 @@ module VProf.Cli.Profile
   ( generateOptions
   , checkCommand
   , encodeCommand
-  , readRequest
-  , readProfile
   ) where
 
-import Control.Exception (IOException, try)
 import qualified Data.Aeson as A
 import qualified Data.ByteString as B
 import qualified Data.ByteString.Lazy as BL
 import qualified Data.ByteString.Lazy.Char8 as BLC
 import Data.Char (toLower)
-import Data.ProtocolBuffers (getField)
-import qualified Data.Vector.Unboxed as U
 import Options.Applicative
 import System.Exit
 import System.FilePath (takeExtension)
 import System.IO
 
 import VProf.Profile.Generate
+import VProf.Profile.Format.File
 import VProf.Profile.Format.Json
 import VProf.Profile.Legality
 import VProf.Profile.Format.Text
@@ -38,7 +34,6 @@ import VProf.Profile.Request
 import VProf.Units
 import VProf.Wire.Profile
 import VProf.Wire.Messages
-import VProf.Wire.Validate (MsgType (..), validateWire)
 
 data Format = FPb | FCsv | FJson | FTable deriving (Eq, Show)
 
@@ -76,19 +71,6 @@ generateOptions = runGenerate <$> (GenOpts
   <*> optional (strOption (long "plot" <> metavar "FILE.png|.svg|.pdf" <> help "draw v, a, j and s over t with the speed limit"))
   <*> optional (option algorithmReader (long "algorithm" <> metavar "band|thesis" <> help "override the request's algorithm"))
   <*> optional (option auto (long "time-budget" <> metavar "SECONDS" <> help "override the request's time budget")))
-
--- | Read a request file; Left is a message for the user.
-readRequest :: FilePath -> IO (Either String Request)
-readRequest path = do
-  r <- try (B.readFile path)
-  pure $ case r of
-    Left (e :: IOException) -> Left (path ++ ": " ++ show e)
-    Right bytes
-      | map toLower (takeExtension path) == ".json" ->
-          either (\e -> Left (path ++ ": not a valid JSON ProfileRequest: " ++ e)) Right (requestFromJson (BL.fromStrict bytes))
-      | otherwise -> case validateWire TProfileRequest bytes >> decodeBare bytes of
-          Left e -> Left (path ++ ": not a valid binary ProfileRequest: " ++ e)
-          Right m -> Right (requestFromMsg m)
 
 runGenerate :: GenOpts -> IO ExitCode
 runGenerate o = do
@@ -162,52 +144,6 @@ runCheck reqPath profPath = do
             putStrLn ("illegal: " ++ show (length vio) ++ " violation(s)")
             mapM_ (putStrLn . ("  " ++) . renderViolation) vio
             pure (ExitFailure 1)
-
--- | A profile file: the time step and the velocities.
-readProfile :: FilePath -> IO (Either String (Double, U.Vector Double))
-readProfile path = do
-  r <- try (B.readFile path)
-  pure $ case r of
-    Left (e :: IOException) -> Left (path ++ ": " ++ show e)
-    Right bytes -> case map toLower (takeExtension path) of
-      ".csv" -> fromColumns =<< parseCsv (BLC.unpack (BL.fromStrict bytes))
-      ".json" -> case A.eitherDecodeStrict bytes of
-        Left e -> Left (path ++ ": " ++ e)
-        Right (A.Object _) -> case A.eitherDecodeStrict bytes :: Either String ProfileJson of
-          Left e -> Left (path ++ ": " ++ e)
-          Right (ProfileJson ts vs) -> fromColumns (zip ts vs)
-        Right _ -> Left (path ++ ": expected a JSON object with time and velocity arrays")
-      _ -> case decodeBare bytes of
-        Left e -> Left (path ++ ": not a binary ProfileResponse: " ++ e)
-        Right m -> fromColumns (zip (getField (prsTime m)) (getField (prsVelocity m)))
-  where
-    parseCsv txt = case lines txt of
-      (hdr : rest) | takeWhile (/= ',') hdr == "t" ->
-        mapM parseRow (zip [2 :: Int ..] (filter (not . null) rest))
-      _ -> Left (path ++ ": expected a CSV header t,s,v,a,j")
-    parseRow (ln, row) = case splitOn ',' row of
-      (t : _ : v : _) -> case (reads t, reads v) of
-        ([(t', "")], [(v', "")]) -> Right (t', v')
-        _ -> Left (path ++ ":" ++ show ln ++ ": cannot read t and v from " ++ show row)
-      _ -> Left (path ++ ":" ++ show ln ++ ": expected 5 columns, got " ++ show row)
-    splitOn c s = case break (== c) s of
-      (a, _ : b) -> a : splitOn c b
-      (a, []) -> [a]
-    fromColumns :: [(Double, Double)] -> Either String (Double, U.Vector Double)
-    fromColumns rows = case rows of
-      ((t0, _) : (t1, _) : _) ->
-        let dt = t1 - t0
-            uneven = [ (k, t) | (k, (t, _)) <- zip [0 :: Int ..] rows, abs (t - (t0 + fromIntegral k * dt)) > 1e-9 * max 1 (abs t) ]
-        in if dt <= 0 then Left (path ++ ": times must increase")
-           else case uneven of
-             ((k, t) : _) -> Left (path ++ ": sample " ++ show k ++ " at t = " ++ show t ++ " is off the uniform time step " ++ show dt)
-             [] -> Right (dt, U.fromList (map snd rows))
-      [(_, v)] -> Right (1, U.singleton v)
-      [] -> Left (path ++ ": no samples")
-
-data ProfileJson = ProfileJson [Double] [Double]
-instance A.FromJSON ProfileJson where
-  parseJSON = A.withObject "profile" $ \o -> ProfileJson <$> o A..: "time" <*> o A..: "velocity"
 
 -- | @vprof encode REQUEST.json OUT.pb@: the binary form of a JSON request.
 encodeCommand :: Parser (IO ExitCode)

@@ -1,8 +1,5 @@
--- | The @vprof serve@ subcommand. The executable wires it in with the real request
--- handler, e.g.
---
--- > command "serve" (info (serveCommand handleRequest <**> helper)
--- >                        (progDesc "Protobuf daemon (TCP or --stdio)"))
+-- | The @vprof serve@ subcommand, over any 'Handler' (the executable passes
+-- "VProf.Service"'s 'VProf.Service.service'; the test daemon its stub).
 module VProf.Cli.Serve
   ( serveCommand
   , serveOptions
@@ -14,7 +11,7 @@ import Options.Applicative
 import System.Exit (ExitCode (..))
 
 import VProf.Server
-import VProf.Wire.Messages (RequestMsg, ResponseMsg)
+
 
 data ServeOptions = ServeOptions
   { soConfig :: ServerConfig
@@ -51,12 +48,12 @@ serveOptions = mk
       , soIdleGiven = idleT
       }
 
-runServe :: (RequestMsg -> IO ResponseMsg) -> ServeOptions -> IO ExitCode
+runServe :: Handler -> ServeOptions -> IO ExitCode
 runServe handler o = do
   if soStdio o then serveStdio (soConfig o) handler else serve (soConfig o) handler
   pure ExitSuccess
 
 -- | The parser of @vprof serve@'s options, returning the action that runs the daemon
 -- and exits 0 after a drain.
-serveCommand :: (RequestMsg -> IO ResponseMsg) -> Parser (IO ExitCode)
+serveCommand :: Handler -> Parser (IO ExitCode)
 serveCommand handler = runServe handler <$> serveOptions

@@ -30,11 +30,12 @@ plotFormat path = case map toLower (takeExtension path) of
 plotProfile :: FilePath -> String -> Problem -> Profile -> IO ()
 plotProfile path title pb p = do
   fmt <- either fail pure (plotFormat path)
-  let t = U.toList (times p)
-      s = U.toList (distances p)
-      v = U.toList (prVelocities p)
-      a = U.toList (accelerations p) ++ [prEndAcc p]
-      j = U.toList (jerks p) ++ [0]
+  let Columns{..} = columns p
+      t = U.toList colTime
+      s = U.toList colDistance
+      v = U.toList colVelocity
+      a = U.toList colAcceleration
+      j = U.toList colJerk
       lim = [ limitAt pb x | x <- s ]
       line name colour ys = toPlot $ def
         & plot_lines_title .~ name

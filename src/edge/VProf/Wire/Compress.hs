@@ -1,30 +1,24 @@
 {-# LANGUAGE TypeFamilies #-}
 {-# LANGUAGE OverloadedStrings #-}
--- | The daemon side of path compression: 'CompressRequestMsg' to the domain (with
--- validation errors that name the proto field and the value), the result to
--- 'CompressedPathMsg', and 'serveCompress', which never throws.
+-- | Path compression on the wire: 'CompressRequestMsg' to the domain (with validation
+-- errors that name the proto field and the value) and the result to 'CompressedPathMsg'.
 --
 -- Weights on the wire are SI (1/m², 1/rad², s²/m²); 0 means the default, which is the
 -- thesis's @vekt = [1 1 1]@ in its units (mm, degrees, m/s): position 1, orientation
 -- (180/π)²·10⁻⁶ ≈ 3.28·10⁻³, velocity 10⁻⁶ (see 'thesisWeights').
 module VProf.Wire.Compress
-  ( FieldError (..)
-  , requestToDomain
+  ( requestToDomain
   , posesToTrack
   , trackToPoses
   , metricsToMsg
   , outcomeToMsg
   , errorResponse
-  , serveCompress
   ) where
 
-import Control.DeepSeq (force)
-import Control.Exception (SomeException, evaluate, try)
 import Data.ProtocolBuffers (getField, putField)
 import qualified Data.Text as T
 import qualified Data.Vector.Unboxed as U
 import Data.Word (Word64)
-import GHC.Clock (getMonotonicTime)
 import Numeric.Units.Dimensional.Prelude (metre, (*~))
 import Prelude
 
@@ -32,14 +26,12 @@ import VProf.Compress
 import VProf.Geometry.Vec
 import VProf.Wire.Messages
 
--- | A validation problem: the proto field (dotted path) and a message naming the value.
-data FieldError = FieldError { feField :: !String, feMessage :: !String }
-  deriving (Show, Eq)
-
--- | Validate a request and turn it into a recording and settings.
+-- | Validate a request and turn it into a recording and settings. A field left at 0 takes
+-- its default; the settings are then checked by the core ('validateSettings'), whose
+-- field names are the proto's.
 requestToDomain :: CompressRequestMsg -> Either [FieldError] (Recording, Settings)
 requestToDomain m = do
-  poses <- maybe (Left [FieldError "recording" "recording is missing: it must hold at least 2 poses"]) Right
+  poses <- maybe (Left [literalError "recording" "" "is missing: it must hold at least 2 poses"]) Right
                  (getField (crqRecording m))
   tr <- either (\e -> Left [e]) Right (posesToTrack poses)
   let n = U.length (tTime tr)
@@ -53,22 +45,7 @@ requestToDomain m = do
       method = case getEnum (getField (crqMethod m)) of
         CompressRdp -> MethodRdp
         _ -> MethodThesis
-      bad x = isNaN x || isInfinite x
-      checks =
-        [ FieldError f (f ++ " = " ++ show v ++ ": must be a finite number >= 0 (0 means the default)")
-        | (f, v) <- [("weight_position", wpos), ("weight_orientation", wori), ("weight_velocity", wvel)]
-        , bad v || v < 0 ] ++
-        [ FieldError "points" ("points = " ++ show pts ++ ": must be 0 (about 3 % of the samples) or between 2 and the number of samples, "
-                               ++ show n)
-        | pts == 1 || fromIntegral pts > n ] ++
-        [ FieldError "margin" ("margin = " ++ show margin ++ ": must be 0 (no margin) or a number >= 1")
-        | bad margin || (margin /= 0 && margin < 1) ] ++
-        [ FieldError "margin" ("margin = " ++ show margin ++ ": the RDP method has no margin")
-        | margin /= 0 && method == MethodRdp ] ++
-        [ FieldError "tolerance" ("tolerance = " ++ show tol ++ " m: must be 0 (none) or a positive number of metres")
-        | bad tol || tol < 0 ]
-  if null checks then Right () else Left checks
-  let pick d v = if v == 0 then d else v
+      pick d v = if v == 0 then d else v
       settings = Settings
         { sMethod = method
         , sWeights = Weights (pick dp wpos) (pick doo wori) (pick dv wvel)
@@ -76,7 +53,13 @@ requestToDomain m = do
         , sMargin = if margin == 0 then Nothing else Just margin
         , sTolerance = if tol == 0 then Nothing else Just (tol *~ metre)
         }
-  Right (Recording tr, settings)
+  validated [inUserTerms protoField (validateSettings n settings)] (Recording tr, settings)
+  where
+    protoField = \case
+      "weights.position" -> Just (UserField "weight_position" "" 1)
+      "weights.orientation" -> Just (UserField "weight_orientation" "" 1)
+      "weights.velocity" -> Just (UserField "weight_velocity" "" 1)
+      _ -> Nothing
 
 -- | Poses on the wire to a validated track; the error names the field.
 posesToTrack :: PosesMsg -> Either FieldError Track
@@ -87,14 +70,14 @@ posesToTrack p = do
              , ("recording.qy", getField (posQy p)), ("recording.qz", getField (posQz p)) ]
       n = length ts
   case [ (f, length c) | (f, c) <- cols, length c /= n ] of
-    ((f, l) : _) -> Left (FieldError f (f ++ " has " ++ show l ++ " values but recording.time has " ++ show n))
+    ((f, l) : _) -> Left (literalError f "" ("has " ++ show l ++ " values but recording.time has " ++ show n))
     [] -> Right ()
   let [xs, ys, zs, qw, qx, qy, qz] = map snd cols
       ps = pfromList (zipWith3 P3 xs ys zs)
       qs = pfromList (zipWith4' Q4 qw qx qy qz)
   case recordingFromArrays (U.fromList ts) ps qs of
     Right (Recording tr) -> Right tr
-    Left e -> Left (FieldError (fieldOf e) ("recording: " ++ e))
+    Left e -> Left (literalError (fieldOf e) "" e)
   where
     fieldOf e
       | "time" `T.isInfixOf` T.pack e = "recording.time"
@@ -159,29 +142,3 @@ errorResponse rid secs code field msg = CompressedPathMsg
   , cpComputeTime = putField (nonDefault secs)
   , cpError = putField (Just (mkError code field msg))
   }
-
--- | Serve one request: validate, compress, measure the compute time. Never throws:
--- validation problems come back as INVALID_ARGUMENT naming the field (all problems joined
--- in the message), an unmet tolerance as INFEASIBLE with the path, anything unexpected as
--- INTERNAL.
-serveCompress :: CompressRequestMsg -> IO CompressedPathMsg
-serveCompress req = do
-  let rid = orDefault (getField (crqRequestId req))
-  t0 <- getMonotonicTime
-  r <- try $ case requestToDomain req of
-    Left errs -> evaluate (Left errs)
-    Right (rec, s) -> case compress s rec of
-      Left (f, msg) -> evaluate (Left [FieldError f msg])
-      Right o -> do
-        o' <- evaluate (force (oMetrics o)) >> evaluate o
-        pure (Right o')
-  t1 <- getMonotonicTime
-  let secs = t1 - t0
-  pure $ case r of
-    Left e -> errorResponse rid secs ErrInternal "" ("internal error: " ++ show (e :: SomeException))
-    Right (Left errs@(e1 : _)) ->
-      errorResponse rid secs ErrInvalidArgument (feField e1) (unwords' (map feMessage errs))
-    Right (Left []) -> errorResponse rid secs ErrInternal "" "internal error: empty error list"
-    Right (Right o) -> outcomeToMsg rid secs o
-  where
-    unwords' = foldr1 (\a b -> a ++ "; " ++ b)

@@ -10,6 +10,7 @@ module VProf.Wire.Envelope
   , requestIdOf
     -- * Building responses
   , mkError
+  , emptyResponse
   , errorResponse
   , pongResponse
   , profileResponse
@@ -63,6 +64,7 @@ mkError code field msg = ErrorMsg
   , errMessage = putField (nonDefault msg)
   }
 
+-- | A Response with the request_id and no body.
 emptyResponse :: Word64 -> ResponseMsg
 emptyResponse rid = ResponseMsg
   { rspRequestId = putField (nonDefault rid)

@@ -99,11 +99,11 @@ resultToMsg rid r = ProfileResponseMsg
   { prsRequestId = putField (nonDefault rid)
   , prsTimeStep = d (resTimeStep r)
   , prsVelocityStep = d (resVelStep r)
-  , prsTime = putField (arr times)
-  , prsDistance = putField (arr distances)
-  , prsVelocity = putField (arr prVelocities)
-  , prsAcceleration = putField (arr (\p -> U.snoc (accelerations p) (prEndAcc p)))
-  , prsJerk = putField (arr (\p -> U.snoc (jerks p) 0))
+  , prsTime = putField (arr colTime)
+  , prsDistance = putField (arr colDistance)
+  , prsVelocity = putField (arr colVelocity)
+  , prsAcceleration = putField (arr colAcceleration)
+  , prsJerk = putField (arr colJerk)
   , prsIterations = putField (nonDefault (fromIntegral (resIterations r)))
   , prsConverged = putField (nonDefault (resConverged r))
   , prsLegal = putField (nonDefault legal)
@@ -116,8 +116,8 @@ resultToMsg rid r = ProfileResponseMsg
   }
   where
     d x = putField (nonDefault x)
-    arr f = maybe [] (U.toList . f) (resProfile r)
-    legal = resProfile r /= Nothing && null (resViolations r)
+    arr f = maybe [] (U.toList . f . columns) (resProfile r)
+    legal = resultLegal r
     failure = case resOutcome r of
       Generated -> Nothing
       Failed f -> Just (failureToErrors f)

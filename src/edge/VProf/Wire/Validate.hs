@@ -20,7 +20,7 @@ import qualified Data.ByteString as B
 import qualified Data.Text.Encoding as TE
 import Data.Word (Word64)
 
-import VProf.Wire.Framing (VarintResult (..), decodeVarint)
+import VProf.Wire.Varint (VarintResult (..), decodeVarint)
 
 data MsgType
   = TRequest | TResponse | TProfileRequest | TSpeedLimit | TProfileResponse | TViolation

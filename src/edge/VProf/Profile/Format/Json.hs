@@ -109,7 +109,7 @@ profileToJson r = object $
   , "velocity_step" .= resVelStep r
   , "iterations" .= resIterations r
   , "converged" .= resConverged r
-  , "legal" .= (resOutcome r == Generated)
+  , "legal" .= resultLegal r
   , "compute_time" .= resSeconds r
   , "algorithm" .= (case resAlgorithm r of Band -> "ALGORITHM_BAND" :: String; Thesis -> "ALGORITHM_THESIS")
   , "violations" .= [ object [ "rule" .= ruleName (vRule v), "sample" .= vSample v, "value" .= vValue v
@@ -119,12 +119,13 @@ profileToJson r = object $
          Nothing -> []
          Just p ->
            [ "duration" .= duration p
-           , "time" .= U.toList (times p)
-           , "distance" .= U.toList (distances p)
-           , "velocity" .= U.toList (prVelocities p)
-           , "acceleration" .= (U.toList (accelerations p) ++ [prEndAcc p])
-           , "jerk" .= (U.toList (jerks p) ++ [0])
+           , "time" .= U.toList (colTime c)
+           , "distance" .= U.toList (colDistance c)
+           , "velocity" .= U.toList (colVelocity c)
+           , "acceleration" .= U.toList (colAcceleration c)
+           , "jerk" .= U.toList (colJerk c)
            ]
+           where c = columns p
     ++ case resOutcome r of
          Generated -> []
          Failed f -> [ "error" .= object [ "field" .= failureField f, "message" .= renderFailure f ] ]

@@ -32,7 +32,7 @@ summary r = unlines $
   ++
   [ "iterations:    " ++ show (resIterations r)
   , "converged:     " ++ yn (resConverged r)
-  , "legal:         " ++ yn (resProfile r /= Nothing && null (resViolations r))
+  , "legal:         " ++ yn (resultLegal r)
   , "compute time:  " ++ showFFloat (Just 2) (resSeconds r * 1000) "" ++ " ms"
   ]
   ++ [ "violations:    " ++ show (length (resViolations r)) | not (null (resViolations r)) ]
@@ -43,11 +43,8 @@ summary r = unlines $
   where yn b = if b then "yes" else "no"
 
 rows :: Profile -> [(Double, Double, Double, Double, Double)]
-rows p = zip5 (U.toList (times p)) (U.toList (distances p)) (U.toList (prVelocities p))
-              (U.toList (accelerations p) ++ [prEndAcc p]) (U.toList (jerks p) ++ [0])
-  where
-    zip5 (a : as) (b : bs) (c : cs) (d : ds) (e : es) = (a, b, c, d, e) : zip5 as bs cs ds es
-    zip5 _ _ _ _ _ = []
+rows p = U.toList (U.zip5 colTime colDistance colVelocity colAcceleration colJerk)
+  where Columns{..} = columns p
 
 -- | CSV with a header @t,s,v,a,j@; doubles printed so that they read back exactly.
 csv :: Profile -> String

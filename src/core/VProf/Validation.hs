@@ -1,0 +1,99 @@
+-- | The one vocabulary of input errors, shared by every capability: a 'FieldError' names
+-- the field as the user wrote it, the value in the user's unit, and the rule it breaks.
+-- Validators return every error at once (a list), never the first only. The check
+-- combinators keep a field's checks in order: a value that is not a finite number gets
+-- that error alone, not a cascade of comparisons with NaN.
+module VProf.Validation
+  ( FieldError (..)
+  , FieldValue (..)
+  , renderFieldError
+  , renderValue
+  , showNumber
+    -- * Checks
+  , fieldError
+  , literalError
+  , ensure
+  , finite
+  , ensureFinite
+  , validated
+    -- * Speaking the user's language
+  , UserField (..)
+  , inUserTerms
+  ) where
+
+import Numeric (showFFloat)
+
+-- | A value as the user gave it: a number (rendered in full precision) or any text.
+data FieldValue
+  = Number !Double
+  | Literal !String
+  deriving (Eq, Show)
+
+-- | One problem with one field: "max_jerk = -1.0 m/s³: must be > 0".
+data FieldError = FieldError
+  { feField :: !String      -- ^ the field or option, as the user writes it
+  , feValue :: !FieldValue  -- ^ the offending value, in 'feUnit'
+  , feUnit  :: !String      -- ^ the unit of the value ("" for none)
+  , feRule  :: !String      -- ^ what is wrong
+  } deriving (Eq, Show)
+
+-- | Every digit of a double, without an exponent where it can be avoided.
+showNumber :: Double -> String
+showNumber x = showFFloat Nothing x ""
+
+renderValue :: FieldValue -> String
+renderValue = \case
+  Number x -> showNumber x
+  Literal s -> s
+
+-- | "field = value unit: rule", or "field: rule" when the rule is about the field as a
+-- whole (an empty literal value).
+renderFieldError :: FieldError -> String
+renderFieldError (FieldError f v u r) = case v of
+  Literal "" -> f ++ ": " ++ r
+  _ -> f ++ " = " ++ renderValue v ++ (if null u then "" else ' ' : u) ++ ": " ++ r
+
+-- | An error about a numeric field.
+fieldError :: String -> Double -> String -> String -> FieldError
+fieldError f x = FieldError f (Number x)
+
+-- | An error about a field whose value is not a number.
+literalError :: String -> String -> String -> FieldError
+literalError f v = FieldError f (Literal v) ""
+
+-- | The error, unless the condition holds.
+ensure :: Bool -> FieldError -> [FieldError]
+ensure ok e = if ok then [] else [e]
+
+finite :: Double -> Bool
+finite x = not (isNaN x || isInfinite x)
+
+-- | A finite number goes on to the further checks; anything else is that one error.
+ensureFinite :: String -> Double -> String -> [FieldError] -> [FieldError]
+ensureFinite f x unit further
+  | finite x = further
+  | otherwise = [fieldError f x unit "must be a finite number"]
+
+-- | The value when there is no error, every error otherwise.
+validated :: [[FieldError]] -> a -> Either [FieldError] a
+validated checks x = case concat checks of
+  [] -> Right x
+  es -> Left es
+
+-- | How an interface names a field of the core's vocabulary: the name the user typed,
+-- the unit the user works in, and how many of that unit make one SI unit of the core.
+data UserField = UserField
+  { ufName  :: !String
+  , ufUnit  :: !String
+  , ufScale :: !Double
+  } deriving (Eq, Show)
+
+-- | Re-express errors in an interface's terms: fields it names differently get its name,
+-- and numeric values its unit. Fields it does not name stay as they are.
+inUserTerms :: (String -> Maybe UserField) -> [FieldError] -> [FieldError]
+inUserTerms lookupField = map $ \e -> case lookupField (feField e) of
+  Nothing -> e
+  Just (UserField n u k) -> e
+    { feField = n
+    , feValue = case feValue e of Number x -> Number (x * k); v -> v
+    , feUnit = if null u then feUnit e else u }

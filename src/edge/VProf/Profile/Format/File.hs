@@ -1,0 +1,84 @@
+{-# LANGUAGE OverloadedStrings #-}
+-- | Profile requests and profiles as files, by extension: a request is proto3 JSON
+-- (@.json@) or a binary ProfileRequest (anything else); a profile is CSV (@.csv@), JSON
+-- (@.json@) or a binary ProfileResponse. Every failure is a message naming the file (and
+-- the line, for CSV).
+module VProf.Profile.Format.File
+  ( readRequest
+  , readProfile
+  ) where
+
+import Control.Exception (IOException, try)
+import qualified Data.Aeson as A
+import qualified Data.ByteString as B
+import qualified Data.ByteString.Lazy as BL
+import qualified Data.ByteString.Lazy.Char8 as BLC
+import Data.Char (toLower)
+import Data.ProtocolBuffers (getField)
+import qualified Data.Vector.Unboxed as U
+import System.FilePath (takeExtension)
+
+import VProf.Profile.Format.Json
+import VProf.Profile.Request
+import VProf.Wire.Messages
+import VProf.Wire.Profile
+import VProf.Wire.Validate (MsgType (..), validateWire)
+
+-- | Read a request file; Left is a message for the user.
+readRequest :: FilePath -> IO (Either String Request)
+readRequest path = do
+  r <- try (B.readFile path)
+  pure $ case r of
+    Left (e :: IOException) -> Left (path ++ ": " ++ show e)
+    Right bytes
+      | map toLower (takeExtension path) == ".json" ->
+          either (\e -> Left (path ++ ": not a valid JSON ProfileRequest: " ++ e)) Right (requestFromJson (BL.fromStrict bytes))
+      | otherwise -> case validateWire TProfileRequest bytes >> decodeBare bytes of
+          Left e -> Left (path ++ ": not a valid binary ProfileRequest: " ++ e)
+          Right m -> Right (requestFromMsg m)
+
+-- | A profile file: the time step and the velocities.
+readProfile :: FilePath -> IO (Either String (Double, U.Vector Double))
+readProfile path = do
+  r <- try (B.readFile path)
+  pure $ case r of
+    Left (e :: IOException) -> Left (path ++ ": " ++ show e)
+    Right bytes -> case map toLower (takeExtension path) of
+      ".csv" -> fromColumns =<< parseCsv (BLC.unpack (BL.fromStrict bytes))
+      ".json" -> case A.eitherDecodeStrict bytes of
+        Left e -> Left (path ++ ": " ++ e)
+        Right (A.Object _) -> case A.eitherDecodeStrict bytes :: Either String ProfileJson of
+          Left e -> Left (path ++ ": " ++ e)
+          Right (ProfileJson ts vs) -> fromColumns (zip ts vs)
+        Right _ -> Left (path ++ ": expected a JSON object with time and velocity arrays")
+      _ -> case decodeBare bytes of
+        Left e -> Left (path ++ ": not a binary ProfileResponse: " ++ e)
+        Right m -> fromColumns (zip (getField (prsTime m)) (getField (prsVelocity m)))
+  where
+    parseCsv txt = case lines txt of
+      (hdr : rest) | takeWhile (/= ',') hdr == "t" ->
+        mapM parseRow (zip [2 :: Int ..] (filter (not . null) rest))
+      _ -> Left (path ++ ": expected a CSV header t,s,v,a,j")
+    parseRow (ln, row) = case splitOn ',' row of
+      (t : _ : v : _) -> case (reads t, reads v) of
+        ([(t', "")], [(v', "")]) -> Right (t', v')
+        _ -> Left (path ++ ":" ++ show ln ++ ": cannot read t and v from " ++ show row)
+      _ -> Left (path ++ ":" ++ show ln ++ ": expected 5 columns, got " ++ show row)
+    splitOn c s = case break (== c) s of
+      (a, _ : b) -> a : splitOn c b
+      (a, []) -> [a]
+    fromColumns :: [(Double, Double)] -> Either String (Double, U.Vector Double)
+    fromColumns rows = case rows of
+      ((t0, _) : (t1, _) : _) ->
+        let dt = t1 - t0
+            uneven = [ (k, t) | (k, (t, _)) <- zip [0 :: Int ..] rows, abs (t - (t0 + fromIntegral k * dt)) > 1e-9 * max 1 (abs t) ]
+        in if dt <= 0 then Left (path ++ ": times must increase")
+           else case uneven of
+             ((k, t) : _) -> Left (path ++ ": sample " ++ show k ++ " at t = " ++ show t ++ " is off the uniform time step " ++ show dt)
+             [] -> Right (dt, U.fromList (map snd rows))
+      [(_, v)] -> Right (1, U.singleton v)
+      [] -> Left (path ++ ": no samples")
+
+data ProfileJson = ProfileJson [Double] [Double]
+instance A.FromJSON ProfileJson where
+  parseJSON = A.withObject "profile" $ \o -> ProfileJson <$> o A..: "time" <*> o A..: "velocity"
