@@ -1,6 +1,7 @@
 # vprof — the two commands a new user needs:
 #   make run    install what is missing, build, generate the profile for examples/limits.pb
 #   make test   install what is missing, run every test (hspec, goldens, clients, interop)
+#   make test-fast  the inner loop: every hspec spec with 50 cases a property, no daemon suites
 # and for the figures:
 #   make bench  criterion benchmarks (bench/), and bench/compare against Ruckig
 
@@ -9,7 +10,7 @@ STACK ?= stack
 VPROF_SEED ?= 42
 SEED_ARG := $(if $(filter random,$(VPROF_SEED)),,--seed $(VPROF_SEED))
 
-.PHONY: all deps build run test hspec check-examples bench compare clean
+.PHONY: all deps build run test test-fast hspec check-examples bench compare clean
 all: build
 
 deps:
@@ -23,6 +24,11 @@ run: build
 
 hspec: deps
 	$(STACK) test --test-arguments='$(SEED_ARG)'
+
+# about a minute once built: every spec with 50 cases a property (VPROF_PROPERTY_CASES),
+# without the daemon's robustness suites (their sockets dominate the time) and clients
+test-fast: deps
+	VPROF_PROPERTY_CASES=50 $(STACK) test --test-arguments='$(SEED_ARG) --skip Robustness --skip VProf.Server --skip VProf.Service'
 
 # every example through the CLI as CSV, checked by an independent Python checker; and the
 # checker itself must reject a profile broken on purpose

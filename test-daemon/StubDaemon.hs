@@ -1,5 +1,5 @@
 -- | @vprof-stub-daemon serve ...@: the real @vprof serve@ server code with the TEST
--- handler of "VProf.TestHandler" (ping -> pong, profile -> an empty ProfileResponse
+-- handler of "Support.TestHandler" (ping -> pong, profile -> an empty ProfileResponse
 -- echoing request_id). For the client, interop, fuzz and load tools before the generator
 -- is merged; after the merge use @vprof serve@ itself.
 module Main (main) where
@@ -8,7 +8,7 @@ import Options.Applicative
 import System.Exit (exitWith)
 
 import VProf.Cli.Serve (serveCommand)
-import VProf.TestHandler (testHandler)
+import Support.TestHandler (testHandler)
 
 main :: IO ()
 main = do

@@ -14,10 +14,10 @@ import Data.Word (Word64)
 import GHC.Clock (getMonotonicTime)
 import Test.Hspec
 
-import VProf.Robustness
+import Support.Robustness
 import VProf.Server
-import VProf.TestClient
-import VProf.TestHandler
+import Support.TestClient
+import Support.TestHandler
 import VProf.Wire.Envelope (Incoming (..), pongResponse)
 import VProf.Wire.Framing (FrameResult (..), frame)
 import VProf.Wire.Messages

@@ -12,7 +12,7 @@ import qualified Data.Vector.Unboxed as U
 import VProf.Cli.Compress (compressCommand)
 import VProf.Compress.Format.Rapid (parseRapid)
 import VProf.Compress.Format.Tum (parseTum)
-import VProf.Compress.TestData
+import Support.Recordings
 import VProf.Compress.Types
 
 runCli :: [String] -> IO ExitCode

@@ -13,7 +13,7 @@ import VProf.Compress.Format.Log
 import VProf.Compress.Format.Rapid
 import VProf.Compress.Format.Tum
 import VProf.Geometry.Polyline (qangle, qnormalize)
-import VProf.Compress.TestData
+import Support.Recordings
 import VProf.Geometry.Vec
 
 genTrack :: Gen Track

@@ -8,7 +8,7 @@ import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 
 import VProf.Compress
-import VProf.Compress.TestData
+import Support.Recordings
 import VProf.Service.Compress (serveCompress)
 import VProf.Wire.Compress
 import VProf.Wire.Messages

@@ -1,6 +1,6 @@
 -- | Where the shared recordings are: $VPROF_SHARED (the shared directory, or its data
 -- directory), then ../shared/data from the project root, then /work/shared/data.
-module VProf.Compress.TestData
+module Support.Recordings
   ( dataFile
   , loadTum
   ) where

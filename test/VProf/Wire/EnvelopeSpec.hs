@@ -1,11 +1,11 @@
 {-# LANGUAGE OverloadedStrings #-}
-module VProf.EnvelopeSpec (spec) where
+module VProf.Wire.EnvelopeSpec (spec) where
 
 import Data.ProtocolBuffers (getField, putField)
 import qualified Data.Text as T
 import Test.Hspec
 
-import VProf.TestHandler
+import Support.TestHandler
 import VProf.Wire.Envelope
 import VProf.Wire.Messages
 

@@ -1,5 +1,5 @@
 {-# LANGUAGE OverloadedStrings #-}
-module VProf.FramingSpec (spec) where
+module VProf.Wire.FramingSpec (spec) where
 
 import qualified Data.ByteString as B
 import Data.IORef

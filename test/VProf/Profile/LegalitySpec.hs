@@ -1,5 +1,5 @@
 -- | The checker catches each rule on profiles built to break exactly that rule.
-module VProf.LegalitySpec (spec) where
+module VProf.Profile.LegalitySpec (spec) where
 
 import qualified Data.Vector.Unboxed as U
 import Test.Hspec

@@ -12,7 +12,7 @@
 --
 -- Note: the records are built with 'present', which keeps -0.0 (proto3 writes it, since
 -- it is not the default bit pattern); 'nonDefault' of "VProf.Wire.Messages" drops it.
-module VProf.GoldenSpec (spec) where
+module VProf.Wire.GoldenSpec (spec) where
 
 import Control.Monad
 import qualified Data.Aeson as A

@@ -1,10 +1,10 @@
 {-# LANGUAGE OverloadedStrings #-}
-module VProf.ValidateSpec (spec) where
+module VProf.Wire.ValidateSpec (spec) where
 
 import qualified Data.ByteString as B
 import Test.Hspec
 
-import VProf.TestHandler (pingMsg, profileMsg, simpleProfileRequest)
+import Support.TestHandler (pingMsg, profileMsg, simpleProfileRequest)
 import VProf.Wire.Messages (encodeBare)
 import VProf.Wire.Validate
 

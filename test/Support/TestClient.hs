@@ -1,5 +1,5 @@
 -- | A minimal framed client for the server tests.
-module VProf.TestClient
+module Support.TestClient
   ( Client
   , connectClient
   , closeClient

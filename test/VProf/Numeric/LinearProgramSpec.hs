@@ -3,7 +3,7 @@
 -- random infeasible problems (certificates checked), the certificate checker on its
 -- own (it must never accept a certificate for a problem with a known feasible point),
 -- and velocity-chain problems shaped like the real use.
-module VProf.LinearProgramSpec (spec) where
+module VProf.Numeric.LinearProgramSpec (spec) where
 
 import Control.Monad (replicateM)
 import qualified Data.Vector.Unboxed as U

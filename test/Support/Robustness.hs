@@ -1,11 +1,11 @@
 {-# LANGUAGE OverloadedStrings #-}
 -- | Robustness of the daemon, parameterised by the request handler so that the same tests
--- run against the test handler ("VProf.TestHandler") and against the real one
+-- run against the test handler ("Support.TestHandler") and against the real one
 -- ("VProf.Service"'s 'VProf.Service.service').
 --
 -- Every test abuses an in-process server on a free loopback port and then checks that it
 -- still answers a valid ping and a valid profile request correctly.
-module VProf.Robustness
+module Support.Robustness
   ( HandlerUnderTest (..)
   , robustnessSpec
   , assertAlive
@@ -17,7 +17,6 @@ import Control.Concurrent.Async (forConcurrently)
 import Control.Monad
 import Data.Bits (shiftR, xor, shiftL)
 import qualified Data.ByteString as B
-import Data.IORef
 import Data.ProtocolBuffers (getField, putField)
 import Data.Text (Text)
 import qualified Data.Text as T
@@ -25,8 +24,8 @@ import Data.Word (Word64, Word8)
 import Test.Hspec
 
 import VProf.Server
-import VProf.TestClient
-import VProf.TestHandler (pingMsg, profileMsg, requestWith, simpleProfileRequest)
+import Support.TestClient
+import Support.TestHandler (pingMsg, profileMsg, requestWith, simpleProfileRequest)
 import VProf.Wire.Framing
 import VProf.Wire.Messages
 
@@ -191,11 +190,8 @@ robustnessSpec hut = around (withServer quietConfig (hutHandler hut) . (. server
     alive port
 
   it "survives clients that connect and vanish mid-frame" $ \port -> do
-    counter <- newIORef (0 :: Int)
-    forM_ [1 .. 20 :: Int] $ \i -> withClient port $ \c -> do
+    forM_ [1 .. 20 :: Int] $ \i -> withClient port $ \c ->
       sendRaw c (B.pack [0x80, 0x80] <> B.take (i `mod` 3) "ab")
-      modifyIORef' counter (+ 1)
-    readIORef counter `shouldReturn` 20
     alive port
   where
     roundTrip' c b = sendRaw c (frame b) >> recvResponse c

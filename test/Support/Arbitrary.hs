@@ -1,11 +1,12 @@
--- | Random requests for the property tests, in the ranges of issue 2: 1–100 zones over
--- 5 m–2 km, speeds 0.1–10 m/s, acceleration and jerk magnitudes 0.5–3 with asymmetric
--- ranges, non-zero start and end states.
-module VProf.Arbitrary
+-- | Random requests for the property tests: 1–100 zones over 5 m–2 km, speeds
+-- 0.1–10 m/s, acceleration and jerk magnitudes 0.5–3 with asymmetric ranges, non-zero
+-- start and end states; and the problem of a request a test built to be valid.
+module Support.Arbitrary
   ( RandomRequest (..)
   , genRequest
   , shared
   , propertyCount
+  , problemOf
   ) where
 
 import Data.List (nub, sort)
@@ -66,3 +67,8 @@ shared = do
 -- | How many random cases a property runs: 1000, or VPROF_PROPERTY_CASES.
 propertyCount :: IO Int
 propertyCount = maybe 1000 read <$> lookupEnv "VPROF_PROPERTY_CASES"
+
+-- | The validated problem of a request the test built to be valid; an invalid one fails
+-- the test with its field errors.
+problemOf :: Request -> Problem
+problemOf rq = either (error . ("the test's request is invalid: " ++) . unlines . map renderFieldError) id (validate rq)

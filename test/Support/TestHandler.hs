@@ -4,7 +4,7 @@
 -- it sleep first, for drain tests); profile -> a trivial ProfileResponse echoing
 -- request_id (no samples: it is NOT a generator); compress -> CompressedPath with Error
 -- UNSUPPORTED.
-module VProf.TestHandler
+module Support.TestHandler
   ( testHandler
   , testAnswer
   , pingMsg
