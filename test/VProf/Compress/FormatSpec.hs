@@ -12,7 +12,7 @@ import VProf.Compress
 import VProf.Compress.Format.Log
 import VProf.Compress.Format.Rapid
 import VProf.Compress.Format.Tum
-import VProf.Geometry.Polyline (qangle, qnormalize)
+import VProf.Geometry.Quaternion (qangle, qnormalize)
 import Support.Recordings
 import VProf.Geometry.Vec
 

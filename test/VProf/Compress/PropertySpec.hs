@@ -7,6 +7,7 @@ import Test.QuickCheck
 
 import VProf.Compress
 import VProf.Geometry.Polyline
+import VProf.Geometry.Quaternion
 import VProf.Compress.Objective
 import VProf.Geometry.Vec
 

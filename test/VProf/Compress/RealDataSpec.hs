@@ -5,7 +5,7 @@ import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 
 import VProf.Compress
-import VProf.Geometry.Polyline (qangle, qdot)
+import VProf.Geometry.Quaternion (qangle, qdot)
 import VProf.Compress.Objective
 import Support.Recordings
 import VProf.Geometry.Vec

@@ -54,6 +54,7 @@ import qualified Data.Vector.Unboxed as U
 
 import VProf.Numeric.BandedLeastSquares
 import VProf.Geometry.Polyline
+import VProf.Geometry.Quaternion
 import VProf.Compress.Objective
 import VProf.Compress.Types
 import VProf.Geometry.Vec

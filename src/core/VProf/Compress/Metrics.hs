@@ -15,6 +15,7 @@ import GHC.Generics (Generic)
 
 
 import VProf.Geometry.Polyline
+import VProf.Geometry.Quaternion
 import VProf.Compress.Objective
 import VProf.Geometry.Vec
 

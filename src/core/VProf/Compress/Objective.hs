@@ -33,6 +33,7 @@ import qualified Data.Vector.Unboxed as U
 
 
 import VProf.Geometry.Polyline
+import VProf.Geometry.Quaternion
 import VProf.Compress.Types
 import VProf.Geometry.Vec
 

@@ -17,7 +17,7 @@ import Graphics.Rendering.Chart.Backend.Cairo (FileFormat (..), FileOptions (..)
 import Graphics.Rendering.Chart.Grid (aboveN, gridToRenderable, tval, weights)
 import System.FilePath (takeExtension)
 
-import VProf.Geometry.Polyline
+import VProf.Geometry.Quaternion
 import VProf.Compress.Objective
 import VProf.Geometry.Vec
 
