@@ -16,6 +16,7 @@ import qualified Data.Aeson.KeyMap as KM
 import Data.Aeson.Types (Parser, parseEither)
 import qualified Data.ByteString.Lazy as BL
 import Data.Char (toUpper)
+import Data.Scientific (toRealFloat)
 import qualified Data.Text as T
 import qualified Data.Vector.Unboxed as U
 
@@ -33,14 +34,50 @@ requestFromValue = parseEither parseRequest
 
 -- | Look a field up by its snake_case name or its lowerCamelCase form.
 field :: FromJSON a => Object -> String -> a -> Parser a
-field o name def = case KM.lookup (K.fromString name) o of
+field = fieldWith parseJSON
+
+-- | A double as proto3 JSON writes it: a number, or a string holding a number,
+-- @"NaN"@, @"Infinity"@ or @"-Infinity"@. Non-finite values are valid JSON here; the
+-- request's validation rejects them by field name.
+protoDouble :: Value -> Parser Double
+protoDouble = \case
+  Number n -> pure (toRealFloat n)
+  String t -> case T.unpack (T.strip t) of
+    "NaN" -> pure (0 / 0)
+    "Infinity" -> pure (1 / 0)
+    "-Infinity" -> pure (-1 / 0)
+    str -> case reads (leadingZero str) of
+      [(x, "")] -> pure x
+      _ -> fail ("expected a number, \"NaN\", \"Infinity\" or \"-Infinity\", got the string " ++ show t)
+  v -> fail ("expected a number, got " ++ show v)
+  where
+    -- Haskell's reads wants a digit before the point (".5", "-.5" are valid JSON strings)
+    leadingZero = \case
+      '-' : '.' : r -> "-0." ++ r
+      '.' : r -> "0." ++ r
+      '+' : r -> r
+      r -> r
+
+-- | An integer as proto3 JSON writes it: a number or a string holding one.
+protoInt :: Value -> Parser Int
+protoInt = \case
+  String t -> case reads (T.unpack (T.strip t)) of
+    [(k, "")] -> pure k
+    _ -> fail ("expected an integer, got the string " ++ show t)
+  v -> parseJSON v
+
+dbl :: Object -> String -> Parser Double
+dbl o name = fieldWith protoDouble o name 0
+
+fieldWith :: (Value -> Parser a) -> Object -> String -> a -> Parser a
+fieldWith parse o name def = case KM.lookup (K.fromString name) o of
   Just v -> named v
   Nothing -> case KM.lookup (K.fromString (camel name)) o of
     Just v -> named v
     Nothing -> pure def
   where
     named Null = pure def
-    named v = parseJSON v `orFail` name
+    named v = parse v `orFail` name
     orFail p n = either (\e -> fail (n ++ ": " ++ e)) pure (parseEither (const p) ())
     camel s = case break (== '_') s of
       (a, '_' : c : rest) -> a ++ camel (toUpper c : rest)
@@ -48,22 +85,22 @@ field o name def = case KM.lookup (K.fromString name) o of
 
 parseRequest :: Value -> Parser Request
 parseRequest = withObject "ProfileRequest" $ \o -> do
-  len <- field o "route_length" 0
+  len <- dbl o "route_length"
   zonesV <- field o "speed_limits" []
   zones <- mapM parseZone zonesV
-  aMin <- field o "min_acceleration" 0
-  aMax <- field o "max_acceleration" 0
-  jMin <- field o "min_jerk" 0
-  jMax <- field o "max_jerk" 0
-  v0 <- field o "start_velocity" 0
-  a0 <- field o "start_acceleration" 0
-  vE <- field o "end_velocity" 0
-  aE <- field o "end_acceleration" 0
-  dt <- field o "time_step" 0
-  dv <- field o "velocity_step" 0
-  it <- field o "max_iterations" (0 :: Int)
-  budget <- field o "time_budget" 0
-  tol <- field o "end_tolerance" 0
+  aMin <- dbl o "min_acceleration"
+  aMax <- dbl o "max_acceleration"
+  jMin <- dbl o "min_jerk"
+  jMax <- dbl o "max_jerk"
+  v0 <- dbl o "start_velocity"
+  a0 <- dbl o "start_acceleration"
+  vE <- dbl o "end_velocity"
+  aE <- dbl o "end_acceleration"
+  dt <- dbl o "time_step"
+  dv <- dbl o "velocity_step"
+  it <- fieldWith protoInt o "max_iterations" 0
+  budget <- dbl o "time_budget"
+  tol <- dbl o "end_tolerance"
   alg <- field o "algorithm" (String "ALGORITHM_DEFAULT") >>= parseAlgorithm
   let opt x = if x == 0 then Nothing else Just x
   pure Request
@@ -83,8 +120,8 @@ parseRequest = withObject "ProfileRequest" $ \o -> do
 
 parseZone :: Value -> Parser SpeedZone
 parseZone = withObject "SpeedLimit" $ \o -> do
-  st <- field o "start_distance" 0
-  v <- field o "velocity" 0
+  st <- dbl o "start_distance"
+  v <- dbl o "velocity"
   pure (SpeedZone (st *~ meter) (v *~ mps))
 
 parseAlgorithm :: Value -> Parser Algorithm

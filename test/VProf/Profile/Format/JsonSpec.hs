@@ -1,0 +1,45 @@
+{-# LANGUAGE OverloadedStrings #-}
+-- | Requests in proto3 JSON: numbers may also be written as strings, including "NaN",
+-- "Infinity" and "-Infinity"; those parse, and validation then rejects the non-finite ones
+-- by field name and value.
+module VProf.Profile.Format.JsonSpec (spec) where
+
+import qualified Data.ByteString.Lazy.Char8 as BLC
+import Data.List (intercalate, isInfixOf)
+import Test.Hspec
+import Test.QuickCheck
+
+import VProf.Profile.Format.Json (requestFromJson)
+import VProf.Profile.Request
+import VProf.Units
+
+-- | A valid request with one field set to the given JSON text (replacing its default).
+withField :: String -> String -> BLC.ByteString
+withField name value = BLC.pack $
+  "{" ++ intercalate ", " [ show k ++ ": " ++ v | (k, v) <- (name, value) : filter ((/= name) . fst) base ] ++ "}"
+  where
+    base = [ ("route_length", "10"), ("speed_limits", "[{\"start_distance\": 0, \"velocity\": 2}]")
+           , ("min_acceleration", "-1"), ("max_acceleration", "1"), ("min_jerk", "-1"), ("max_jerk", "1") ]
+
+routeLength :: BLC.ByteString -> Either String Double
+routeLength bs = si . rqRouteLength <$> requestFromJson bs
+
+errorsOf :: BLC.ByteString -> [String]
+errorsOf bs = case requestFromJson bs of
+  Left e -> ["parse: " ++ e]
+  Right rq -> either (map renderFieldError) (const []) (validate rq)
+
+spec :: Spec
+spec = do
+  it "a double written as a string reads as the number" $ property $ \x ->
+    routeLength (withField "route_length" (show (show (x :: Double)))) === Right x
+  it "accepts the lowerCamelCase name and an integer as a string" $ do
+    fmap rqMaxIterations (requestFromJson (withField "maxIterations" "\"50\"")) `shouldBe` Right (Just 50)
+  it "\"NaN\", \"Infinity\" and \"-Infinity\" parse; validation names the field and the value" $ do
+    errorsOf (withField "route_length" "\"NaN\"") `shouldBe` ["route_length = NaN m: must be a finite number"]
+    errorsOf (withField "max_jerk" "\"Infinity\"") `shouldBe` ["max_jerk = Infinity m/s³: must be a finite number"]
+    errorsOf (withField "time_step" "\"-Infinity\"") `shouldBe` ["time_step = -Infinity s: must be a finite number"]
+  it "a string that is not a number is a parse error naming the field" $
+    case requestFromJson (withField "end_tolerance" "\"ten\"") of
+      Left e -> e `shouldSatisfy` ("end_tolerance" `isInfixOf`)
+      Right rq -> expectationFailure (show rq)
