@@ -114,7 +114,7 @@ writeProfile :: Format -> Maybe FilePath -> Result -> IO ()
 writeProfile f out res = case f of
   FPb -> let bytes = encodeBare (resultToMsg 0 res) in maybe (B.hPut stdout bytes) (`B.writeFile` bytes) out
   FJson -> let bytes = A.encode (profileToJson res) in maybe (BLC.putStrLn bytes) (`BL.writeFile` bytes) out
-  FCsv -> text (maybe "" csv (resProfile res))
+  FCsv -> let bytes = maybe BL.empty csv (resProfile res) in maybe (BL.hPut stdout bytes) (`BL.writeFile` bytes) out
   FTable -> text (maybe "" table (resProfile res))
   where text s = maybe (putStr s) (`writeFile` s) out
 

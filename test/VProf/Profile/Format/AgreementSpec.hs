@@ -9,6 +9,7 @@ module VProf.Profile.Format.AgreementSpec (spec) where
 import qualified Data.Aeson as A
 import qualified Data.Aeson.KeyMap as KM
 import qualified Data.ByteString.Lazy as BL
+import qualified Data.ByteString.Lazy.Char8 as BLC
 import Data.List (isPrefixOf)
 import Data.ProtocolBuffers (getField)
 import qualified Data.Vector.Unboxed as U
@@ -58,7 +59,7 @@ agree name r = describe name $ do
     orDefault (getField (prsConverged msg)) `shouldBe` resConverged r
   it "the samples: the same count in CSV, the table and protobuf, the same velocities in CSV" $ do
     let n = maybe 0 sampleCount (resProfile r)
-        csvRows = drop 1 (lines (maybe "" csv (resProfile r)))
+        csvRows = drop 1 (lines (maybe "" (BLC.unpack . csv) (resProfile r)))
     length csvRows `shouldBe` n
     length (drop 1 (lines (maybe "" table (resProfile r)))) `shouldBe` n
     length (getField (prsVelocity msg)) `shouldBe` n

@@ -6,11 +6,13 @@ module VProf.Profile.Format.Text
   , table
   ) where
 
-import Data.List (intercalate)
+import qualified Data.ByteString.Builder as BB
+import qualified Data.ByteString.Lazy as BL
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
 import Text.Printf (printf)
 
+import VProf.Format.Number (doubleBuilder)
 import VProf.Profile.Generate
 import VProf.Profile.Legality
 import VProf.Profile.Sampled
@@ -46,9 +48,16 @@ rows :: Profile -> [(Double, Double, Double, Double, Double)]
 rows p = U.toList (U.zip5 colTime colDistance colVelocity colAcceleration colJerk)
   where Columns{..} = columns p
 
--- | CSV with a header @t,s,v,a,j@; doubles printed so that they read back exactly.
-csv :: Profile -> String
-csv p = unlines ("t,s,v,a,j" : [ intercalate "," (map show [t, s, v, a, j]) | (t, s, v, a, j) <- rows p ])
+-- | CSV with a header @t,s,v,a,j@; doubles printed as 'show' prints them, so that they
+-- read back exactly ("VProf.Format.Number").
+csv :: Profile -> BL.ByteString
+csv p = BB.toLazyByteString (BB.string7 "t,s,v,a,j\n" <> foldMap row [0 .. U.length colTime - 1])
+  where
+    Columns{..} = columns p
+    row k = num colTime k <> comma <> num colDistance k <> comma <> num colVelocity k <> comma
+            <> num colAcceleration k <> comma <> num colJerk k <> BB.char7 '\n'
+    num c k = doubleBuilder (U.unsafeIndex c k)
+    comma = BB.char7 ','
 
 table :: Profile -> String
 table p = unlines $
