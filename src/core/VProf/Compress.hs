@@ -5,7 +5,7 @@ module VProf.Compress
   ( Method (..)
   , Settings (..)
   , defaultSettings
-  , Outcome (..)
+  , Compressed (..)
   , compress
   , validateSettings
   , module VProf.Validation
@@ -37,7 +37,9 @@ data Settings = Settings
 defaultSettings :: Settings
 defaultSettings = Settings MethodThesis defaultWeights Nothing Nothing Nothing
 
-data Outcome = Outcome
+-- | A compressed path with its measures, whether the tolerance (if any) is met, the
+-- weighted objective and why the point count stopped where it did.
+data Compressed = Compressed
   { oPath        :: !Path
   , oMetrics     :: !Metrics
   , oToleranceMet :: !Bool
@@ -72,14 +74,14 @@ validateSettings n s = concat
 
 -- | Compress a recording. For RDP, a tolerance is the classic RDP epsilon (geometric
 -- distance); for the thesis method it bounds the time-synchronous position error.
-compress :: Settings -> Recording -> Either [FieldError] Outcome
+compress :: Settings -> Recording -> Either [FieldError] Compressed
 compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
     MethodThesis ->
       let cfg = defaultFitConfig { fcWeights = sWeights s, fcPoints = sPoints s
                                  , fcMargin = sMargin s, fcTolerance = tolM }
           r = fitThesis cfg pr
           pa = frPath r
-      in Outcome (fromPathA pa) (computeMetrics pr pa) (frToleranceMet r) (frCost r) (show (frStop r))
+      in Compressed (fromPathA pa) (computeMetrics pr pa) (frToleranceMet r) (frCost r) (show (frStop r))
     MethodRdp ->
       let stop = case (sPoints s, tolM) of
             (Just k, _) -> RdpPoints k
@@ -88,7 +90,7 @@ compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
           pa = rdpPath pr stop
           m = computeMetrics pr pa
           tolOk = maybe True (\e -> mGeometricMax m <= e + 1e-12) tolM
-      in Outcome (fromPathA pa) m tolOk (totalCost pr (sWeights s) pa) (show stop))
+      in Compressed (fromPathA pa) m tolOk (totalCost pr (sWeights s) pa) (show stop))
   where
     pr = prepare rec
     tolM = fmap (/~ metre) (sTolerance s)

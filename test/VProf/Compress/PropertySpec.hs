@@ -52,11 +52,11 @@ cleanOf tr = case sampleTruthClean tr of r -> r
               clean = [ interpolate tv pv qv t | t <- st ]
           in either error id (recordingFromArrays (U.fromList st) (pfromList (map fst clean)) (pfromList (map snd clean)))
 
-fitK :: Weights -> Int -> Recording -> Outcome
+fitK :: Weights -> Int -> Recording -> Compressed
 fitK w k rec = either (error . show) id (compress defaultSettings { sWeights = w, sPoints = Just k } rec)
 
 -- | Metrics of a path against the noise-free samples of the truth.
-againstTruth :: Truth -> Outcome -> Metrics
+againstTruth :: Truth -> Compressed -> Metrics
 againstTruth tr o = computeMetrics (prepare (cleanOf tr)) (toPathA (oPath o))
 
 spec :: Spec

@@ -13,7 +13,7 @@ import VProf.Geometry.Vec
 threePercent :: Recording -> Int
 threePercent (Recording tr) = round (0.03 * fromIntegral (trackLength tr) :: Double)
 
-run :: Method -> Int -> Recording -> Outcome
+run :: Method -> Int -> Recording -> Compressed
 run m k rec = either (error . show) id (compress defaultSettings { sMethod = m, sPoints = Just k } rec)
 
 compareOn :: FilePath -> Spec

@@ -112,7 +112,7 @@ metricsToMsg m = CompressMetricsMsg
   }
   where d x = putField (nonDefault x)
 
-outcomeToMsg :: Word64 -> Double -> Outcome -> CompressedPathMsg
+outcomeToMsg :: Word64 -> Double -> Compressed -> CompressedPathMsg
 outcomeToMsg rid secs o = CompressedPathMsg
   { cpRequestId = putField (nonDefault rid)
   , cpPath = putField (Just (trackToPoses (pathTrack (oPath o))))
