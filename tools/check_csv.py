@@ -6,7 +6,9 @@ v >= 0; max(v_k, v_k+1) <= the lowest speed limit on [s_k, s_k+1] (distance reco
 from t and v by the trapezoid rule, and compared with the CSV's s column); accelerations and
 jerks within range, including the jerk into the first acceleration (from start_acceleration)
 and out of the last (into end_acceleration); v_0, v_N as requested; |s_N - L| <= end_tolerance;
-no sample beyond L + end_tolerance. Relative tolerance 1e-9.
+no sample beyond L + end_tolerance; no crawl: no sample k < N at which the profile could
+already end (within end_tolerance of L, at the end velocity, and the jerk from the acceleration
+before it into end_acceleration within range). Relative tolerance 1e-9.
 
 usage: check_csv.py REQUEST.json PROFILE.csv   (exit 0 legal, 1 illegal, 2 bad input)
 """
@@ -53,6 +55,11 @@ def main():
     if abs(v[-1] - g("end_velocity")) > eps(g("end_velocity")): bad.append(f"vN={v[-1]} != end_velocity")
     if abs(s[-1] - L) > tol + eps(L): bad.append(f"s_N={s[-1]} not within {tol} of {L}")
     if max(s) > L + tol + eps(L): bad.append(f"a sample at {max(s)} beyond {L} + {tol}")
+    vE, aE = g("end_velocity"), g("end_acceleration")
+    for k in range(n):
+        j = (aE - chain[k]) / dt  # chain[k] is the acceleration before sample k
+        if abs(s[k] - L) <= tol + eps(L) and abs(v[k] - vE) <= eps(vE) and jmin - eps(jmin) <= j <= jmax + eps(jmax):
+            bad.append(f"crawl: the profile could end at sample {k} (t = {t[k]} s) but goes on until {t[-1]} s"); break
     name = req.get("name", sys.argv[1])
     if bad:
         print(f"ILLEGAL {name}: {len(bad)} violation(s)"); [print("  " + b) for b in bad[:10]]; return 1

@@ -102,6 +102,26 @@ spec = do
     distances (prof legalV) U.! 14 `shouldSatisfy` (> 6)
     map vRule (check problem (prof ws)) `shouldBe` [Speed, Speed]
 
+  it "catches a profile that arrives and then stands or creeps (crawl), at the arrival sample" $ do
+    -- standing at rest at the end for three more samples
+    map (\v -> (vRule v, vSample v)) (check problem (prof (legalV ++ [0, 0, 0]))) `shouldBe` [(Crawl, 23)]
+    -- creeping 1 mm further at 2 mm/s after arriving 1 mm short of a 10.001 m route
+    let pb = problem { pbLength = 10.001 }
+        creep = legalV ++ [0.002, 0.002, 0]
+    finalDistance (prof creep) `shouldSatisfy` (\s -> abs (s - 10.002) < 1e-12)
+    map vRule (check pb (prof creep)) `shouldBe` [Crawl]
+    -- the same profile ending where it arrived is legal
+    check pb (prof legalV) `shouldBe` []
+
+  it "no crawl where ending early would break the jerk into the end acceleration" $ do
+    -- ending in motion at 0.75 m/s: sample 21 is within the tolerance at 0.75 m/s, after a
+    -- step at -0.5 m/s²; ending there is possible into an end acceleration of 0 (jerk 1)
+    -- but not of 0.6 m/s² (jerk 2.2 > 2)
+    let vs = U.fromList (take 22 legalV ++ [0.75])
+        pb = problem { pbLength = 10.0625, pbVEnd = 0.75, pbTol = 0.4 }
+    check pb (Profile 0.5 vs 0 0.6) `shouldBe` []
+    map (\v -> (vRule v, vSample v)) (check pb (Profile 0.5 vs 0 0)) `shouldBe` [(Crawl, 21)]
+
   it "an empty profile is a violation" $
     rules (check problem (Profile 0.5 U.empty 0 0)) `shouldBe` [EmptyProfile]
 

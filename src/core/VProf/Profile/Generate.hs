@@ -68,7 +68,7 @@ iterations pb = case pbAlgorithm pb of
 -- | The verdict on the last snapshot.
 finish :: Problem -> Double -> Int -> Bool -> Maybe String -> U.Vector Double -> Result
 finish pb secs iters done stopReason v =
-  let prof = Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)
+  let prof = endAtArrival pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
       vs = check pb prof
       outcome
         | null vs && done = Generated
@@ -80,6 +80,13 @@ finish pb secs iters done stopReason v =
   in Result outcome (Just prof) vs iters done (pbAlgorithm pb) (pbDt pb) (pbDv pb) secs
   where
     summarise vs = show (length vs) ++ " violation(s), first " ++ renderViolation (head vs)
+
+-- | The profile ends at the first sample at which it has arrived (the checker's @crawl@
+-- rule): whatever follows, creeping or standing at the end, is cut off.
+endAtArrival :: Problem -> Profile -> Profile
+endAtArrival pb p = case [ k | Violation Crawl k _ _ <- check pb p ] of
+  k : _ -> p { prVelocities = U.take (k + 1) (prVelocities p) }
+  [] -> p
 
 -- | Generate with the iteration cap only (no clock): a pure function of the problem.
 generatePure :: Request -> Result

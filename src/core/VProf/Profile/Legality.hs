@@ -14,7 +14,11 @@
 --   start acceleration) and out of the last (into the end acceleration);
 -- * @start_velocity@ / @end_velocity@: v_0 and v_N equal the requested values;
 -- * @route_end@: |s_N − L| <= end tolerance;
--- * @overshoot@: no s_k beyond L + end tolerance.
+-- * @overshoot@: no s_k beyond L + end tolerance;
+-- * @crawl@: the profile ends at the first sample at which it could end: no sample k < N
+--   has arrived (|s_k − L| <= end tolerance, v_k = the end velocity) with the jerk from
+--   a_{k−1} (the start acceleration for k = 0) into the end acceleration within range.
+--   A profile that arrives and then goes on creeping or standing is reported here.
 --
 -- Comparisons allow a rounding slack of 1e-9 relative to the limit (at least 1e-9
 -- absolute): profiles travel as decimal text and doubles, and a limit met to nine
@@ -38,7 +42,7 @@ import VProf.Profile.Request (Problem (..))
 
 data Rule
   = NegativeVelocity | Speed | AccelerationRule | JerkRule
-  | StartVelocity | EndVelocity | RouteEnd | Overshoot | EmptyProfile
+  | StartVelocity | EndVelocity | RouteEnd | Overshoot | Crawl | EmptyProfile
   deriving (Eq, Ord, Show, Enum, Bounded)
 
 ruleName :: Rule -> String
@@ -51,6 +55,7 @@ ruleName = \case
   EndVelocity -> "end_velocity"
   RouteEnd -> "route_end"
   Overshoot -> "overshoot"
+  Crawl -> "crawl"
   EmptyProfile -> "empty"
 
 data Violation = Violation
@@ -70,11 +75,13 @@ renderViolation (Violation r k v l) =
       JerkRule -> "m/s³"
       RouteEnd -> "m"
       Overshoot -> "m"
+      Crawl -> "s"
       _ -> "m/s"
     relation = case r of
       StartVelocity -> " instead of "
       EndVelocity -> " instead of "
       RouteEnd -> " off the route end by more than "
+      Crawl -> " into the profile, which goes on until "
       NegativeVelocity -> " below "
       _ -> " beyond the limit "
 
@@ -104,6 +111,7 @@ check pb p
       , [ Violation EndVelocity n (U.last v) (pbVEnd pb) | abs (U.last v - pbVEnd pb) > slack (pbVEnd pb) ]
       , [ Violation RouteEnd n (U.last s) (pbTol pb) | abs (U.last s - len) > pbTol pb + slack len ]
       , [ Violation Overshoot k (s U.! k) (len + pbTol pb) | k <- U.toList (U.findIndices (> len + pbTol pb + slack len) s) ]
+      , [ Violation Crawl k (fromIntegral k * dt) (fromIntegral n * dt) | Just k <- [arrival] ]
       ]
   where
     dt = prDt p
@@ -117,6 +125,16 @@ check pb p
     -- last acceleration at sample N. A single sample: start → end acceleration.
     accAll = U.cons (prStartAcc p) acc `U.snoc` prEndAcc p
     allJerks = U.zipWith (\a b -> (b - a) / dt) accAll (U.tail accAll)
+
+    -- the first sample before N at which the profile could end: arrived, and the jerk
+    -- from the acceleration before it into the end acceleration within range
+    arrival = U.find arrivedAt (U.enumFromN 0 n)
+    arrivedAt k =
+      let aBefore = if k == 0 then prStartAcc p else acc U.! (k - 1)
+          j = (prEndAcc p - aBefore) / dt
+      in abs (s U.! k - len) <= pbTol pb + slack len
+         && abs (v U.! k - pbVEnd pb) <= slack (pbVEnd pb)
+         && j <= jMax + slack jMax && j >= jMin - slack jMin
 
     starts = pbZoneStarts pb
     speeds = pbZoneSpeeds pb
