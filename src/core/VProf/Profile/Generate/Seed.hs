@@ -24,14 +24,16 @@ module VProf.Profile.Generate.Seed
   , restFrom
   ) where
 
-import Data.List (group, sort, sortBy)
+import Data.List (group, sortBy)
 import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
 
 import VProf.Profile.Generate.Exact (exactJoin, noProfileFits)
 import VProf.Profile.Legality (legalVelocities)
-import VProf.Profile.Request (Problem (..), maxSamples)
+import VProf.Profile.Problem (Problem (..))
+import VProf.Profile.Problem.Transform (capOn, mirror, scaleRanges, startingAfter)
+import VProf.Profile.Request (maxSamples)
 import VProf.Profile.SpeedLimit
 
 -- | Why no seed could be made: the request is infeasible (with where and why), or the
@@ -360,7 +362,7 @@ leadIn depth pb = case [ r | Right r <- tries ] of
                    | otherwise -> Nothing)
   where
     tries =
-      [ case seedWithin (depth - 1) (shifted s1 v1 a) of
+      [ case seedWithin (depth - 1) (startingAfter s1 v1 a pb) of
           Right vs | legalVelocities pb (U.cons (pbV0 pb) vs) -> Right (U.cons (pbV0 pb) vs)
                    | otherwise -> Left Nothing
           -- the first step did not get the start out of trouble
@@ -373,13 +375,6 @@ leadIn depth pb = case [ r | Right r <- tries ] of
     e = Env pb (Term (pbLength pb + pbTol pb) (1 / 0)) True
     st0 = St (pbV0 pb) (pbA0 pb) 0
     (lo, hi) = accRange e st0
-    starts = U.toList (pbZoneStarts pb)
-    speeds = U.toList (pbZoneSpeeds pb)
-    shifted s1 v1 a =
-      let later = [ (z - s1, l) | (z, l) <- zip starts speeds, z > s1 ]
-      in pb { pbLength = pbLength pb - s1
-            , pbZoneStarts = U.fromList (0 : map fst later), pbZoneSpeeds = U.fromList (limitAt pb s1 : map snd later)
-            , pbV0 = v1, pbA0 = a }
     -- the rest's own claim is about the shortened problem after one chosen first step,
     -- not a proof for this one: reported as the generator's failure
     unclaimed (s1, g) = LandingFailed ("braking from the start breaks a rule, and after a legal first step (to "
@@ -484,29 +479,6 @@ passFrom e n done = go n
     go k st
       | k <= 0 = []
       | otherwise = let st' = choose e st in st' : (if done st' then [] else go (k - 1) st')
-
--- | The same problem backwards in time. Reversing the samples of a profile keeps its
--- velocities and jerks, negates its accelerations (so the acceleration range flips),
--- swaps the start and end states (accelerations negated) and mirrors positions about
--- the route's middle; the speed rule, the route end and the trapezoid distances are
--- symmetric. A profile legal for the mirror, reversed, is legal for the problem.
-mirror :: Problem -> Problem
-mirror pb = pb
-  { pbZoneStarts = U.fromList (0 : [ len - z | z <- reverse (drop 1 (U.toList (pbZoneStarts pb))) ])
-  , pbZoneSpeeds = U.reverse (pbZoneSpeeds pb)
-  , pbAMin = negate (pbAMax pb), pbAMax = negate (pbAMin pb)
-  , pbV0 = pbVEnd pb, pbA0 = negate (pbAEnd pb)
-  , pbVEnd = pbV0 pb, pbAEnd = negate (pbA0 pb)
-  }
-  where len = pbLength pb
-
--- | Every speed limit on [a, b) capped at v (past the route end too when b is beyond it).
-capOn :: Double -> Double -> Double -> Problem -> Problem
-capOn a b v pb = pb { pbZoneStarts = U.fromList (map fst pieces), pbZoneSpeeds = U.fromList (map snd pieces) }
-  where
-    len = pbLength pb
-    starts = map head (group (sort (U.toList (pbZoneStarts pb) ++ [ x | x <- [a, b], x > 0, x < len ])))
-    pieces = [ (x, if x >= a && x < b then min v (limitAt pb x) else limitAt pb x) | x <- starts ]
 
 -- | Linear interpolation of ys over ascending xs, clamped at both ends.
 interpolate :: U.Vector Double -> U.Vector Double -> Double -> Double
@@ -633,7 +605,7 @@ meet pb = do
       softened = [ p | v <- ends ++ [ top * (1 - d) | d <- [0.02, 0.1, 0.3] ], Just (alpha, beta) <- [wide v]
                      , Just p <- [soften v alpha beta] ]
       soften v alpha beta =
-        let at phi = let q = scaled phi pb; rq = scaled phi rv
+        let at phi = let q = scaleRanges phi pb; rq = scaleRanges phi rv
                      in cappedOn q fEnv bEnv [] [] rq rt0 v alpha beta
             r = leftOver v
             grid = [ (phi, c) | i <- [0 .. 15 :: Int], let phi = 1 - 0.04 * fromIntegral i, Just c <- [at phi] ]
@@ -644,7 +616,6 @@ meet pb = do
         in case roots of
              (p : _) -> Just p
              [] -> Nothing
-      scaled phi q = q { pbAMin = phi * pbAMin q, pbAMax = phi * pbAMax q, pbJMin = phi * pbJMin q, pbJMax = phi * pbJMax q }
       valley = [ p | f <- [0.5, 0.25, 0.1, 0.03], Just (v, alpha, beta) <- [lowPlateau (top * f) (3 :: Int)]
                    , Just c <- [capped' v alpha beta], Just p <- [plateau v c] ]
       lowPlateau v n
