@@ -21,6 +21,7 @@ module VProf.Profile.Generate.Seed.Brake
   , stepTo
   , stepOk
   , accRange
+  , reachableAcc
     -- * The brake policy
   , brakeAcc
   , brakeAccTo
@@ -142,9 +143,17 @@ stepOk e st@(St v _ s) (St v' a' s') =
 -- | The accelerations reachable in one step from a state.
 accRange :: Env -> St -> (Double, Double)
 accRange e (St _ a _) =
-  let pb = ePb e; dt = dtE e
-  in (max (pbAMin pb) (a + pbJMin pb * dt), min (pbAMax pb) (a + pbJMax pb * dt))
+  let pb = ePb e
+  in reachableAcc (dtE e) (pbAMin pb) (pbAMax pb) (pbJMin pb) (pbJMax pb) a
 {-# INLINE accRange #-}
+
+-- | The accelerations reachable in one step of dt from acceleration a, within the
+-- acceleration range [aLo, aHi] and the jerk range [jLo, jHi]. The seed's passes use
+-- the problem's ranges; the exact join's envelopes ("VProf.Profile.Generate.Exact") the
+-- ranges widened by the checker's slack.
+reachableAcc :: Double -> Double -> Double -> Double -> Double -> Double -> (Double, Double)
+reachableAcc dt aLo aHi jLo jHi a = (max aLo (a + jLo * dt), min aHi (a + jHi * dt))
+{-# INLINE reachableAcc #-}
 
 -- | How much velocity is lost while the acceleration is brought back from x (< 0) to 0
 -- as fast as the jerk allows (the steps after x, not x itself).
