@@ -1,113 +1,14 @@
--- | A small, pure, dense linear-programming solver with verified answers.
+-- | A small, pure, dense linear-programming solver with verified answers: minimise c·x
+-- subject to colLo ≤ x ≤ colHi and rowLo ≤ A x ≤ rowHi (any bound may be infinite), for
+-- problems up to a few hundred rows and columns. A bounded-variable primal simplex on a
+-- condensed tableau (composite phase I, partial steepest-edge pricing with Bland's rule
+-- against cycling, Harris' ratio test), its mutable state in one 'Tableau' record.
 --
--- = Problem
---
--- @
---   minimize    c · x
---   subject to  colLo_j ≤ x_j ≤ colHi_j                (every column j)
---               rowLo_i ≤ Σ_j A_ij x_j ≤ rowHi_i       (every row i)
--- @
---
--- Any bound may be infinite (±1/0); @colLo = colHi@ fixes a column and @rowLo = rowHi@
--- makes a row an equality. An all-zero objective asks for feasibility only. Meant for
--- dense problems up to a few hundred rows and columns (the velocity-profile
--- feasibility questions: banded rows plus one dense row).
---
--- = Algorithm
---
--- A bounded-variable primal simplex on a condensed (Tucker) tableau. Every row gets a
--- bounded variable @w_i = A_i x@ with bounds @[rowLo_i, rowHi_i]@, so the constraints
--- are @A x − w = 0@ and every variable — column or row — is simply boxed. The tableau
--- (m × n, unboxed and mutable in 'ST') expresses the m basic variables in terms of the
--- n nonbasic ones; the first basis is all the row variables (the tableau is then A).
--- Nonbasic variables sit at a finite bound (a free column starts at 0 and, once basic,
--- never leaves). Before solving, each row is scaled by a power of two (exact) so that
--- its largest coefficient lies in [0.5, 1), and the objective likewise.
---
--- * Phase I is the composite one: while any basic variable is outside its bounds, the
---   objective is the sum of the infeasibilities; otherwise the objective is c. No
---   artificial variables. The reduced costs are carried along like a tableau row and
---   corrected for the rows whose infeasibility changed, so pricing costs O(n) per
---   iteration; they are recomputed from scratch every 64 iterations.
--- * Pricing: partial steepest edge — of the 8 eligible columns with the largest
---   |reduced cost| (Dantzig's candidates), the one with the largest
---   d² / (1 + Σ_i T_ik²). After 50 consecutive degenerate steps (step < 1e-12) the
---   solver switches to Bland's rule (smallest variable index entering, ties of the
---   textbook ratio test to the smallest index leaving) until a step makes progress —
---   the standard guard against cycling.
--- * Ratio test: Harris' two passes (bounds relaxed by half the primal tolerance, so
---   that a step never takes a feasible variable to where it counts as infeasible —
---   relaxing by the whole tolerance made a chain with 1e-9 boxes flip-flop between
---   the phases; then the largest pivot among the rows blocking within the relaxed
---   step; a negative step is taken as 0), and bound flips of the entering variable
---   when its own range is the shortest step. In phase I an infeasible basic variable
---   blocks where it reaches its violated bound.
--- * Iteration cap: 50·(rows + cols) + 100 pivots and flips in all.
---
--- = Verification (never a wrong answer)
---
--- Every answer is checked against the original data before it is returned; when a
--- check fails the tableau is rebuilt from the basis with LAPACK (hmatrix) and the
--- simplex resumes, at most 3 times, after which the answer is 'Undecided'.
---
--- * 'Optimal': the basic solution is recomputed from scratch (the basic columns
---   solved from the nonbasic rows with LU and one step of iterative refinement) and
---   must have @'residuals' ≤ 1e-9@; with a nonzero objective, the simplex multipliers
---   of the final basis, also solved afresh, must be dual feasible within 1e-7 (on the
---   scaled objective, whose largest coefficient is in [0.5, 1)).
--- * 'Infeasible': the phase I multipliers of the final basis (y = −π, where π solves
---   Bᵀπ = e_B for the phase I cost e = ±1 on the infeasible basic variables) are turned
---   into a 'Farkas' certificate (multipliers that would use an infinite row bound set
---   to 0; if that does not verify, also tries with the entries below 1e-14, 1e-11 and
---   1e-8 of the largest zeroed), and returned only when 'certifies' accepts it.
--- * 'Unbounded': needs a point with @'residuals' ≤ 1e-9@ and a ray d (recomputed
---   from the basis) with ‖d‖∞ = 1 and c·d < −1e-10·Σ|c_j| that respects every finite
---   bound to 1e-10 (a finite @rowHi@ needs A_i·d ≤ 1e-10·Σ_j |A_ij|, a finite @colHi@
---   d_j ≤ 1e-10). This is the one answer that is verified only within a tolerance.
---
--- = Tolerances
---
--- * Output: 'Optimal' points satisfy every bound within 1e-9 · max 1 |bound| (that is
---   what 'residuals' measures).
--- * Internal primal feasibility: 1e-10 · max 1 |bound| per bound (in the original
---   units of the row), ten times tighter than the output so that the drift of the
---   tableau does not matter.
--- * Reduced costs: 1e-9 (phase I costs are ±1, the objective is scaled); pivots
---   smaller than 1e-9 in magnitude are never taken; when the pivot row is sparse,
---   tableau entries that cancel to below 2^-46 times their old value become exact
---   zeros (keeps banded problems sparse).
---
--- = The certificate
---
--- A 'Farkas' vector y (one multiplier per row) proves infeasibility: for every x in
--- the column box, @r·x = Σ_i y_i (A_i x)@ with @r = Aᵀy@, so a feasible x would give
--- @m(y) ≤ r·x ≤ B(y)@, where @B(y) = Σ_i (y_i·rowHi_i if y_i > 0, y_i·rowLo_i if
--- y_i < 0)@ and @m(y) = Σ_j min(r_j·colLo_j, r_j·colHi_j)@. 'certifies' accepts y
--- when @m(y) > B(y)@. It evaluates r, m and B in exact binary arithmetic (every double
--- is a dyadic rational; sums and products of them are computed exactly with Integer
--- mantissas), so no rounding margin is needed: the comparison is exact and the
--- margin is 0. When every r_j ≠ 0 meets a finite column bound (always so when the
--- columns are boxed, as in the velocity-profile problems) an acceptance is a proof.
--- A y_i ≠ 0 that would use an infinite row bound makes y invalid.
---
--- The single concession to floating point: a column with an infinite bound on the
--- side r_j points to (m(y) would be −∞) is dropped from m(y) when
--- @|r_j| ≤ 2^-40 · Σ_i |y_i A_ij|@ — the multipliers cancel there up to what rounding
--- in computing them leaves; exact cancellation is out of reach for multipliers in
--- floating point. Then the gap must be wide: @m(y) − B(y) > 1e-6 · S@, S the sum of
--- the magnitudes of the terms of m(y) and B(y). What such an acceptance proves: a
--- point within all the bounds would need @Σ_{dropped j} (Σ_i |y_i A_ij|)·|x_j| >
--- (1e-6 / 2^-40)·S ≈ 1.1e6·S@ — the free columns would have to carry terms a million
--- times the size of everything else in the proof — and the problem with those
--- columns' coefficients changed by a relative 2^-40 ≈ 9e-13 at most is infeasible
--- (a backward-error statement). Without the wide gap a near-tie of two equality rows
--- through a free column would be accepted for a feasible problem (a test covers it).
---
--- = Limits
---
--- Inputs with NaN, an out-of-range column index, an infinite coefficient or a bound
--- with lo > hi (or lo = +∞, hi = −∞) are answered 'Undecided' with the reason: an
--- empty column or row box cannot be expressed by a row-multiplier certificate.
+-- Invariant: no answer is returned unverified. An 'Optimal' point is recomputed from its
+-- basis and meets every bound within 1e-9 relative ('residuals'); an 'Infeasible' answer
+-- carries a 'Farkas' certificate that 'certifies' accepts in exact arithmetic; an
+-- 'Unbounded' ray is checked within a tolerance; anything else is 'Undecided'. The
+-- method, the tolerances and what a certificate proves are in docs/linear-program.md.
 module VProf.Numeric.LinearProgram
   ( Lp (..), Row (..), LpResult (..), Farkas (..)
   , solve, certifies, residuals
@@ -445,10 +346,43 @@ loopN from to f = go from
           | otherwise = f i >> go (i + 1)
 {-# INLINE loopN #-}
 
+-- | The mutable state of a simplex segment: the tableau and what the iterations keep
+-- beside it. Invariant between iterations: row i of @t@ expresses the basic variable
+-- @basic[i]@ in the nonbasic ones (x_B = T x_N), @xB@ holds their values for the
+-- nonbasic values @xN@, and @dv@ holds the reduced costs for the cost kept in @eB@ and
+-- @eN@; @gv@ is the last 'classify' of the basic variables.
+data Tableau s = Tableau
+  { t       :: !(UM.MVector s Double)  -- ^ T, m × n row-major
+  , basic   :: !(UM.MVector s Int)     -- ^ the basic variable of each row
+  , nonb    :: !(UM.MVector s Int)     -- ^ the nonbasic variable of each column
+  , xN      :: !(UM.MVector s Double)  -- ^ the nonbasic variables' values
+  , xB      :: !(UM.MVector s Double)  -- ^ the basic variables' values
+  , dv      :: !(UM.MVector s Double)  -- ^ reduced costs d_k, by column
+  , eB      :: !(UM.MVector s Double)  -- ^ the cost dv is for, by basic row
+  , eN      :: !(UM.MVector s Double)  -- ^ the cost dv is for, by nonbasic column
+  , candK   :: !(UM.MVector s Int)     -- ^ pricing's short list: columns,
+  , candD   :: !(UM.MVector s Double)  -- ^ their |d_k|,
+  , candDir :: !(UM.MVector s Double)  -- ^ and directions
+  , gv      :: !(UM.MVector s Int)     -- ^ g_i ∈ {−1, 0, 1}: below, within, above the bounds
+  , nz      :: !(UM.MVector s Int)     -- ^ the nonzero columns of the pivot row
+  }
+
 -- | Runs simplex iterations on tableau t (x_B = T x_N) from the given basis until a
 -- stop or until the budget of iterations is spent.
 runSegment :: Prob -> U.Vector Double -> Basis -> Int -> SegOut
-runSegment Prob{..} tab0 (Basis bas0 nb0 xn0) budget = runST $ do
+runSegment pr tab0 (Basis bas0 nb0 xn0) budget = runST $ do
+  tb@Tableau{..} <- newTableau pr tab0 bas0 nb0 xn0
+  (stop, its) <- iterateSegment pr tb budget 0 0
+  tab <- U.freeze t
+  bas <- U.freeze basic
+  nb <- U.freeze nonb
+  xn <- U.freeze xN
+  pure (SegOut stop (Basis bas nb xn) tab its)
+
+-- | The state for a tableau and basis: the basic values computed from the nonbasic
+-- ones, the reduced costs and their cost at zero.
+newTableau :: Prob -> U.Vector Double -> U.Vector Int -> U.Vector Int -> U.Vector Double -> ST s (Tableau s)
+newTableau Prob{..} tab0 bas0 nb0 xn0 = do
   t <- U.thaw tab0
   basic <- U.thaw bas0
   nonb <- U.thaw nb0
@@ -462,271 +396,309 @@ runSegment Prob{..} tab0 (Basis bas0 nb0 xn0) budget = runST $ do
   candDir <- UM.replicate shortList (0 :: Double)
   gv <- UM.replicate m (0 :: Int)
   nz <- UM.replicate (max 1 n) (0 :: Int)
-  loopN 0 m $ \i -> dotRow t i xN >>= UM.unsafeWrite xB i
-  let
-    lo v = U.unsafeIndex pLo v
-    hi v = U.unsafeIndex pHi v
-    cost v = if v < n then U.unsafeIndex pCost v else 0
+  loopN 0 m $ \i -> dotRow n t i xN >>= UM.unsafeWrite xB i
+  pure Tableau{..}
+  where
+    n = pN
+    m = pM
 
-    -- g_i ∈ {−1, 0, 1}: below, within, above the bounds; returns how many are outside.
-    classify = go 0 (0 :: Int)
-      where
-        go !i !cnt
-          | i >= m = pure cnt
-          | otherwise = do
-              v <- UM.unsafeRead basic i
-              x <- UM.unsafeRead xB i
-              let g | x < lo v - U.unsafeIndex pTolLo v = -1
-                    | x > hi v + U.unsafeIndex pTolHi v = 1
-                    | otherwise = 0
-              UM.unsafeWrite gv i g
-              go (i + 1) (if g /= 0 then cnt + 1 else cnt)
+lo, hi, cost :: Prob -> Int -> Double
+lo Prob{..} v = U.unsafeIndex pLo v
+hi Prob{..} v = U.unsafeIndex pHi v
+cost Prob{..} v = if v < pN then U.unsafeIndex pCost v else 0
+{-# INLINE lo #-}
+{-# INLINE hi #-}
+{-# INLINE cost #-}
 
-    -- Reduced costs: dv holds d_k = e_{N_k} + Σ_i e_{B_i} T[i][k] for the cost e kept
-    -- in eB (by basic row) and eN (by nonbasic column). A pivot transforms dv like a
-    -- row of the tableau (the function is the same, the nonbasics change); retarget
-    -- then adds the change of e: phase I, e = g on the basic variables and 0 on the
-    -- nonbasic ones; phase II, e = c. Usually only a few rows change, so pricing costs
-    -- O(n) per iteration instead of O(mn); refresh recomputes from scratch.
-    retarget phase1 = do
-      loopN 0 n $ \k -> do
-        tgt <- if phase1 then pure 0 else cost <$> UM.unsafeRead nonb k
-        e <- UM.unsafeRead eN k
-        if e == tgt then pure () else do
-          d <- UM.unsafeRead dv k
-          UM.unsafeWrite dv k (d + (tgt - e))
-          UM.unsafeWrite eN k tgt
-      loopN 0 m $ \i -> do
-        tgt <- if phase1 then fromIntegral <$> UM.unsafeRead gv i
-                         else cost <$> UM.unsafeRead basic i
-        e <- UM.unsafeRead eB i
-        if e == tgt then pure () else do
-          let w = tgt - e
-              io = i * n
-          loopN 0 n $ \k -> do
-            a <- UM.unsafeRead t (io + k)
-            if a == 0 then pure () else do
-              d <- UM.unsafeRead dv k
-              UM.unsafeWrite dv k (d + w * a)
-          UM.unsafeWrite eB i tgt
+-- | g_i ∈ {−1, 0, 1}: below, within, above the bounds; returns how many are outside.
+classify :: Prob -> Tableau s -> ST s Int
+classify pr@Prob{..} Tableau{..} = go 0 (0 :: Int)
+  where
+    go !i !cnt
+      | i >= pM = pure cnt
+      | otherwise = do
+          v <- UM.unsafeRead basic i
+          x <- UM.unsafeRead xB i
+          let g | x < lo pr v - U.unsafeIndex pTolLo v = -1
+                | x > hi pr v + U.unsafeIndex pTolHi v = 1
+                | otherwise = 0
+          UM.unsafeWrite gv i g
+          go (i + 1) (if g /= 0 then cnt + 1 else cnt)
 
-    refresh = do
-      UM.set dv 0
-      UM.set eB 0
-      UM.set eN 0
-
-    -- entering position and direction (k = −1: none). Bland: the eligible variable
-    -- of smallest index. Otherwise a partial steepest edge: the 'shortList' columns
-    -- with the largest |d_k| (Dantzig's choice among them), and of those the one with
-    -- the largest d_k² / (1 + Σ_i T[i][k]²), the squared rate of improvement per unit
-    -- length of the edge.
-    eligible k = do
-      v <- UM.unsafeRead nonb k
-      x <- UM.unsafeRead xN k
+-- | Reduced costs: dv holds d_k = e_{N_k} + Σ_i e_{B_i} T[i][k] for the cost e kept in
+-- eB (by basic row) and eN (by nonbasic column). A pivot transforms dv like a row of the
+-- tableau (the function is the same, the nonbasics change); retarget then adds the
+-- change of e: phase I, e = g on the basic variables and 0 on the nonbasic ones; phase
+-- II, e = c. Usually only a few rows change, so pricing costs O(n) per iteration instead
+-- of O(mn); 'refresh' recomputes from scratch.
+retarget :: Prob -> Tableau s -> Bool -> ST s ()
+retarget pr@Prob{..} Tableau{..} phase1 = do
+  loopN 0 n $ \k -> do
+    tgt <- if phase1 then pure 0 else cost pr <$> UM.unsafeRead nonb k
+    e <- UM.unsafeRead eN k
+    if e == tgt then pure () else do
       d <- UM.unsafeRead dv k
-      let l = lo v; h = hi v
-          dir | l == h = 0
-              | d < -dualTol && x < h = 1
-              | d > dualTol && x > l = -1
-              | otherwise = 0 :: Double
-      pure (v, d, dir)
-
-    entering True = go 0 (-1) 0 maxBound
-      where
-        go !k !bestK !bestDir !bestVar
-          | k >= n = pure (bestK, bestDir)
-          | otherwise = do
-              (v, _, dir) <- eligible k
-              if dir /= 0 && v < bestVar then go (k + 1) k dir v
-                                         else go (k + 1) bestK bestDir bestVar
-    entering False = do
-      -- the short list, kept sorted by |d| descending (earlier k first among ties)
-      let collect !k !cnt
-            | k >= n = pure cnt
-            | otherwise = do
-                (_, d, dir) <- eligible k
-                if dir == 0 then collect (k + 1) cnt else do
-                  let a = abs d
-                  lastA <- if cnt < shortList then pure (-1)
-                           else UM.unsafeRead candD (shortList - 1)
-                  if a <= lastA then collect (k + 1) cnt else do
-                    let cnt' = min shortList (cnt + 1)
-                        -- shift smaller entries down, then insert
-                        place !j
-                          | j > 0 = do
-                              prev <- UM.unsafeRead candD (j - 1)
-                              if prev < a
-                                then do
-                                  UM.unsafeRead candK (j - 1) >>= UM.unsafeWrite candK j
-                                  UM.unsafeWrite candD j prev
-                                  UM.unsafeRead candDir (j - 1) >>= UM.unsafeWrite candDir j
-                                  place (j - 1)
-                                else pure j
-                          | otherwise = pure 0
-                    j <- place (cnt' - 1)
-                    UM.unsafeWrite candK j k
-                    UM.unsafeWrite candD j a
-                    UM.unsafeWrite candDir j dir
-                    collect (k + 1) cnt'
-      cnt <- collect 0 0
-      let pick !c !bestK !bestDir !bestScore
-            | c >= cnt = pure (bestK, bestDir)
-            | otherwise = do
-                k <- UM.unsafeRead candK c
-                a <- UM.unsafeRead candD c
-                dir <- UM.unsafeRead candDir c
-                g <- colNorm k
-                let score = a * a / g
-                if score > bestScore then pick (c + 1) k dir score
-                                     else pick (c + 1) bestK bestDir bestScore
-      pick 0 (-1) 0 (-1)
-
-    colNorm k = go 0 1
-      where
-        go !i !acc
-          | i >= m = pure acc
-          | otherwise = do
-              a <- UM.unsafeRead t (i * n + k)
-              go (i + 1) (acc + a * a)
-
-    -- the blocking ratio of basic row i for column k moving in direction dir:
-    -- (relaxed ratio, exact ratio, bound value), or Nothing
-    rowRatio k dir i = do
-      a0 <- UM.unsafeRead t (i * n + k)
-      let a = a0 * dir
-      if abs a <= pivotTol then pure Nothing else do
-        v <- UM.unsafeRead basic i
-        x <- UM.unsafeRead xB i
-        g <- UM.unsafeRead gv i
-        let l = lo v; h = hi v
-            tl = U.unsafeIndex pTolLo v; th = U.unsafeIndex pTolHi v
-        pure $! case g of
-          0 | a > 0 && finite h -> Just ((h + harris * th - x) / a, (h - x) / a, h, a)
-            | a < 0 && finite l -> Just ((l - harris * tl - x) / a, (l - x) / a, l, a)
-            | otherwise -> Nothing
-          -1 | a > 0 -> let r = (l - x) / a in Just (r, r, l, a)
-             | otherwise -> Nothing
-          _  | a < 0 -> let r = (h - x) / a in Just (r, r, h, a)
-             | otherwise -> Nothing
-
-    ratio bland k dir = do
-      v <- UM.unsafeRead nonb k
-      let range = hi v - lo v
-      if bland
-        then do
-          -- textbook: the smallest ratio, ties to the smallest basic variable
-          let go !i !bestR !bestRat !bestB !bestVar
-                | i >= m = pure (bestR, bestRat, bestB)
-                | otherwise = rowRatio k dir i >>= \case
-                    Nothing -> go (i + 1) bestR bestRat bestB bestVar
-                    Just (_, r0, b, _) -> do
-                      u <- UM.unsafeRead basic i
-                      let r = max 0 r0
-                          better
-                            | bestR < 0 = True
-                            | abs (r - bestRat) <= 1e-12 * max 1 r = u < bestVar
-                            | otherwise = r < bestRat
-                      if better then go (i + 1) i r b u
-                                else go (i + 1) bestR bestRat bestB bestVar
-          (r, rat, b) <- go 0 (-1) (1 / 0) 0 maxBound
-          pure $! if r < 0 && isInfinite range then NoBlock
-                  else if r < 0 || range <= rat then Flip range
-                  else Pivot r rat b
-        else do
-          -- Harris pass 1: the step with every bound relaxed by half its tolerance
-          let pass1 !i !tmax
-                | i >= m = pure tmax
-                | otherwise = rowRatio k dir i >>= \case
-                    Nothing -> pass1 (i + 1) tmax
-                    Just (rr, _, _, _) -> pass1 (i + 1) (min tmax rr)
-          tmax <- pass1 0 (1 / 0)
-          if isInfinite tmax && isInfinite range then pure NoBlock
-          else if range <= tmax then pure (Flip range)
-          else do
-            -- pass 2: the largest pivot among the rows blocking within tmax
-            let pass2 !i !bestR !bestRat !bestB !bestAbs
-                  | i >= m = pure (bestR, bestRat, bestB)
-                  | otherwise = rowRatio k dir i >>= \case
-                      Just (_, r, b, a) | r <= tmax && abs a > bestAbs ->
-                        pass2 (i + 1) i r b (abs a)
-                      _ -> pass2 (i + 1) bestR bestRat bestB bestAbs
-            (r, rat, b) <- pass2 0 (-1) 0 0 0
-            pure $! if r < 0 then NoBlock else Pivot r (max 0 rat) b
-
-    moveBasics k dir step =
-      if step == 0 then pure () else
-        loopN 0 m $ \i -> do
-          a <- UM.unsafeRead t (i * n + k)
-          if a == 0 then pure () else do
-            x <- UM.unsafeRead xB i
-            UM.unsafeWrite xB i (x + a * dir * step)
-
-    -- pivot on (r, s): the basic variable of row r and the nonbasic of column s swap
-    pivot r s = do
-      p <- UM.unsafeRead t (r * n + s)
-      let ro = r * n
-      cnt <- let go !k !c
-                   | k >= n = pure c
-                   | k == s = UM.unsafeWrite t (ro + k) (1 / p) >> go (k + 1) c
-                   | otherwise = do
-                       a <- UM.unsafeRead t (ro + k)
-                       if a == 0 then go (k + 1) c else do
-                         UM.unsafeWrite t (ro + k) (negate a / p)
-                         UM.unsafeWrite nz c k
-                         go (k + 1) (c + 1)
-             in go 0 0
-      let invP = 1 / p
-      -- the reduced costs, like a row
-      ds <- UM.unsafeRead dv s
-      if ds == 0 then pure () else do
-        loopN 0 cnt $ \c -> do
-          k <- UM.unsafeRead nz c
-          rk <- UM.unsafeRead t (ro + k)
+      UM.unsafeWrite dv k (d + (tgt - e))
+      UM.unsafeWrite eN k tgt
+  loopN 0 m $ \i -> do
+    tgt <- if phase1 then fromIntegral <$> UM.unsafeRead gv i
+                     else cost pr <$> UM.unsafeRead basic i
+    e <- UM.unsafeRead eB i
+    if e == tgt then pure () else do
+      let w = tgt - e
+          io = i * n
+      loopN 0 n $ \k -> do
+        a <- UM.unsafeRead t (io + k)
+        if a == 0 then pure () else do
           d <- UM.unsafeRead dv k
-          UM.unsafeWrite dv k (d + ds * rk)
-        UM.unsafeWrite dv s (ds * invP)
-      eR <- UM.unsafeRead eB r
-      eS <- UM.unsafeRead eN s
-      UM.unsafeWrite eB r eS
-      UM.unsafeWrite eN s eR
-      loopN 0 m $ \i -> if i == r then pure () else do
-        let io = i * n
-        f <- UM.unsafeRead t (io + s)
-        if f == 0 then pure () else do
-          let upd k = do
-                rk <- UM.unsafeRead t (ro + k)
-                x <- UM.unsafeRead t (io + k)
-                let y = x + f * rk
-                UM.unsafeWrite t (io + k) (if abs y <= dropTol * abs x then 0 else y)
-          -- a dense pivot row is run through directly, a sparse one by its nonzeros
-          if 2 * cnt > n
-            then axpy t f ro io n
-            else loopN 0 cnt $ \c -> UM.unsafeRead nz c >>= upd
-          UM.unsafeWrite t (io + s) (f * invP)
+          UM.unsafeWrite dv k (d + w * a)
+      UM.unsafeWrite eB i tgt
+  where
+    n = pN
+    m = pM
 
+refresh :: Tableau s -> ST s ()
+refresh Tableau{..} = do
+  UM.set dv 0
+  UM.set eB 0
+  UM.set eN 0
+
+-- | Column k's variable, its reduced cost, and the direction it may enter in (0: not
+-- eligible).
+eligible :: Prob -> Tableau s -> Int -> ST s (Int, Double, Double)
+eligible pr Tableau{..} k = do
+  v <- UM.unsafeRead nonb k
+  x <- UM.unsafeRead xN k
+  d <- UM.unsafeRead dv k
+  let l = lo pr v; h = hi pr v
+      dir | l == h = 0
+          | d < -dualTol && x < h = 1
+          | d > dualTol && x > l = -1
+          | otherwise = 0 :: Double
+  pure (v, d, dir)
+
+-- | Entering position and direction (k = −1: none). Bland: the eligible variable of
+-- smallest index. Otherwise a partial steepest edge: the 'shortList' columns with the
+-- largest |d_k| (Dantzig's choice among them), and of those the one with the largest
+-- d_k² / (1 + Σ_i T[i][k]²), the squared rate of improvement per unit length of the edge.
+entering :: Prob -> Tableau s -> Bool -> ST s (Int, Double)
+entering pr@Prob{..} tb True = go 0 (-1) 0 maxBound
+  where
+    go !k !bestK !bestDir !bestVar
+      | k >= pN = pure (bestK, bestDir)
+      | otherwise = do
+          (v, _, dir) <- eligible pr tb k
+          if dir /= 0 && v < bestVar then go (k + 1) k dir v
+                                     else go (k + 1) bestK bestDir bestVar
+entering pr@Prob{..} tb@Tableau{..} False = do
+  -- the short list, kept sorted by |d| descending (earlier k first among ties)
+  let collect !k !cnt
+        | k >= n = pure cnt
+        | otherwise = do
+            (_, d, dir) <- eligible pr tb k
+            if dir == 0 then collect (k + 1) cnt else do
+              let a = abs d
+              lastA <- if cnt < shortList then pure (-1)
+                       else UM.unsafeRead candD (shortList - 1)
+              if a <= lastA then collect (k + 1) cnt else do
+                let cnt' = min shortList (cnt + 1)
+                    -- shift smaller entries down, then insert
+                    place !j
+                      | j > 0 = do
+                          prev <- UM.unsafeRead candD (j - 1)
+                          if prev < a
+                            then do
+                              UM.unsafeRead candK (j - 1) >>= UM.unsafeWrite candK j
+                              UM.unsafeWrite candD j prev
+                              UM.unsafeRead candDir (j - 1) >>= UM.unsafeWrite candDir j
+                              place (j - 1)
+                            else pure j
+                      | otherwise = pure 0
+                j <- place (cnt' - 1)
+                UM.unsafeWrite candK j k
+                UM.unsafeWrite candD j a
+                UM.unsafeWrite candDir j dir
+                collect (k + 1) cnt'
+  cnt <- collect 0 0
+  let pick !c !bestK !bestDir !bestScore
+        | c >= cnt = pure (bestK, bestDir)
+        | otherwise = do
+            k <- UM.unsafeRead candK c
+            a <- UM.unsafeRead candD c
+            dir <- UM.unsafeRead candDir c
+            g <- colNorm pr tb k
+            let score = a * a / g
+            if score > bestScore then pick (c + 1) k dir score
+                                 else pick (c + 1) bestK bestDir bestScore
+  pick 0 (-1) 0 (-1)
+  where
+    n = pN
+
+-- | 1 + Σ_i T[i][k]².
+colNorm :: Prob -> Tableau s -> Int -> ST s Double
+colNorm Prob{..} Tableau{..} k = go 0 1
+  where
+    go !i !acc
+      | i >= pM = pure acc
+      | otherwise = do
+          a <- UM.unsafeRead t (i * pN + k)
+          go (i + 1) (acc + a * a)
+
+-- | The blocking ratio of basic row i for column k moving in direction dir:
+-- (relaxed ratio, exact ratio, bound value, pivot), or Nothing.
+rowRatio :: Prob -> Tableau s -> Int -> Double -> Int -> ST s (Maybe (Double, Double, Double, Double))
+rowRatio pr@Prob{..} Tableau{..} k dir i = do
+  a0 <- UM.unsafeRead t (i * pN + k)
+  let a = a0 * dir
+  if abs a <= pivotTol then pure Nothing else do
+    v <- UM.unsafeRead basic i
+    x <- UM.unsafeRead xB i
+    g <- UM.unsafeRead gv i
+    let l = lo pr v; h = hi pr v
+        tl = U.unsafeIndex pTolLo v; th = U.unsafeIndex pTolHi v
+    pure $! case g of
+      0 | a > 0 && finite h -> Just ((h + harris * th - x) / a, (h - x) / a, h, a)
+        | a < 0 && finite l -> Just ((l - harris * tl - x) / a, (l - x) / a, l, a)
+        | otherwise -> Nothing
+      -1 | a > 0 -> let r = (l - x) / a in Just (r, r, l, a)
+         | otherwise -> Nothing
+      _  | a < 0 -> let r = (h - x) / a in Just (r, r, h, a)
+         | otherwise -> Nothing
+
+-- | The ratio test for column k entering in direction dir: Bland's textbook test, or
+-- Harris' two passes.
+ratio :: Prob -> Tableau s -> Bool -> Int -> Double -> ST s Step
+ratio pr@Prob{..} tb@Tableau{..} bland k dir = do
+  v <- UM.unsafeRead nonb k
+  let range = hi pr v - lo pr v
+  if bland
+    then do
+      -- textbook: the smallest ratio, ties to the smallest basic variable
+      let go !i !bestR !bestRat !bestB !bestVar
+            | i >= m = pure (bestR, bestRat, bestB)
+            | otherwise = rowRatio pr tb k dir i >>= \case
+                Nothing -> go (i + 1) bestR bestRat bestB bestVar
+                Just (_, r0, b, _) -> do
+                  u <- UM.unsafeRead basic i
+                  let r = max 0 r0
+                      better
+                        | bestR < 0 = True
+                        | abs (r - bestRat) <= 1e-12 * max 1 r = u < bestVar
+                        | otherwise = r < bestRat
+                  if better then go (i + 1) i r b u
+                            else go (i + 1) bestR bestRat bestB bestVar
+      (r, rat, b) <- go 0 (-1) (1 / 0) 0 maxBound
+      pure $! if r < 0 && isInfinite range then NoBlock
+              else if r < 0 || range <= rat then Flip range
+              else Pivot r rat b
+    else do
+      -- Harris pass 1: the step with every bound relaxed by half its tolerance
+      let pass1 !i !tmax
+            | i >= m = pure tmax
+            | otherwise = rowRatio pr tb k dir i >>= \case
+                Nothing -> pass1 (i + 1) tmax
+                Just (rr, _, _, _) -> pass1 (i + 1) (min tmax rr)
+      tmax <- pass1 0 (1 / 0)
+      if isInfinite tmax && isInfinite range then pure NoBlock
+      else if range <= tmax then pure (Flip range)
+      else do
+        -- pass 2: the largest pivot among the rows blocking within tmax
+        let pass2 !i !bestR !bestRat !bestB !bestAbs
+              | i >= m = pure (bestR, bestRat, bestB)
+              | otherwise = rowRatio pr tb k dir i >>= \case
+                  Just (_, r, b, a) | r <= tmax && abs a > bestAbs ->
+                    pass2 (i + 1) i r b (abs a)
+                  _ -> pass2 (i + 1) bestR bestRat bestB bestAbs
+        (r, rat, b) <- pass2 0 (-1) 0 0 0
+        pure $! if r < 0 then NoBlock else Pivot r (max 0 rat) b
+  where
+    m = pM
+
+-- | The basic values after column k moved by step in direction dir.
+moveBasics :: Prob -> Tableau s -> Int -> Double -> Double -> ST s ()
+moveBasics Prob{..} Tableau{..} k dir step =
+  if step == 0 then pure () else
+    loopN 0 pM $ \i -> do
+      a <- UM.unsafeRead t (i * pN + k)
+      if a == 0 then pure () else do
+        x <- UM.unsafeRead xB i
+        UM.unsafeWrite xB i (x + a * dir * step)
+
+-- | Pivot on (r, s): the basic variable of row r and the nonbasic of column s swap.
+pivot :: Prob -> Tableau s -> Int -> Int -> ST s ()
+pivot Prob{..} Tableau{..} r s = do
+  p <- UM.unsafeRead t (r * n + s)
+  let ro = r * n
+  cnt <- let go !k !c
+               | k >= n = pure c
+               | k == s = UM.unsafeWrite t (ro + k) (1 / p) >> go (k + 1) c
+               | otherwise = do
+                   a <- UM.unsafeRead t (ro + k)
+                   if a == 0 then go (k + 1) c else do
+                     UM.unsafeWrite t (ro + k) (negate a / p)
+                     UM.unsafeWrite nz c k
+                     go (k + 1) (c + 1)
+         in go 0 0
+  let invP = 1 / p
+  -- the reduced costs, like a row
+  ds <- UM.unsafeRead dv s
+  if ds == 0 then pure () else do
+    loopN 0 cnt $ \c -> do
+      k <- UM.unsafeRead nz c
+      rk <- UM.unsafeRead t (ro + k)
+      d <- UM.unsafeRead dv k
+      UM.unsafeWrite dv k (d + ds * rk)
+    UM.unsafeWrite dv s (ds * invP)
+  eR <- UM.unsafeRead eB r
+  eS <- UM.unsafeRead eN s
+  UM.unsafeWrite eB r eS
+  UM.unsafeWrite eN s eR
+  loopN 0 m $ \i -> if i == r then pure () else do
+    let io = i * n
+    f <- UM.unsafeRead t (io + s)
+    if f == 0 then pure () else do
+      let upd k = do
+            rk <- UM.unsafeRead t (ro + k)
+            x <- UM.unsafeRead t (io + k)
+            let y = x + f * rk
+            UM.unsafeWrite t (io + k) (if abs y <= dropTol * abs x then 0 else y)
+      -- a dense pivot row is run through directly, a sparse one by its nonzeros
+      if 2 * cnt > n
+        then axpy t f ro io n
+        else loopN 0 cnt $ \c -> UM.unsafeRead nz c >>= upd
+      UM.unsafeWrite t (io + s) (f * invP)
+  where
+    n = pN
+    m = pM
+
+-- | Iterations from iteration @it@ (with @degen@ degenerate steps in a row) until a stop
+-- or the budget: the stop and the iterations done.
+iterateSegment :: Prob -> Tableau s -> Int -> Int -> Int -> ST s (Stop, Int)
+iterateSegment pr@Prob{..} tb@Tableau{..} budget = iterate'
+  where
     iterate' !it !degen
       | it >= budget = pure (SCap, it)
       | otherwise = do
-          nInf <- classify
+          nInf <- classify pr tb
           let phase1 = nInf > 0
           if not phase1 && not pHasCost then pure (SOptimal, it) else do
-            if it `mod` refreshEvery == 0 then refresh else pure ()
-            retarget phase1
+            if it `mod` refreshEvery == 0 then refresh tb else pure ()
+            retarget pr tb phase1
             let bland = degen >= blandAfter
-            (k, dir) <- entering bland
+            (k, dir) <- entering pr tb bland
             if k < 0 then pure (if phase1 then SInfeasible else SOptimal, it) else do
-              st <- ratio bland k dir
+              st <- ratio pr tb bland k dir
               case st of
                 NoBlock
                   | phase1 -> pure (STrouble "a phase I direction without a breakpoint", it)
                   | otherwise -> pure (SUnbounded k dir, it)
                 Flip step -> do
-                  moveBasics k dir step
+                  moveBasics pr tb k dir step
                   v <- UM.unsafeRead nonb k
-                  UM.unsafeWrite xN k (if dir > 0 then hi v else lo v)
+                  UM.unsafeWrite xN k (if dir > 0 then hi pr v else lo pr v)
                   iterate' (it + 1) 0
                 Pivot r step b -> do
-                  moveBasics k dir step
+                  moveBasics pr tb k dir step
                   v <- UM.unsafeRead nonb k
                   xv <- UM.unsafeRead xN k
                   u <- UM.unsafeRead basic r
@@ -734,27 +706,19 @@ runSegment Prob{..} tab0 (Basis bas0 nb0 xn0) budget = runST $ do
                   UM.unsafeWrite xB r (xv + dir * step)
                   UM.unsafeWrite nonb k u
                   UM.unsafeWrite xN k b
-                  pivot r k
+                  pivot pr tb r k
                   iterate' (it + 1) (if step < degenerateStep then degen + 1 else 0)
 
-  (stop, its) <- iterate' 0 0
-  tab <- U.freeze t
-  bas <- U.freeze basic
-  nb <- U.freeze nonb
-  xn <- U.freeze xN
-  pure (SegOut stop (Basis bas nb xn) tab its)
+-- | Row i of the tableau times the nonbasic values.
+dotRow :: Int -> UM.MVector s Double -> Int -> UM.MVector s Double -> ST s Double
+dotRow n t i xs = go 0 0
   where
-    n = pN
-    m = pM
-    dotRow :: UM.MVector s Double -> Int -> UM.MVector s Double -> ST s Double
-    dotRow t i xs = go 0 0
-      where
-        go !k !acc
-          | k >= n = pure acc
-          | otherwise = do
-              a <- UM.unsafeRead t (i * n + k)
-              x <- UM.unsafeRead xs k
-              go (k + 1) (if a == 0 then acc else acc + a * x)
+    go !k !acc
+      | k >= n = pure acc
+      | otherwise = do
+          a <- UM.unsafeRead t (i * n + k)
+          x <- UM.unsafeRead xs k
+          go (k + 1) (if a == 0 then acc else acc + a * x)
 
 -- | t[io + k] += f · t[ro + k] for k < len (the dense row update of a pivot;
 -- unrolled by four, which the native code generator rewards).

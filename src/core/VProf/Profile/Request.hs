@@ -3,8 +3,9 @@
 --
 -- 'Request' is what arrives (from Protobuf, JSON or Haskell code); every optional knob is
 -- a 'Maybe'. 'validate' checks it all at once and returns either every problem, each
--- naming the field and the value, or a 'Problem': the same request in SI doubles with
--- the defaults filled in, which is what the generator and the checker work on.
+-- naming the field and the value, or a 'Problem' ("VProf.Profile.Problem", re-exported
+-- here): the same request in SI doubles with the defaults filled in, which is what the
+-- generator and the checker work on.
 module VProf.Profile.Request
   ( -- * The request
     Request (..)
@@ -30,6 +31,7 @@ module VProf.Profile.Request
 import Data.List (sortOn)
 import qualified Data.Vector.Unboxed as U
 
+import VProf.Profile.Problem (Algorithm (..), Problem (..))
 import VProf.Units
 import VProf.Validation
 
@@ -39,12 +41,6 @@ data SpeedZone = SpeedZone
   { zoneStart :: !(Length Double)
   , zoneSpeed :: !(Velocity Double)
   } deriving (Eq, Show)
-
--- | Which generator runs.
-data Algorithm
-  = Band    -- ^ seeded windowed raise iteration: the default, fast and near time-optimal
-  | Thesis  -- ^ the thesis's windowed iteration, grown from rest to a legal fixed point
-  deriving (Eq, Show, Enum, Bounded)
 
 data Request = Request
   { rqRouteLength       :: !(Length Double)
@@ -109,28 +105,6 @@ defaultMaxIterations = \case
 -- its highest speed limit, is refused by 'validate'.
 maxSamples :: Int
 maxSamples = 1048576
-
--- | A validated request: SI doubles, defaults filled in. Zones are parallel unboxed
--- vectors sorted by start; the first starts at 0.
-data Problem = Problem
-  { pbLength     :: !Double
-  , pbZoneStarts :: !(U.Vector Double)
-  , pbZoneSpeeds :: !(U.Vector Double)
-  , pbAMin       :: !Double
-  , pbAMax       :: !Double
-  , pbJMin       :: !Double
-  , pbJMax       :: !Double
-  , pbV0         :: !Double
-  , pbA0         :: !Double
-  , pbVEnd       :: !Double
-  , pbAEnd       :: !Double
-  , pbDt         :: !Double
-  , pbDv         :: !Double
-  , pbMaxIter    :: !Int
-  , pbBudget     :: !Double
-  , pbTol        :: !Double
-  , pbAlgorithm  :: !Algorithm
-  } deriving (Eq, Show)
 
 -- | The automatic velocity step: the largest power of two that is at most a quarter of
 -- the smallest of |j|·dt² and |a|·dt, so that one step of velocity changes acceleration

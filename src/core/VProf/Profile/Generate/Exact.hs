@@ -1,32 +1,16 @@
--- | The exact join of a short route with a moving end, where the two-sided meet of
--- "VProf.Profile.Generate.Seed" finds no plateau to join on.
+-- | The exact join of a short route with a moving end, where the plateau strategies of
+-- the meet ("VProf.Profile.Generate.Seed.Strategy") find no plateau to join on, and the
+-- proof that no profile exists.
 --
--- With its number of steps N fixed, a profile is its velocities v_0..v_N, and every rule
--- of the checker but the speed limits is linear in them: the acceleration and jerk
--- ranges (the jerks into the first and out of the last acceleration included), the start
--- and end velocities, and the route end (the trapezoid sum s_N; no earlier sample can be
--- further, the velocities being non-negative). The speed limits are linear too once it is
--- known which zones each step touches. So for each N the question "is there a legal
--- profile of N steps?" is a small linear program ("VProf.Numeric.LinearProgram"):
+-- With its number of steps N fixed, a profile's rules are linear in its velocities
+-- v_0..v_N, so for each N that velocity envelopes leave open, one small linear program
+-- ("VProf.Numeric.LinearProgram") either builds a profile ('exactJoin': velocities capped
+-- by the lowest limit they might meet, then confirmed by the checker) or, with every rule
+-- widened by the checker's slack, proves with a Farkas certificate that none exists
+-- ('noProfileFits'). The method is derived in docs/profile-generator.md.
 --
--- * to build a profile ('exactJoin'), each velocity is capped by the lowest limit
---   anywhere its steps might lie (the positions every legal profile of N steps must
---   keep to, from the bounds below); a solution is then legal by construction, and the
---   checker confirms it. When those caps are too cautious, the caps are re-read at the
---   positions of the last solution a few times.
--- * to prove that none exists ('noProfileFits'), each velocity is only capped by the
---   highest limit, and every rule is widened by the checker's rounding slack; a program
---   without a solution then comes with a Farkas certificate: multipliers of its rows
---   that combine them into an inequality no velocities can meet. That is checked before
---   it is believed, and the tests check it again with rows of their own.
---
--- Which N need a program: each velocity lies in a box, from the start forwards (the
--- accelerations within a_0 + (i+1)·dt·[j_min, j_max] after i steps, clipped to the
--- acceleration range) and from the end backwards; an N whose boxes do not overlap, or
--- whose box sums cannot reach the route end or stay within it, has no profile. N is
--- bounded when the lower bound from the start (or the one from the end, backwards)
--- covers more than the route while still moving, or when every profile is proven to stay
--- above some speed u > 0 (see 'floorSpeed'): then N·dt·u ≤ L + tolerance.
+-- Invariant: 'exactJoin' returns only profiles the checker finds legal; 'noProfileFits'
+-- claims only what verified certificates (and the bound on N) prove.
 module VProf.Profile.Generate.Exact
   ( exactJoin
   , noProfileFits
@@ -37,6 +21,7 @@ import Data.Maybe (listToMaybe, mapMaybe)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
 
+import VProf.Profile.Generate.Seed.Brake (reachableAcc)
 import VProf.Profile.Legality (legalVelocities, slack)
 import VProf.Numeric.LinearProgram
 import VProf.Profile.Sampled (trapezoidDistances)
@@ -56,6 +41,35 @@ envCap = 4096
 -- | The largest N solved as a linear program (dense; a short route's join).
 lpCap :: Int
 lpCap = 320
+
+-- | The candidate step counts 'exactJoin' solves at most, fewest steps first.
+joinCandidates :: Int
+joinCandidates = 48
+
+-- | The most step counts a proof certifies one by one.
+proofOpenCap :: Int
+proofOpenCap = 64
+
+-- | Halvings of the bisections (the envelopes' hardest braking, the floor speed).
+bisections :: Int
+bisections = 60
+
+-- | How often the caps are re-read at a solution's positions (several zones).
+capRereads :: Int
+capRereads = 6
+
+-- | The margin either side of a solution's positions when its caps are re-read.
+capMarginM :: Double
+capMarginM = 0.01
+
+-- | Built profiles keep this share of each range clear of its end (the checker's rounding).
+narrowing :: Double
+narrowing = 1e-6
+
+-- | Extra room for the floor speed's distances: the samples may be below zero by the
+-- checker's slack.
+floorRoomM :: Double
+floorRoomM = 1e-6
 
 widen :: Double -> Double -> Double
 widen sign x = x + sign * slack x
@@ -80,16 +94,21 @@ envelopes pb =
     -- zero), a profile slower at some step would have both less velocity and less
     -- acceleration there, so a lowest future velocity below zero. From the end, the same
     -- on the problem mirrored in time (accelerations negated, their range flipped).
+    -- This is the seed's hard brake policy ("VProf.Profile.Generate.Seed.Brake") on the
+    -- ranges widened by the checker's slack: the reachable range of a step is the same
+    -- function ('reachableAcc'); the acceleration on the edge is found by bisection
+    -- against a floor of minus the slack, since the envelope must bound every profile
+    -- the checker accepts, where the seed's closed form aims at zero exactly.
     hardest v0 a0 lo0 hi0 = U.unfoldrExactN (envCap + 1) next (v0, a0, True)
       where
         next (v, a, first)
           | first = (v, (v, a, False))
           | v <= 0 && a >= 0 = (v, (v, a, False))
           | otherwise =
-              let lo = max lo0 (a + jMin * dt); hi = min hi0 (a + jMax * dt)
+              let (lo, hi) = reachableAcc dt lo0 hi0 jMin jMax a
                   x | keeps v lo = lo
                     | not (keeps v hi) = hi
-                    | otherwise = bisect v lo hi (60 :: Int)
+                    | otherwise = bisect v lo hi bisections
                   v' = v + x * dt
               in (v', (v', x, False))
     keeps v x = go (v + x * dt) (x + jMax * dt)
@@ -114,11 +133,11 @@ distanceAbove dt lo u =
 floorSpeed :: Problem -> Envelopes -> Maybe Double
 floorSpeed pb env
   | not (excludes 0) = Nothing
-  | otherwise = Just (go 0 (max (pbV0 pb) (pbVEnd pb)) (60 :: Int))
+  | otherwise = Just (go 0 (max (pbV0 pb) (pbVEnd pb)) bisections)
   where
     dt = pbDt pb
     -- (a micrometre more: the samples may be below zero by the checker's slack)
-    room = pbLength pb + pbTol pb + slack (pbLength pb) + 1e-6
+    room = pbLength pb + pbTol pb + slack (pbLength pb) + floorRoomM
     excludes u = distanceAbove dt (loF env) u + distanceAbove dt (loB env) u > room
     go lo hi n
       | n == 0 = lo
@@ -178,7 +197,7 @@ joinRows pb w endRoom n =
   where
     dt = pbDt pb
     len = pbLength pb
-    sl sign x = if w then widen sign x else x - sign * 1e-6 * max 1 (abs x)
+    sl sign x = if w then widen sign x else x - sign * narrowing * max 1 (abs x)
     aLo = sl (-1) (pbAMin pb); aHi = sl 1 (pbAMax pb)
     jLo = sl (-1) (pbJMin pb); jHi = sl 1 (pbJMax pb)
 
@@ -203,7 +222,7 @@ joinLp pb w endRoom n caps =
 -- | For a request the meet could not join: the first N (fewest steps first) whose program
 -- gives a profile the checker finds legal.
 exactJoin :: Problem -> Maybe (U.Vector Double)
-exactJoin pb = listToMaybe (mapMaybe build (take 48 candidates))
+exactJoin pb = listToMaybe (mapMaybe build (take joinCandidates candidates))
   where
     env = envelopes pb
     fl = floorSpeed pb env
@@ -229,7 +248,7 @@ exactJoin pb = listToMaybe (mapMaybe build (take 48 candidates))
           -- the caps read at the positions of a solution, a centimetre either side
           readAt vs = let s = trapezoidDistances dt vs
                           at k = s U.! max 0 (min n k)
-                      in U.generate (n + 1) (\k -> minLimitOn pb (max 0 (at (k - 1) - 0.01)) (at (k + 1) + 0.01))
+                      in U.generate (n + 1) (\k -> minLimitOn pb (max 0 (at (k - 1) - capMarginM)) (at (k + 1) + capMarginM))
           refine caps i = case solveWith n caps of
             Just vs | legalVelocities pb vs -> Just vs
                     | i > 0 -> refine (U.zipWith min caps (readAt vs)) (i - 1 :: Int)
@@ -239,7 +258,7 @@ exactJoin pb = listToMaybe (mapMaybe build (take 48 candidates))
       -- solution, start from the highest limit and re-read the caps where the solution
       -- runs, a few times
       in if single then refine cautious 0
-         else listToMaybe (mapMaybe (uncurry refine) [(cautious, 0), (U.replicate (n + 1) (U.maximum (pbZoneSpeeds pb)), 6)])
+         else listToMaybe (mapMaybe (uncurry refine) [(cautious, 0), (U.replicate (n + 1) (U.maximum (pbZoneSpeeds pb)), capRereads)])
 
 -- | The proof that no profile fits: N is bounded, and every N up to the bound either has
 -- boxes that cannot hold a profile or a program with a verified certificate. The bound
@@ -249,7 +268,7 @@ proofCertificates pb = do
   nMax <- maxSteps pb env fl
   let open = [ n | n <- [0 .. nMax], boxFits pb env fl n ]
   -- a single sample (N = 0) has no program: it is left unproven
-  if nMax > envCap || length open > 64 || any (\n -> n < 1 || n > lpCap) open then Nothing else do
+  if nMax > envCap || length open > proofOpenCap || any (\n -> n < 1 || n > lpCap) open then Nothing else do
     certs <- mapM certificate open
     pure (nMax, zip open certs)
   where

@@ -1,0 +1,360 @@
+-- | The brake policy and its oracle, on which every pass of the seed stands.
+--
+-- A pass moves a state 'St' (velocity, the acceleration that led into it, position) one
+-- time step at a time ('stepTo'). The /brake policy/ is the braking manoeuvre from a
+-- state: the hardest braking the jerk and acceleration ranges allow that still arrives
+-- at its target velocity (the next speed limit within reach, or a standstill for the
+-- /hard/ policy) with the acceleration back at zero and the velocity never below zero.
+-- The /oracle/ ('brakeCheck') runs it and reports whether it keeps every rule: the speed
+-- limits, the ranges, and the terminal ('Term': where the pass must be done, and how
+-- fast it may be there).
+--
+-- Invariant: the brake policy from the state after one of its own steps is the rest of
+-- the same manoeuvre, so a state that passes the oracle has a successor that passes it
+-- too; this is what keeps every pass legal by construction.
+module VProf.Profile.Generate.Seed.Brake
+  ( -- * States and steps
+    St (..)
+  , Term (..)
+  , Env (..)
+  , dtE
+  , stepTo
+  , stepOk
+  , accRange
+  , reachableAcc
+    -- * The brake policy
+  , brakeAcc
+  , brakeAccTo
+  , atRest
+  , brakeBound
+    -- * The oracle
+  , brakeCheck
+  , safe
+  , policyFor
+    -- * Distances and the start state
+  , brakeStopDistance
+  , brakeDistanceTo
+  , sinksBelowZero
+  , leastDrop
+    -- * Bounds
+  , velocityFloor
+  , roundingSlack
+  ) where
+
+import qualified Data.Vector.Unboxed as U
+
+import VProf.Profile.Problem (Problem (..))
+import VProf.Profile.SpeedLimit
+
+-- | State at sample k: velocity v_k, the acceleration a_{k-1} that led into it, position s_k.
+data St = St { stV :: !Double, stA :: !Double, stS :: !Double }
+
+-- | Where the pass must be done: at or before position tP, and at most tV from then on.
+data Term = Term { tP :: !Double, tV :: !Double }
+
+-- | What a pass works under: the problem, its terminal, and which brake policy.
+data Env = Env
+  { ePb :: !Problem
+  , eTerm :: !Term
+  , eHard :: !Bool   -- ^ brake to standstill (through every limit) rather than to each limit
+  }
+
+-- | A velocity below this after a step is a standstill missed by rounding.
+velocityFloor :: Double
+velocityFloor = 1e-12
+
+-- | The rounding allowed on the acceleration range of a step and on a nearly-zero
+-- velocity change.
+roundingSlack :: Double
+roundingSlack = 1e-12
+
+-- | How far a root of the brake policy may sit outside its ramp interval and still count.
+rootSlack :: Double
+rootSlack = 1e-15
+
+-- | How often, and by how much relative to its size, a brake root is nudged up onto the
+-- feasible side when rounding leaves it just below.
+nudgeTries :: Int
+nudgeTries = 8
+
+nudgeStep :: Double
+nudgeStep = 1e-12
+
+-- | How many ramp lengths either side of the estimate are searched for the brake root
+-- before the search goes up from zero.
+nearRamps :: Double
+nearRamps = 3
+
+-- | Time steps added to the ramp times in 'brakeBound', for the discrete ramps' rounding.
+boundExtraSteps :: Double
+boundExtraSteps = 6
+
+-- | The fast oracle's margin: this many steps at the peak velocity, plus 'quickMarginM'.
+quickMarginSteps :: Double
+quickMarginSteps = 4
+
+quickMarginM :: Double
+quickMarginM = 1e-3
+
+-- | The least peak velocity the oracle's step bound divides by (a state at rest has none).
+peakFloor :: Double
+peakFloor = 1e-9
+
+-- | Steps the oracle's braking may take beyond its bound before it is called stuck.
+oracleExtraSteps :: Int
+oracleExtraSteps = 64
+
+-- | Steps 'brakeStopDistance' and 'brakeDistanceTo' may take before they give up.
+stopDistanceSteps, distanceToSteps :: Int
+stopDistanceSteps = 10000000
+distanceToSteps = 4000000
+
+dtE :: Env -> Double
+dtE = pbDt . ePb
+
+-- | Apply acceleration a' for one step. A velocity that would dip below zero by rounding
+-- is set to zero and the acceleration recomputed from it, so that v, a and s stay exact
+-- to each other.
+stepTo :: Env -> St -> Double -> St
+stepTo e (St v _ s) a' =
+  let dt = dtE e
+      v1 = v + a' * dt
+      v' = if v1 < velocityFloor then 0 else v1
+      a'' = if v1 < velocityFloor then (v' - v) / dt else a'
+  in St v' a'' (s + (v + v') * dt / 2)
+{-# INLINE stepTo #-}
+
+-- | Is the step from one state to the next within the speed limits and the terminal rule?
+stepOk :: Env -> St -> St -> Bool
+stepOk e st@(St v _ s) (St v' a' s') =
+  v' >= 0
+    && a' >= lo - roundingSlack && a' <= hi + roundingSlack
+    && max v v' <= minLimitOn pb s (max s s')
+    && terminalOk
+  where
+    (lo, hi) = accRange e st
+    pb = ePb e
+    Term p vt = eTerm e
+    terminalOk
+      | vt <= 0 = s' <= p || v' == 0 && v == 0
+      | otherwise = s' <= p || v' <= vt
+{-# INLINE stepOk #-}
+
+-- | The accelerations reachable in one step from a state.
+accRange :: Env -> St -> (Double, Double)
+accRange e (St _ a _) =
+  let pb = ePb e
+  in reachableAcc (dtE e) (pbAMin pb) (pbAMax pb) (pbJMin pb) (pbJMax pb) a
+{-# INLINE accRange #-}
+
+-- | The accelerations reachable in one step of dt from acceleration a, within the
+-- acceleration range [aLo, aHi] and the jerk range [jLo, jHi]. The seed's passes use
+-- the problem's ranges; the exact join's envelopes ("VProf.Profile.Generate.Exact") the
+-- ranges widened by the checker's slack.
+reachableAcc :: Double -> Double -> Double -> Double -> Double -> Double -> (Double, Double)
+reachableAcc dt aLo aHi jLo jHi a = (max aLo (a + jLo * dt), min aHi (a + jHi * dt))
+{-# INLINE reachableAcc #-}
+
+-- | How much velocity is lost while the acceleration is brought back from x (< 0) to 0
+-- as fast as the jerk allows (the steps after x, not x itself).
+rampDrop :: Env -> Double -> Double
+rampDrop e x
+  | x >= 0 = 0
+  | otherwise =
+      let dt = dtE e
+          j = pbJMax (ePb e) * dt
+          m = fromIntegral (ceiling (negate x / j) - 1 :: Int) :: Double
+      in dt * (m * x + j * m * (m + 1) / 2)
+{-# INLINE rampDrop #-}
+
+-- | The brake policy: the next acceleration of the hardest braking that still ends at
+-- rest without going below zero.
+brakeAcc :: Env -> St -> Double
+brakeAcc e st = brakeAccTo e st (brakeTarget e st)
+{-# INLINE brakeAcc #-}
+
+-- | The brake policy toward a given target velocity.
+brakeAccTo :: Env -> St -> Double -> Double
+brakeAccTo e st@(St v _ _) tau
+  | v <= 0 || w <= 0 = hold
+  | not (ok hi) = hold
+  | ok lo = lo
+  | otherwise = max lo (min hi (exact m0))
+  where
+    dt = dtE e
+    j = pbJMax (ePb e) * dt
+    (lo, hi) = accRange e st
+    w = v - tau
+    hold = max lo (min hi 0)
+    ok x = w + x * dt + rampDrop e x >= 0
+    -- With m negative ramp terms after x, i.e. x in (-(m+1)j, -mj], the velocity left
+    -- above the target after the ramp is w + dt((m+1)x + j m(m+1)/2); its root is x_m.
+    -- The m that fits its own root is near sqrt(2w/(dt j)); look around it.
+    root m = negate (w / dt + j * m * (m + 1) / 2) / (m + 1)
+    fits m = let x = root m in x > negate (m + 1) * j - rootSlack && x <= negate m * j + rootSlack
+    m0 = let g = fromIntegral (floor (sqrt (2 * w / (dt * j))) :: Int) :: Double
+             near k | k > nearRamps = far 0
+                    | fits (g - k) && g - k >= 0 = g - k
+                    | fits (g + k) = g + k
+                    | otherwise = near (k + 1)
+             far m | m > 4 * g + 16 = 0   -- unreachable: some m always fits; 0 is then nudged
+                   | fits m = m
+                   | otherwise = far (m + 1)
+         in near 0
+    -- the root may sit a rounding error below the feasible set: nudge up until ok
+    exact m = nudge (root m) nudgeTries
+    nudge x 0 = x
+    nudge x n = if ok x then x else nudge (x + nudgeStep * max 1 (abs x)) (n - 1)
+
+-- | The velocity the brake policy aims at from a state: the lowest cap within its
+-- reach (speed limits, and the terminal velocity once the terminal is in reach), so that
+-- it arrives at a lower limit at that limit with the acceleration back at zero instead of
+-- braking through it.
+brakeTarget :: Env -> St -> Double
+brakeTarget e st@(St _ _ s) =
+  let (d, _) = brakeBound e st
+  in targetFrom e (s + d) (minLimitOn (ePb e) s (s + d))
+
+-- | The brake target given the end of the braking reach and the lowest limit up to it.
+targetFrom :: Env -> Double -> Double -> Double
+targetFrom e reachEnd zoneMin
+  | eHard e = 0
+  | reachEnd >= tP (eTerm e) = min zoneMin (max 0 (tV (eTerm e)))
+  | otherwise = zoneMin
+{-# INLINE targetFrom #-}
+
+-- | Standing still for good is possible from this state: at rest, and the acceleration
+-- can return to zero within one jerk step.
+atRest :: Env -> St -> Bool
+atRest e (St v a _) = v == 0 && a >= negate (pbJMax (ePb e) * dtE e) && a <= negate (pbJMin (ePb e) * dtE e)
+{-# INLINE atRest #-}
+
+-- | An upper bound on the distance the brake policy needs from a state, and on the
+-- highest velocity it reaches on the way.
+brakeBound :: Env -> St -> (Double, Double)
+brakeBound e (St v a _) =
+  let pb = ePb e; dt = dtE e
+      ap = max 0 a
+      jm = abs (pbJMin pb); am = abs (pbAMin pb)
+      vPeak = v + ap * ap / (2 * jm) + ap * dt
+      -- ramping down to a_min and back up to zero take at most these times, at no more
+      -- than vPeak; holding a_min from at most vPeak covers at most vPeak²/(2|a_min|)
+      tRamps = ap / jm + am / jm + am / pbJMax pb + boundExtraSteps * dt
+  in (vPeak * tRamps + vPeak * vPeak / (2 * am), vPeak)
+{-# INLINE brakeBound #-}
+
+-- | The continuous-time distance to bring (v, a >= 0) down to velocity l with the
+-- acceleration back at zero: first a down to 0, then an S-curve to a_min (or a
+-- triangle short of it) and back (derivation in docs/profile-generator.md).
+brakeNeed :: Problem -> Double -> Double -> Double -> Double
+brakeNeed pb v a l =
+  let j1 = abs (pbJMin pb); j2 = pbJMax pb; am = abs (pbAMin pb)
+      t0 = a / j1
+      d0 = v * t0 + a * t0 * t0 / 2 - j1 * t0 * t0 * t0 / 6
+      v1 = v + a * a / (2 * j1)
+      dv = v1 - l
+      full = am * am / (2 * j1) + am * am / (2 * j2)
+      (ap, t2) = if dv >= full then (am, (dv - full) / am) else (sqrt (2 * dv / (1 / j1 + 1 / j2)), 0)
+      t1 = ap / j1; t3 = ap / j2
+      d1 = v1 * t1 - j1 * t1 * t1 * t1 / 6
+      v2 = v1 - j1 * t1 * t1 / 2
+      d2 = v2 * t2 - ap * t2 * t2 / 2
+      v3 = v2 - ap * t2
+      d3 = v3 * t3 - ap * t3 * t3 / 2 + j2 * t3 * t3 * t3 / 6
+  in if dv <= 0 then d0 else d0 + d1 + d2 + d3
+
+-- | A fast sufficient test for states that cruise or accelerate: every lower limit within
+-- reach (and the terminal) is further away than the continuous braking distance plus a
+-- margin of 'quickMarginSteps' steps at the peak velocity.
+quickNeed :: Env -> St -> Bool
+quickNeed e st@(St v a s)
+  | a < 0 || eHard e = False
+  | otherwise =
+      vPeak <= limitAt pb s
+        && all zoneOk (zonesIn s (s + d))
+        && terminalOk
+  where
+    pb = ePb e
+    (d, vPeak) = brakeBound e st
+    margin = vPeak * quickMarginSteps * pbDt pb + quickMarginM
+    Term p vt = eTerm e
+    zoneOk (z, l) = l >= vPeak || brakeNeed pb v a l + margin <= z - s
+    terminalOk
+      | vt <= 0 = s + d <= p || brakeNeed pb v a 0 + margin <= p - s
+      | otherwise = s + d < p || vPeak <= vt || brakeNeed pb v a vt + margin <= p - s
+    zonesIn lo hi =
+      let starts = pbZoneStarts pb; speeds = pbZoneSpeeds pb
+          i0 = zoneIndex pb lo + 1
+          go i | i >= U.length starts || U.unsafeIndex starts i > hi = []
+               | otherwise = (U.unsafeIndex starts i, U.unsafeIndex speeds i) : go (i + 1)
+      in go i0
+
+-- | The oracle: can the robot brake from this state without breaking anything?
+-- On failure, the state at which the braking first breaks a rule.
+brakeCheck :: Env -> St -> Either (St, St) ()
+brakeCheck e st0
+  | quickNeed e st0 = Right ()
+  | otherwise = go st0 (0 :: Int)
+  where
+    pb = ePb e
+    Term p vt = eTerm e
+    maxSteps = let (d, vp) = brakeBound e st0 in ceiling (d / max peakFloor vp / dtE e) + oracleExtraSteps :: Int
+    go !st n
+      | atRest e st = Right ()
+      | otherwise =
+          let s = stS st
+              (d, vPeak) = brakeBound e st
+              reachEnd = s + d
+              zoneMin = minLimitOn pb s reachEnd
+              quick = vPeak <= zoneMin && (if vt <= 0 then reachEnd <= p else reachEnd < p || vPeak <= vt)
+              tau = targetFrom e reachEnd zoneMin
+          in if quick then Right ()
+             else if n > maxSteps then Left (st, st)
+             else let st' = stepTo e st (brakeAccTo e st tau)
+                  in if stepOk e st st' then go st' (n + 1) else Left (st, st')
+
+safe :: Env -> St -> Bool
+safe e st = either (const False) (const True) (brakeCheck e st)
+
+-- | The gentle brake policy (down to each limit, arriving with zero acceleration) gives
+-- the better profiles; when it cannot save the start state, the hardest one (braking
+-- through the limits toward standstill) may still; when that fails too, the state at
+-- which the hardest braking breaks a rule.
+policyFor :: Problem -> Term -> St -> Either (St, St) Env
+policyFor q term st0 =
+  let gentle = Env q term False
+      hard = gentle { eHard = True }
+  in case (brakeCheck gentle st0, brakeCheck hard st0) of
+       (Right (), _) -> Right gentle
+       (_, Right ()) -> Right hard
+       (_, Left bad) -> Left bad
+
+-- | The distance the brake policy needs to stop from a state (used in messages and tests).
+brakeStopDistance :: Problem -> Double -> Double -> Double
+brakeStopDistance pb v a = go (St v a 0) (0 :: Int)
+  where
+    e = Env pb (Term (1 / 0) (1 / 0)) True
+    go st n
+      | atRest e st || n > stopDistanceSteps = stS st
+      | otherwise = go (stepTo e st (brakeAcc e st)) (n + 1)
+
+-- | The distance the brake policy needs to bring a state down to velocity v with the
+-- acceleration back at zero (infinite when it does not get there).
+brakeDistanceTo :: Problem -> St -> Double -> Double
+brakeDistanceTo q st0 v = go st0 (0 :: Int)
+  where
+    e = Env q (Term (1 / 0) (1 / 0)) False
+    go st n
+      | stV st <= v && stA st >= 0 = stS st - stS st0
+      | n > distanceToSteps = 1 / 0
+      | otherwise = go (stepTo e st (brakeAccTo e st v)) (n + 1)
+
+-- | Even raising the acceleration as fast as the jerk allows, the velocity from the start
+-- state ends below zero.
+sinksBelowZero :: Problem -> Bool
+sinksBelowZero q = pbV0 q + leastDrop q < negate roundingSlack
+
+-- | The least velocity change from the start acceleration: raising it as fast as the jerk
+-- allows while it is negative.
+leastDrop :: Problem -> Double
+leastDrop pb = sum (takeWhile (< 0) [ pbA0 pb + fromIntegral k * pbJMax pb * pbDt pb | k <- [1 :: Int ..] ]) * pbDt pb

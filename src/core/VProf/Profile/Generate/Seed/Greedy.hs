@@ -1,0 +1,90 @@
+-- | The greedy pass: one forward pass in time that takes, at every step, the largest
+-- acceleration (within the jerk and acceleration ranges) after which the brake policy
+-- of "VProf.Profile.Generate.Seed.Brake" still passes the oracle.
+--
+-- Invariant: every state of a pass passes the oracle, so the pass can always fall back
+-- on braking and stays legal; started from a state that passes the oracle, it never
+-- breaks a rule. Near its terminal it rides the edge of the oracle and lands on it.
+module VProf.Profile.Generate.Seed.Greedy
+  ( choose
+  , forward
+  , passFrom
+  , passStepCap
+  ) where
+
+import VProf.Profile.Generate.Seed.Brake
+import VProf.Profile.SpeedLimit (limitAt)
+
+-- | The most steps a pass takes (8·2²⁰, eight times the largest profile): a pass that
+-- has not landed by then never will.
+passStepCap :: Int
+passStepCap = 8 * 1048576
+
+-- | The probe just above the brake policy sits this fraction of the way from it to the
+-- highest acceleration allowed (1/32 of the range).
+probeDivisor :: Double
+probeDivisor = 32
+
+-- | Halvings of the interval between the probe and the top, once the probe passes.
+bisectionSteps :: Int
+bisectionSteps = 5
+
+-- | A velocity this close to the terminal velocity is set to it exactly.
+terminalSnap :: Double
+terminalSnap = 1e-11
+
+-- | One step of the forward pass: the largest safe acceleration.
+choose :: Env -> St -> St
+choose e st@(St v _ s) =
+  let dt = dtE e
+      pb = ePb e
+      (lo, hi0) = accRange e st
+      Term p vt = eTerm e
+      capNow = if vt > 0 && s >= p then min vt (limitAt pb s) else limitAt pb s
+      hi = max lo (min hi0 ((capNow - v) / dt))
+      try a = let st' = snapTo (stepTo e st a) in if stepOk e st st' && safe e st' then Just st' else Nothing
+      -- land exactly on a cap the pass is told to hold (the terminal velocity)
+      snapTo st'@(St v' _ s')
+        | vt > 0 && abs (v' - vt) < terminalSnap && v' /= vt = St vt ((vt - v) / dt) (s + (v + vt) * dt / 2)
+        | otherwise = st' `seq` s' `seq` st'
+      aB = brakeAcc e st
+      fallback = snapTo (stepTo e st aB)
+      search a b bestSt 0 = a `seq` b `seq` bestSt
+      search a b bestSt n =
+        let m = (a + b) / 2
+        in case try m of
+             Just st' -> search m b st' (n - 1 :: Int)
+             Nothing -> search a m bestSt (n - 1)
+      -- on the edge of the oracle the answer is usually the brake policy itself: one
+      -- probe just above it settles that before the bisection (a higher acceleration is
+      -- never safer, so while braking the probe goes first and the top is tried only
+      -- when the probe passes)
+      probe = aB + (hi - aB) / probeDivisor
+      bisectFrom stP = search probe hi stP bisectionSteps
+  in if stA st < 0
+       then maybe fallback (\stP -> maybe (bisectFrom stP) id (try hi)) (try probe)
+       else maybe (maybe fallback bisectFrom (try probe)) id (try hi)
+
+-- | The forward pass toward a standstill on the terminal point, from a state: the states
+-- visited after it, in order, until it has come to rest within the landing tolerance
+-- of the terminal. Stops after @limit@ steps.
+forward :: Env -> Double -> Int -> St -> [St]
+forward e landTol limit = go 0
+  where
+    p = tP (eTerm e)
+    go n st
+      | n >= limit = []
+      | stS st >= p - landTol = finishBraking st (n :: Int)
+      | otherwise = let st' = choose e st in st' : go (n + 1) st'
+    finishBraking st n
+      | atRest e st || n >= limit = []
+      | otherwise = let st' = stepTo e st (brakeAcc e st) in st' : finishBraking st' (n + 1)
+
+-- | The greedy pass from a state: the states after it, up to the first for which @done@
+-- holds, at most @n@.
+passFrom :: Env -> Int -> (St -> Bool) -> St -> [St]
+passFrom e n done = go n
+  where
+    go k st
+      | k <= 0 = []
+      | otherwise = let st' = choose e st in st' : (if done st' then [] else go (k - 1) st')

@@ -1,0 +1,309 @@
+-- | The plateau join of the two-sided meet, and the context every join strategy shares.
+--
+-- The forward pass from the start state and the same pass on the 'mirror' (from the end
+-- state, backwards in time) are run once ('meetContext'); the profile follows the lower
+-- of the two ('mcEnvelope'). A /plateau join/ at level V runs both passes again with
+-- every limit capped at V over a stretch [alpha, beta] ('capped'), each until its first
+-- cruise sample at V, and fills the gap between them with a cruise at V whose length
+-- covers the distance; a sin² dent (or bump) in the cruise takes out the fraction of a
+-- step left over ('plateau', 'joinAt'). The strategies of
+-- "VProf.Profile.Generate.Seed.Strategy" choose the levels and stretches.
+--
+-- Invariant: a join only ever returns velocities the checker finds legal for the
+-- problem ('legalVelocities'); every other outcome is 'Nothing'.
+module VProf.Profile.Generate.Seed.Join
+  ( -- * The shared context
+    MeetContext (..)
+  , meetContext
+  , ctxLength
+  , ctxTol
+  , ctxDt
+    -- * Passes capped at a level
+  , Capped
+  , capped
+  , cappedOn
+    -- * Joins
+  , plateau
+  , tune
+  , leftOver
+  , bisectJoin
+    -- * Stretches
+  , around
+  , wide
+    -- * Constants
+  , joinBisections
+  , wrapDivisor
+  ) where
+
+import Data.List (sortBy)
+import Data.Ord (comparing)
+import qualified Data.Vector.Unboxed as U
+
+import VProf.Profile.Generate.Seed.Brake
+import VProf.Profile.Generate.Seed.Explain
+import VProf.Profile.Generate.Seed.Greedy (passFrom, passStepCap)
+import VProf.Profile.Legality (legalVelocities)
+import VProf.Profile.Problem (Problem (..))
+import VProf.Profile.Problem.Transform (capOn, mirror)
+
+-- | What every join strategy works from: the problem and its mirror, the start state and
+-- the end state (on the mirror), their pass environments, the two uncapped passes, and
+-- their lower envelope at the forward pass's samples with its highest point.
+data MeetContext = MeetContext
+  { mcPb       :: !Problem
+  , mcMirror   :: !Problem
+  , mcStart    :: !St
+  , mcEnd      :: !St                -- ^ the end state, as the start of the mirror
+  , mcFEnv     :: !Env
+  , mcBEnv     :: !Env
+  , mcFAll     :: [St]               -- ^ the forward pass, from the start state on
+  , mcBAll     :: [St]               -- ^ the backward pass (on the mirror), from the end state on
+  , mcFS       :: U.Vector Double    -- ^ the forward pass's positions
+  , mcEnvelope :: U.Vector Double    -- ^ the lower envelope at those positions, up to the route end
+  , mcPeak     :: Int                -- ^ the index of the envelope's highest point
+  , mcTop      :: Double             -- ^ the envelope's highest point
+  }
+
+ctxLength, ctxTol, ctxDt :: MeetContext -> Double
+ctxLength = pbLength . mcPb
+ctxTol = pbTol . mcPb
+ctxDt = pbDt . mcPb
+
+-- | A capped pass runs this far past the route end, so that the cap holds to its end.
+capPastEnd :: Double
+capPastEnd = 1
+
+-- | A state cruises at v when its velocity is within this share of v (at least of
+-- 1 m/s) and its acceleration within this of zero.
+cruiseTolerance :: Double
+cruiseTolerance = 1e-9
+
+-- | A capped pass shares the uncapped pass's states while the cap lies further ahead
+-- than this many braking reaches plus 'resumeMarginM'.
+resumeReaches, resumeMarginM :: Double
+resumeReaches = 2
+resumeMarginM = 1
+
+-- | A cruise may go without its dent when its overshoot is within the tolerance over
+-- this divisor (half the end tolerance).
+undentedDivisor :: Double
+undentedDivisor = 2
+
+-- | A bisected join stops at an overshoot within the tolerance over this divisor.
+joinPrecisionDivisor :: Double
+joinPrecisionDivisor = 100
+
+-- | The halvings a bisected join (on a level or a range scale) takes at most.
+joinBisections :: Int
+joinBisections = 48
+
+-- | Two overshoots whose difference is below a cruise step's distance over this divisor
+-- changed sign at a root; a larger jump is a wrap (a pass took a step more).
+wrapDivisor :: Double
+wrapDivisor = 2
+
+-- | A stretch for a level starts this many cruise steps (plus the tolerance) past where
+-- the end can brake to it.
+stretchMarginSteps :: Double
+stretchMarginSteps = 2
+
+-- | The two passes of the meet and their lower envelope, or why an end state cannot be
+-- passed at all.
+meetContext :: Problem -> Either SeedFailure MeetContext
+meetContext pb = do
+  let rv = mirror pb
+      rt0 = St (pbVEnd pb) (pbA0 rv) 0
+      st0 = St (pbV0 pb) (pbA0 pb) 0
+      len = pbLength pb
+      fTerm = forwardTerm pb
+      bTerm = backwardTerm pb
+  if sinksBelowZero rv then Left (endAccFailure pb) else Right ()
+  fEnv <- either (Left . startInfeasible pb (Env pb fTerm True)) Right (policyFor pb fTerm st0)
+  bEnv <- either (Left . endInfeasible pb (Env rv bTerm True)) Right (policyFor rv bTerm rt0)
+  let fAll = st0 : passFrom fEnv passStepCap (\st -> stS st >= len) st0
+      bAll = rt0 : passFrom bEnv passStepCap (\st -> stS st >= len) rt0
+      fS = U.fromList (map stS fAll)
+      fV = U.fromList (map stV fAll)
+      bX = U.fromList (reverse (map ((len -) . stS) bAll))
+      bW = U.fromList (reverse (map stV bAll))
+      -- the lower envelope at the forward pass's samples up to the route end
+      h = U.generate (U.length (U.takeWhile (<= len) fS)) (\k -> min (fV U.! k) (interpolate bX bW (fS U.! k)))
+      kStar = U.maxIndex h
+  pure MeetContext
+    { mcPb = pb, mcMirror = rv, mcStart = st0, mcEnd = rt0, mcFEnv = fEnv, mcBEnv = bEnv
+    , mcFAll = fAll, mcBAll = bAll, mcFS = fS, mcEnvelope = h, mcPeak = kStar, mcTop = h U.! kStar }
+
+-- | The start pass must be able to come down to the end velocity by the route end; the
+-- end pass (backwards) to the start velocity by the route start.
+forwardTerm, backwardTerm :: Problem -> Term
+forwardTerm pb = Term (pbLength pb + pbTol pb) (pbVEnd pb)
+backwardTerm pb = Term (pbLength pb + pbTol pb) (pbV0 pb)
+
+-- | Linear interpolation of ys over ascending xs, clamped at both ends.
+interpolate :: U.Vector Double -> U.Vector Double -> Double -> Double
+interpolate xs ys x
+  | n == 0 = 0
+  | x <= U.head xs = U.head ys
+  | x >= U.last xs = U.last ys
+  | otherwise =
+      let i = go 0 (n - 1)
+          x0 = xs U.! i; x1 = xs U.! (i + 1)
+          w = if x1 > x0 then (x - x0) / (x1 - x0) else 0
+      in ys U.! i + w * (ys U.! (i + 1) - ys U.! i)
+  where
+    n = U.length xs
+    -- invariant: xs[lo] <= x < xs[hi]
+    go lo hi
+      | hi - lo <= 1 = lo
+      | otherwise = let mid = (lo + hi) `div` 2 in if xs U.! mid <= x then go mid hi else go lo mid
+
+-- | Two capped passes of the meet (the states after the start and after the end), their
+-- cruise velocities and the distance left between them.
+data Capped = Capped [St] [St] !Double !Double !Double
+
+cruising :: Double -> St -> Bool
+cruising v st = abs (stV st - v) <= cruiseTolerance * max 1 v && abs (stA st) <= cruiseTolerance
+
+-- | The two passes capped at v over [alpha, beta], each up to its first cruise sample at
+-- v, and the distance the cruise between them must cover; the uncapped passes' states
+-- are reused as far as the cap cannot have changed them.
+capped :: MeetContext -> Double -> Double -> Double -> Maybe Capped
+capped c = cappedOn c (mcPb c) (mcMirror c) (drop 1 (mcFAll c)) (drop 1 (mcBAll c))
+
+-- | 'capped' on a problem and mirror of one's own (the same route and states), reusing
+-- the given uncapped states.
+cappedOn :: MeetContext -> Problem -> Problem -> [St] -> [St] -> Double -> Double -> Double -> Maybe Capped
+cappedOn c base rv fFree bFree v alpha beta = do
+  -- the forward pass capped at v from alpha on, until it cruises at v
+  let len = ctxLength c
+      st0 = mcStart c
+      rt0 = mcEnd c
+      pF = capOn alpha (len + capPastEnd) v base
+      pB = capOn (len - beta) (len + capPastEnd) v rv
+  fE <- either (const Nothing) Just (policyFor pF (forwardTerm (mcPb c)) st0)
+  bE <- either (const Nothing) Just (policyFor pB (backwardTerm (mcPb c)) rt0)
+  let fRun = resume (mcFEnv c) fE fFree alpha st0 (\st -> stS st > beta || stS st >= alpha && cruising v st)
+      bRun = resume (mcBEnv c) bE bFree (len - beta) rt0 (\st -> stS st > len - alpha || stS st >= len - beta && cruising v st)
+  fi <- lastMaybe fRun
+  bm <- lastMaybe bRun
+  guardM (cruising v fi && cruising v bm)
+  pure (Capped fRun bRun (stV fi) (stV bm) (len - stS bm - stS fi))
+
+-- | A capped pass follows the uncapped one for as long as the cap lies beyond the reach
+-- of every brake test it makes (twice the braking reach, plus a metre): it resumes from
+-- there rather than from the start.
+resume :: Env -> Env -> [St] -> Double -> St -> (St -> Bool) -> [St]
+resume e0 e1 free cut start stop =
+  let shared = if eHard e0 /= eHard e1 then []
+               else takeWhile (\st -> let (d, _) = brakeBound e0 st in stS st + resumeReaches * d + resumeMarginM < cut) free
+      from = if null shared then start else last shared
+  in shared ++ passFrom e1 passStepCap stop from
+
+-- | k steps at the plateau level, from the forward pass's cruise sample to the backward
+-- pass's, cover this much more than the gap.
+overBy :: Double -> Double -> Capped -> Int -> Double
+overBy dt v (Capped _ _ vi vm gap) k = dt * (vi + vm) / 2 + dt * v * fromIntegral (k - 1) - gap
+
+kUpOf :: Double -> Double -> Capped -> Int
+kUpOf dt v (Capped _ _ vi vm gap) = 1 + max 0 (ceiling ((gap / dt - (vi + vm) / 2) / v - roundingSlack)) :: Int
+
+-- | The plateau join at v: one step more than the gap (a dent takes the rest out) or one
+-- fewer (a bump adds it, where the limits leave room above the plateau), the smaller
+-- overshoot first.
+plateau :: MeetContext -> Double -> Capped -> Maybe (U.Vector Double)
+plateau c v cp =
+  let dt = ctxDt c
+      kUp = kUpOf dt v cp
+      ks = sortBy (comparing (abs . overBy dt v cp)) (kUp : [ kUp - 1 | kUp > 1 ])
+  in joinAt c v cp ks
+
+-- | The profile of the capped passes joined by a cruise of k steps at v, for the first k
+-- that gives a legal one: with the dent first (the route end met exactly), then without
+-- it where the overshoot is within half the end tolerance.
+joinAt :: MeetContext -> Double -> Capped -> [Int] -> Maybe (U.Vector Double)
+joinAt c v cp@(Capped fRun bRun _ _ _) ks =
+  let pb = mcPb c
+      dt = ctxDt c
+      tol = ctxTol c
+      over = overBy dt v cp
+      profileWith dent k =
+        let d = if dent && k > 1 then over k / (dt * fromIntegral k / 2) else 0
+            bump j = let x = sin (pi * fromIntegral j / fromIntegral k) in x * x
+            cruise = [ v - d * bump j | j <- [1 .. k - 1] ]
+        in U.fromList ([pbV0 pb] ++ map stV fRun ++ cruise ++ reverse (pbVEnd pb : map stV bRun))
+      tries = [ profileWith True k | k <- ks, k > 1 || abs (over k) <= tol / undentedDivisor ]
+              ++ [ profileWith False k | k <- ks, k > 1, abs (over k) <= tol / undentedDivisor ]
+  in case filter (legalVelocities pb) tries of
+       (vs : _) -> Just vs
+       [] -> Nothing
+
+-- | The tuned plateau between levels v1 > v2 over the same stretch: for each cruise
+-- length whose overshoot changes sign between them, bisect the level down to an
+-- overshoot of a hundredth of the tolerance.
+tune :: MeetContext -> Double -> Double -> Double -> Double -> Maybe (U.Vector Double)
+tune c v1 v2 alpha beta = do
+  c1 <- capped c v1 alpha beta
+  c2 <- capped c v2 alpha beta
+  let r1 = leftOver (ctxDt c) v1 c1; r2 = leftOver (ctxDt c) v2 c2
+  guardM (r1 * r2 <= 0 && abs (r1 - r2) < v2 * ctxDt c / wrapDivisor)
+  bisectJoin c (\x -> capped c x alpha beta) id v1 v2 (signum r1) joinBisections
+
+-- | The cruise length nearest to the gap at level v, and the overshoot it leaves: that
+-- changes sign where one of them fits exactly, or where it wraps round (by a step's
+-- distance) when one of the passes takes a step more; a bisection tells them apart.
+nearestK :: Double -> Double -> Capped -> Int
+nearestK dt v cp = let k0 = kUpOf dt v cp in minimumOn (abs . overBy dt v cp) [ k | k <- [k0 - 1, k0], k >= 1 ]
+
+leftOver :: Double -> Double -> Capped -> Double
+leftOver dt v cp = overBy dt v cp (nearestK dt v cp)
+
+-- | Bisect a parameter x from a, where the overshoot of the passes made at x (with the
+-- plateau at level x) has sign sa, towards b, where it has the other, down to an
+-- overshoot of a hundredth of the tolerance; then join there.
+bisectJoin :: MeetContext -> (Double -> Maybe Capped) -> (Double -> Double) -> Double -> Double -> Double -> Int -> Maybe (U.Vector Double)
+bisectJoin c at level a b sa n
+  | n <= 0 = Nothing
+  | otherwise = do
+      let mid = (a + b) / 2
+          v = level mid
+          dt = ctxDt c
+      cm <- at mid
+      let o = leftOver dt v cm
+      if abs o <= ctxTol c / joinPrecisionDivisor then joinAt c v cm [nearestK dt v cm]
+        else if signum o == sa then bisectJoin c at level mid b sa (n - 1) else bisectJoin c at level a mid sa (n - 1)
+
+-- | The stretch around the envelope's peak where the envelope is above v (from where the
+-- start, or the end, can brake to v when the envelope does not come down to it).
+around :: MeetContext -> Double -> Maybe (Double, Double)
+around c v =
+  let h = mcEnvelope c
+      fS = mcFS c
+      kStar = mcPeak c
+      n = U.length h
+      len = ctxLength c
+      kl = last (-1 : [ k | k <- [0 .. kStar - 1], h U.! k <= v ])
+      kr = head ([ k | k <- [kStar + 1 .. n - 1], h U.! k <= v ] ++ [n])
+      margin = stretchMarginSteps * v * ctxDt c + ctxTol c
+      alpha = if kl < 0 then brakeDistanceTo (mcPb c) (mcStart c) v + margin else fS U.! kl
+      beta = if kr >= n then len - brakeDistanceTo (mcMirror c) (mcEnd c) v - margin else fS U.! kr
+  in if alpha < beta then Just (alpha, beta) else Nothing
+
+-- | The widest stretch for level v: from where the start no longer needs to brake to be
+-- at v to where the end does (a state that needs no braking to be at v caps from where
+-- it is).
+wide :: MeetContext -> Double -> Maybe (Double, Double)
+wide c v =
+  let margin = stretchMarginSteps * v * ctxDt c + ctxTol c
+      reach q st = let d = brakeDistanceTo q st v in if d > 0 then d + margin else 0
+      alpha = reach (mcPb c) (mcStart c)
+      beta = ctxLength c - reach (mcMirror c) (mcEnd c)
+  in if alpha < beta then Just (alpha, beta) else Nothing
+
+lastMaybe :: [a] -> Maybe a
+lastMaybe xs = if null xs then Nothing else Just (last xs)
+
+minimumOn :: Ord b => (a -> b) -> [a] -> a
+minimumOn f = head . sortBy (comparing f)
+
+guardM :: Bool -> Maybe ()
+guardM b = if b then Just () else Nothing

@@ -1,0 +1,200 @@
+-- | The join strategies of the two-sided meet, in the order they are tried.
+--
+-- Each 'Strategy' is a name and a function from the shared 'MeetContext' to the legal
+-- profiles it finds, lazily and best first, so that it can be run, tested and timed on
+-- its own. 'strategies' is the order of the meet: the plateau at a speed limit both
+-- passes already cruise at, then plateaus below the envelope's top, and, for the short
+-- routes where those are too short for their dent, the tuned, end-level, softened and
+-- valley plateaus, and last the exact join ("VProf.Profile.Generate.Exact"). The method
+-- behind each is in docs/profile-generator.md.
+--
+-- Invariant: every profile a strategy returns has passed the checker
+-- ('VProf.Profile.Legality.legalVelocities'); a strategy never claims infeasibility.
+module VProf.Profile.Generate.Seed.Strategy
+  ( Strategy (..)
+  , strategies
+    -- * The strategies
+  , limitCruise
+  , peakPlateau
+  , tunedPlateau
+  , endLevelPlateau
+  , softenedPlateau
+  , valleyPlateau
+  , exactLp
+    -- * Constants
+  , peakLevelDrops
+  , tunedSpan
+  , tunedSteps
+  , softenedLevelDrops
+  , softenSteps
+  , softenScaleStep
+  , valleyFractions
+  ) where
+
+import Data.List (group, sortBy)
+import Data.Ord (comparing)
+import qualified Data.Vector.Unboxed as U
+
+import VProf.Profile.Generate.Exact (exactJoin)
+import VProf.Profile.Generate.Seed.Join
+import VProf.Profile.Problem (Problem (..))
+import VProf.Profile.Problem.Transform (scaleRanges)
+import VProf.Profile.SpeedLimit (limitAt, minLimitOn)
+
+-- | A named way to join the forward and the backward pass.
+data Strategy = Strategy
+  { strategyName  :: String
+  , strategyJoins :: MeetContext -> [U.Vector Double]  -- ^ legal profiles, best first
+  }
+
+-- | The meet's strategies, in the order it tries them.
+strategies :: [Strategy]
+strategies = [limitCruise, peakPlateau, tunedPlateau, endLevelPlateau, softenedPlateau, valleyPlateau, exactLp]
+
+-- | The plateau levels below the envelope's top, as fractions of it taken off: the
+-- highest first (a lower level gives a longer plateau and a gentler dent).
+peakLevelDrops :: [Double]
+peakLevelDrops = [0.001, 0.003, 0.01, 0.02, 0.04, 0.07, 0.12, 0.2, 0.3, 0.45, 0.6, 0.75, 0.9]
+
+-- | A stretch where both passes cruise at one speed limit counts with at least this many
+-- samples; one of 'longRunSamples' or more is tried before the shorter ones; at most
+-- 'runsTried' stretches are tried.
+shortRunSamples, longRunSamples, runsTried :: Int
+shortRunSamples = 4
+longRunSamples = 16
+runsTried = 4
+
+-- | The envelope is at the speed limit where it is within this share of it (at least of
+-- 1 m/s).
+atLimitTolerance :: Double
+atLimitTolerance = 1e-9
+
+-- | The tuned plateau's grid: 'tunedSteps' + 1 levels from the top down to (1 −
+-- 'tunedSpan') of it, fine enough to see the overshoot change sign between neighbours.
+tunedSpan :: Double
+tunedSpan = 0.7
+
+tunedSteps :: Int
+tunedSteps = 32
+
+-- | The softened plateau's levels below the top (as fractions taken off), besides the
+-- start and end velocities.
+softenedLevelDrops :: [Double]
+softenedLevelDrops = [0.02, 0.1, 0.3]
+
+-- | The softened plateau's range scales: 'softenSteps' of them from 1 down by
+-- 'softenScaleStep' each (1, 0.96, …, 0.4).
+softenSteps :: Int
+softenSteps = 16
+
+softenScaleStep :: Double
+softenScaleStep = 0.04
+
+-- | The valley levels, as fractions of the top.
+valleyFractions :: [Double]
+valleyFractions = [0.5, 0.25, 0.1, 0.03]
+
+-- | How often a valley level is lowered to the lowest limit on its stretch, and how far
+-- below that limit it then goes (as a share of it).
+valleyLowerings :: Int
+valleyLowerings = 3
+
+valleyBelowLimit :: Double
+valleyBelowLimit = 1e-6
+
+-- | Stretches where both passes cruise at the same speed limit: the lower envelope is
+-- already flat there, so the plateau costs nothing but the dent. Long stretches first,
+-- the last of them first (the backward pass then has the least to do again, and the
+-- forward one resumes from nearly all of its uncapped run).
+limitCruise :: Strategy
+limitCruise = Strategy "limit cruise" $ \c ->
+  let pb = mcPb c
+      h = mcEnvelope c
+      fS = mcFS c
+      atCap k = abs (h U.! k - limitAt pb (fS U.! k)) <= atLimitTolerance * max 1 (h U.! k)
+      runs = sortBy (comparing (\(a, b) -> (b - a < longRunSamples, negate b)))
+               [ (head ks, last ks) | ks <- groupRuns [ k | k <- [0 .. U.length h - 1], atCap k ], length ks >= shortRunSamples ]
+      flat = [ (v, fS U.! a, fS U.! b) | (a, b) <- take runsTried runs, let v = h U.! a ]
+  in plateausAt c flat
+
+-- | Plateaus just below the envelope's top, over the stretch where the envelope is above
+-- them, from the highest level down.
+peakPlateau :: Strategy
+peakPlateau = Strategy "peak plateau" $ \c ->
+  plateausAt c [ (v, alpha, beta) | v <- [ mcTop c * (1 - d) | d <- peakLevelDrops ], v > 0, Just (alpha, beta) <- [around c v] ]
+
+-- | Between two levels the distance the cruise must cover changes continuously with the
+-- level, while each cruise step covers v·dt: for a fixed number of cruise steps the
+-- overshoot changes sign between levels where that number fits the one and not the
+-- other, and a bisection on the level finds where no dent is needed at all. Each pair of
+-- neighbouring levels is tried over the stretch around the peak and over the widest one.
+tunedPlateau :: Strategy
+tunedPlateau = Strategy "tuned plateau" $ \c ->
+  let top = mcTop c
+      levels = map head (group (sortBy (flip compare)
+                 ([ top * (1 - tunedSpan * fromIntegral i / fromIntegral tunedSteps) | i <- [0 .. tunedSteps] ] ++ endLevels c)))
+  in [ p | (v1, v2) <- zip levels (drop 1 levels), v2 > 0, stretch <- [around c, wide c]
+         , Just (alpha, beta) <- [stretch v2], Just p <- [tune c v1 v2 alpha beta] ]
+
+-- | The plateau at the start or the end velocity: a profile that only speeds up (or only
+-- slows down) on a short route has its plateau at one of them.
+endLevelPlateau :: Strategy
+endLevelPlateau = Strategy "end-level plateau" $ \c ->
+  plateausAt c [ (v, alpha, beta) | v <- endLevels c, Just (alpha, beta) <- [wide c v] ]
+
+-- | The plateau at v with both passes run within a fraction of the acceleration and jerk
+-- ranges (still legal for the problem): their ramps then take longer, continuously with
+-- the fraction, so that the overshoot left over moves through zero. The passes start
+-- afresh (the uncapped ones were made with the full ranges).
+softenedPlateau :: Strategy
+softenedPlateau = Strategy "softened plateau" $ \c ->
+  [ p | v <- endLevels c ++ [ mcTop c * (1 - d) | d <- softenedLevelDrops ], Just (alpha, beta) <- [wide c v]
+      , Just p <- [soften c v alpha beta] ]
+
+soften :: MeetContext -> Double -> Double -> Double -> Maybe (U.Vector Double)
+soften c v alpha beta =
+  let at phi = cappedOn c (scaleRanges phi (mcPb c)) (scaleRanges phi (mcMirror c)) [] [] v alpha beta
+      dt = ctxDt c
+      r = leftOver dt v
+      grid = [ (phi, cp) | i <- [0 .. softenSteps - 1], let phi = 1 - softenScaleStep * fromIntegral i, Just cp <- [at phi] ]
+      -- a sign change between neighbours with a small step is a root; a step of nearly a
+      -- cruise step's distance is a wrap (a pass took a step more)
+      roots = [ p | ((p1, c1), (p2, c2)) <- zip grid (drop 1 grid), r c1 * r c2 <= 0
+                  , abs (r c1 - r c2) < v * dt / wrapDivisor, Just p <- [bisectJoin c at (const v) p1 p2 (signum (r c1)) joinBisections] ]
+  in case roots of
+       (p : _) -> Just p
+       [] -> Nothing
+
+-- | A level low enough that both ends can brake to it with room to spare, over the whole
+-- stretch between (below every limit there), so the plateau is long and its dent gentle;
+-- slow, but the rubber band raises it afterwards.
+valleyPlateau :: Strategy
+valleyPlateau = Strategy "valley plateau" $ \c ->
+  plateausAt c [ (v, alpha, beta) | f <- valleyFractions, Just (v, alpha, beta) <- [lowPlateau c (mcTop c * f) valleyLowerings] ]
+
+lowPlateau :: MeetContext -> Double -> Int -> Maybe (Double, Double, Double)
+lowPlateau c v n
+  | v <= 0 || n <= 0 = Nothing
+  | otherwise = do
+      (alpha, beta) <- wide c v
+      let lim = minLimitOn (mcPb c) (max 0 alpha) (min (ctxLength c) beta)
+      if lim >= v then Just (v, alpha, beta) else lowPlateau c (lim * (1 - valleyBelowLimit)) (n - 1)
+
+-- | The join solved exactly, as a linear program over the number of steps.
+exactLp :: Strategy
+exactLp = Strategy "exact join" $ \c -> maybe [] pure (exactJoin (mcPb c))
+
+-- | The plateau joins at the given levels and stretches, in order.
+plateausAt :: MeetContext -> [(Double, Double, Double)] -> [U.Vector Double]
+plateausAt c lvs = [ p | (v, alpha, beta) <- lvs, Just cp <- [capped c v alpha beta], Just p <- [plateau c v cp] ]
+
+-- | The start and end velocities, where they lie strictly between zero and the top.
+endLevels :: MeetContext -> [Double]
+endLevels c = let pb = mcPb c in [ x | x <- [pbVEnd pb, pbV0 pb], x > 0, x < mcTop c ]
+
+-- | Runs of consecutive integers.
+groupRuns :: [Int] -> [[Int]]
+groupRuns [] = []
+groupRuns (k : ks) = let (run, rest) = go k ks in (k : run) : groupRuns rest
+  where go p (x : xs) | x == p + 1 = let (r, t) = go x xs in (x : r, t)
+        go _ xs = ([], xs)
