@@ -1,0 +1,104 @@
+{-# LANGUAGE BangPatterns, RecordWildCards #-}
+-- | The geometric Jacobian of the tool frame with respect to the actuated joints, Yoshikawa's
+-- manipulability and the condition number.
+--
+-- Rows 0–2 are the linear velocity of the tool origin, rows 3–5 the angular velocity, both in the
+-- world (base) frame. Invariant: a coupled link contributes its column times the coupling
+-- coefficient to every joint that drives it, so J·q̇ is the true tool twist also for the Dobot's
+-- linkage and URDF mimic joints. Stored column-major (6 doubles per joint).
+module VProf.Kinematics.Jacobian
+  ( Jacobian
+  , jacobian
+  , jacobianRows
+  , manipulability
+  , conditionNumber
+  , singularValues
+  ) where
+
+import Control.Monad.ST (ST)
+import qualified Data.Vector.Unboxed as U
+import qualified Data.Vector.Unboxed.Mutable as M
+import qualified Numeric.LinearAlgebra as LA
+
+import VProf.Kinematics.Forward (constAt, linkVar)
+import VProf.Kinematics.Model
+import VProf.Kinematics.Transform
+
+-- | Column-major 6×n.
+type Jacobian = U.Vector Double
+
+-- | The tool transform and the Jacobian at q.
+jacobian :: Chain -> U.Vector Double -> (Tf, Jacobian)
+jacobian ch@Chain{..} q = (tool, jac)
+  where
+    -- per moving link: z axis (3) and origin (3) of the frame it moves about
+    (tool, axes) = sweep
+    sweep = let go !i !acc !ls
+                  | i >= chainLinks = (acc, reverse ls)
+                  | otherwise =
+                      let pr = U.unsafeIndex chainPrismatic i
+                          v = linkVar ch q i
+                          ax = (r02 acc, r12 acc, r22 acc, tx acc, ty acc, tz acc)
+                          acc' = moveZ pr v acc
+                      in go (i + 1) (compose acc' (constAt chainConst (i + 1))) (ax : ls)
+            in go 0 (constAt chainConst 0) []
+    axesV = U.fromListN (6 * chainLinks) (concatMap (\(a, b, c, d, e, f) -> [a, b, c, d, e, f]) axes)
+    jac = U.create $ do
+      j <- M.replicate (6 * chainDof) 0
+      let ex = tx tool; ey = ty tool; ez = tz tool
+          link !i
+            | i >= chainLinks = pure ()
+            | otherwise = do
+                let b = 6 * i
+                    zx = axesV U.! b; zy = axesV U.! (b + 1); zz = axesV U.! (b + 2)
+                    ox = axesV U.! (b + 3); oy = axesV U.! (b + 4); oz = axesV U.! (b + 5)
+                    pr = chainPrismatic U.! i
+                    (c0, c1, c2, c3, c4, c5)
+                      | pr = (zx, zy, zz, 0, 0, 0)
+                      | otherwise =
+                          let dx = ex - ox; dy = ey - oy; dz = ez - oz
+                          in (zy*dz - zz*dy, zz*dx - zx*dz, zx*dy - zy*dx, zx, zy, zz)
+                    terms !t
+                      | t >= chainTermStart U.! (i + 1) = pure ()
+                      | otherwise = do
+                          let k = chainTermJoint U.! t; c = chainTermCoeff U.! t; o = 6 * k
+                          addAt j o (c * c0); addAt j (o + 1) (c * c1); addAt j (o + 2) (c * c2)
+                          addAt j (o + 3) (c * c3); addAt j (o + 4) (c * c4); addAt j (o + 5) (c * c5)
+                          terms (t + 1)
+                terms (chainTermStart U.! i)
+                link (i + 1)
+      link 0
+      pure j
+
+addAt :: M.MVector s Double -> Int -> Double -> ST s ()
+addAt v i x = M.unsafeModify v (+ x) i
+{-# INLINE addAt #-}
+
+moveZ :: Bool -> Double -> Tf -> Tf
+moveZ False v (Tf a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az) =
+  let c = cos v; s = sin v
+  in Tf (a00*c + a01*s) (a01*c - a00*s) a02 ax (a10*c + a11*s) (a11*c - a10*s) a12 ay (a20*c + a21*s) (a21*c - a20*s) a22 az
+moveZ True v (Tf a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az) =
+  Tf a00 a01 a02 (ax + v*a02) a10 a11 a12 (ay + v*a12) a20 a21 a22 (az + v*a22)
+{-# INLINE moveZ #-}
+
+-- | The Jacobian as 6 rows of n.
+jacobianRows :: Int -> Jacobian -> [[Double]]
+jacobianRows n j = [[j U.! (6 * k + r) | k <- [0 .. n - 1]] | r <- [0 .. 5]]
+
+-- | Singular values of the 6×n Jacobian (largest first; min(6, n) of them).
+singularValues :: Int -> Jacobian -> [Double]
+singularValues n j
+  | n == 0 = []
+  | otherwise = take (min 6 n) (LA.toList (LA.singularValues (LA.fromLists (jacobianRows n j))))
+
+-- | Yoshikawa's manipulability √det(J·Jᵀ) for n ≥ 6 (√det(Jᵀ·J) for n < 6): the product of the
+-- singular values.
+manipulability :: Int -> Jacobian -> Double
+manipulability n j = product (singularValues n j)
+
+-- | σ_max / σ_min (infinite at a singularity).
+conditionNumber :: Int -> Jacobian -> Double
+conditionNumber n j = case singularValues n j of
+  [] -> 1 / 0
+  svs -> let lo = minimum svs in if lo <= 0 then 1 / 0 else maximum svs / lo
