@@ -15,7 +15,7 @@ module VProf.Kinematics.Jacobian
   , singularValues
   ) where
 
-import Control.Monad.ST (ST)
+import Control.Monad.ST (ST, runST)
 import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as M
 import qualified Numeric.LinearAlgebra as LA
@@ -27,48 +27,49 @@ import VProf.Kinematics.Transform
 -- | Column-major 6×n.
 type Jacobian = U.Vector Double
 
--- | The tool transform and the Jacobian at q.
+-- | The tool transform and the Jacobian at q (one sweep storing each moving axis, then the
+-- columns; all in one mutable buffer).
 jacobian :: Chain -> U.Vector Double -> (Tf, Jacobian)
-jacobian ch@Chain{..} q = (tool, jac)
-  where
-    -- per moving link: z axis (3) and origin (3) of the frame it moves about
-    (tool, axes) = sweep
-    sweep = let go !i !acc !ls
-                  | i >= chainLinks = (acc, reverse ls)
-                  | otherwise =
-                      let pr = U.unsafeIndex chainPrismatic i
-                          v = linkVar ch q i
-                          ax = (r02 acc, r12 acc, r22 acc, tx acc, ty acc, tz acc)
-                          acc' = moveZ pr v acc
-                      in go (i + 1) (compose acc' (constAt chainConst (i + 1))) (ax : ls)
-            in go 0 (constAt chainConst 0) []
-    axesV = U.fromListN (6 * chainLinks) (concatMap (\(a, b, c, d, e, f) -> [a, b, c, d, e, f]) axes)
-    jac = U.create $ do
-      j <- M.replicate (6 * chainDof) 0
-      let ex = tx tool; ey = ty tool; ez = tz tool
-          link !i
-            | i >= chainLinks = pure ()
-            | otherwise = do
-                let b = 6 * i
-                    zx = axesV U.! b; zy = axesV U.! (b + 1); zz = axesV U.! (b + 2)
-                    ox = axesV U.! (b + 3); oy = axesV U.! (b + 4); oz = axesV U.! (b + 5)
-                    pr = chainPrismatic U.! i
-                    (c0, c1, c2, c3, c4, c5)
-                      | pr = (zx, zy, zz, 0, 0, 0)
-                      | otherwise =
-                          let dx = ex - ox; dy = ey - oy; dz = ez - oz
-                          in (zy*dz - zz*dy, zz*dx - zx*dz, zx*dy - zy*dx, zx, zy, zz)
-                    terms !t
-                      | t >= chainTermStart U.! (i + 1) = pure ()
-                      | otherwise = do
-                          let k = chainTermJoint U.! t; c = chainTermCoeff U.! t; o = 6 * k
-                          addAt j o (c * c0); addAt j (o + 1) (c * c1); addAt j (o + 2) (c * c2)
-                          addAt j (o + 3) (c * c3); addAt j (o + 4) (c * c4); addAt j (o + 5) (c * c5)
-                          terms (t + 1)
-                terms (chainTermStart U.! i)
-                link (i + 1)
-      link 0
-      pure j
+jacobian ch@Chain{..} q = runST $ do
+  axes <- M.unsafeNew (6 * chainLinks)
+  let sweep !i !acc
+        | i >= chainLinks = pure acc
+        | otherwise = do
+            let b = 6 * i
+            M.unsafeWrite axes b (r02 acc); M.unsafeWrite axes (b + 1) (r12 acc); M.unsafeWrite axes (b + 2) (r22 acc)
+            M.unsafeWrite axes (b + 3) (tx acc); M.unsafeWrite axes (b + 4) (ty acc); M.unsafeWrite axes (b + 5) (tz acc)
+            let !acc' = moveZ (U.unsafeIndex chainPrismatic i) (linkVar ch q i) acc
+            sweep (i + 1) (compose acc' (constAt chainConst (i + 1)))
+  tool <- sweep 0 (constAt chainConst 0)
+  j <- M.replicate (6 * chainDof) 0
+  let !ex = tx tool; !ey = ty tool; !ez = tz tool
+      link !i
+        | i >= chainLinks = pure ()
+        | otherwise = do
+            let b = 6 * i
+            zx <- M.unsafeRead axes b; zy <- M.unsafeRead axes (b + 1); zz <- M.unsafeRead axes (b + 2)
+            ox <- M.unsafeRead axes (b + 3); oy <- M.unsafeRead axes (b + 4); oz <- M.unsafeRead axes (b + 5)
+            let pr = U.unsafeIndex chainPrismatic i
+                dx = ex - ox; dy = ey - oy; dz = ez - oz
+                !c0 = if pr then zx else zy*dz - zz*dy
+                !c1 = if pr then zy else zz*dx - zx*dz
+                !c2 = if pr then zz else zx*dy - zy*dx
+                !c3 = if pr then 0 else zx
+                !c4 = if pr then 0 else zy
+                !c5 = if pr then 0 else zz
+                end = U.unsafeIndex chainTermStart (i + 1)
+                terms !t
+                  | t >= end = pure ()
+                  | otherwise = do
+                      let k = U.unsafeIndex chainTermJoint t; c = U.unsafeIndex chainTermCoeff t; o = 6 * k
+                      addAt j o (c * c0); addAt j (o + 1) (c * c1); addAt j (o + 2) (c * c2)
+                      addAt j (o + 3) (c * c3); addAt j (o + 4) (c * c4); addAt j (o + 5) (c * c5)
+                      terms (t + 1)
+            terms (U.unsafeIndex chainTermStart i)
+            link (i + 1)
+  link 0
+  jf <- U.unsafeFreeze j
+  pure (tool, jf)
 
 addAt :: M.MVector s Double -> Int -> Double -> ST s ()
 addAt v i x = M.unsafeModify v (+ x) i
