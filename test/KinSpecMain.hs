@@ -1,0 +1,16 @@
+-- | A throwaway driver running the kinematics specs (the project's Spec.hs discovers them too).
+module Main (main) where
+
+import Test.Hspec
+
+import qualified VProf.Kinematics.IkSpec
+import qualified VProf.Kinematics.JacobianSpec
+import qualified VProf.Kinematics.ReferenceSpec
+import qualified VProf.Kinematics.UrdfSpec
+
+main :: IO ()
+main = hspec $ do
+  describe "Reference" VProf.Kinematics.ReferenceSpec.spec
+  describe "Urdf" VProf.Kinematics.UrdfSpec.spec
+  describe "Jacobian" VProf.Kinematics.JacobianSpec.spec
+  describe "Ik" VProf.Kinematics.IkSpec.spec
