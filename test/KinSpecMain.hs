@@ -6,11 +6,13 @@ import Test.Hspec
 import qualified VProf.Kinematics.IkSpec
 import qualified VProf.Kinematics.JacobianSpec
 import qualified VProf.Kinematics.ReferenceSpec
+import qualified VProf.Kinematics.RobotFileSpec
 import qualified VProf.Kinematics.UrdfSpec
 
 main :: IO ()
 main = hspec $ do
   describe "Reference" VProf.Kinematics.ReferenceSpec.spec
   describe "Urdf" VProf.Kinematics.UrdfSpec.spec
+  describe "RobotFile" VProf.Kinematics.RobotFileSpec.spec
   describe "Jacobian" VProf.Kinematics.JacobianSpec.spec
   describe "Ik" VProf.Kinematics.IkSpec.spec
