@@ -47,7 +47,12 @@ finite x = not (isNaN x || isInfinite x)
 
 -- | Problems with a request (empty when it can be solved).
 checkRequest :: Chain -> Tf -> Maybe (U.Vector Double) -> [String]
-checkRequest ch target seed =
+checkRequest ch target seed
+  | isRigid 1e-6 target && maybe True (\s -> U.length s == chainDof ch && U.all finite s) seed = []
+  | otherwise = problems ch target seed
+
+problems :: Chain -> Tf -> Maybe (U.Vector Double) -> [String]
+problems ch target seed =
   [ "target: " ++ show (length (filter (not . finite) (toRows target))) ++ " entries are not finite numbers" | not (all finite (toRows target)) ]
     ++ [ "target: the rotation is not orthonormal with determinant 1" | all finite (toRows target), not (isRigid 1e-6 target) ]
     ++ case seed of

@@ -252,7 +252,9 @@ midLimits ch = U.zipWith mid (chainLo ch) (chainHi ch)
       | otherwise = 0.5 * (lo + hi)
 
 withinLimits :: Double -> Chain -> U.Vector Double -> Bool
-withinLimits tol ch q = null (limitViolations tol ch q)
+withinLimits tol ch q =
+  U.length q == chainDof ch
+    && U.and (U.zipWith3 (\x lo hi -> x >= lo - tol && x <= hi + tol) q (chainLo ch) (chainHi ch))
 
 -- | (joint index, signed amount beyond the limit: negative below min, positive above max).
 limitViolations :: Double -> Chain -> U.Vector Double -> [(Int, Double)]

@@ -197,12 +197,15 @@ rotationBetween (V3 x y z)
 
 -- | The rotation part is orthonormal with determinant +1 (to tol) and all entries finite.
 isRigid :: Double -> Tf -> Bool
-isRigid tol t@Tf{..} =
-  all (\v -> not (isNaN v || isInfinite v)) (toRows t)
-    && all (\(i, j) -> abs (v3Dot (rotationColumn i t) (rotationColumn j t) - (if i == j then 1 else 0)) <= tol)
-           [(i, j) | i <- [0 .. 2], j <- [i .. 2]]
-    && abs (det - 1) <= tol
+isRigid tol Tf{..} =
+  fin r00 && fin r01 && fin r02 && fin r10 && fin r11 && fin r12 && fin r20 && fin r21 && fin r22
+    && fin tx && fin ty && fin tz
+    && near (r00*r00 + r10*r10 + r20*r20) 1 && near (r01*r01 + r11*r11 + r21*r21) 1 && near (r02*r02 + r12*r12 + r22*r22) 1
+    && near (r00*r01 + r10*r11 + r20*r21) 0 && near (r00*r02 + r10*r12 + r20*r22) 0 && near (r01*r02 + r11*r12 + r21*r22) 0
+    && near det 1
   where
+    fin x = not (isNaN x || isInfinite x)
+    near x y = abs (x - y) <= tol
     det = r00 * (r11*r22 - r12*r21) - r01 * (r10*r22 - r12*r20) + r02 * (r10*r21 - r11*r20)
 
 v3Norm :: V3 -> Double
