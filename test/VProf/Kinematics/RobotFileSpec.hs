@@ -8,6 +8,8 @@ import qualified Data.ByteString.Char8 as B
 import Data.Either (isRight)
 import Data.List (isInfixOf)
 import qualified Data.Vector.Unboxed as U
+import Numeric.Units.Dimensional.Prelude (degree, gram, kilo, meter, milli, second, (/~))
+import qualified Numeric.Units.Dimensional.Prelude as D
 import Test.Hspec
 
 import Support.FkOracle
@@ -53,6 +55,13 @@ spec = do
       jointMaxVelocity (head (robotJoints ur5)) `shouldBe` Just pi
       robotReach lite `shouldBe` Just 0.34
       map linkGeometry (take 1 (robotLinks lite)) `shouldBe` [DhModified 0 0 0 0.107]
+    it "gives limits, speeds, payload and reach as dimensional quantities" $ do
+      let Right ur5 = lookupRobot "ur5"
+          j1 = head (robotJoints ur5)
+      fmap (/~ (degree D./ second)) (angularVelocityLimit j1) `shouldSatisfy` maybe False (\v -> abs (v - 180) < 1e-9)
+      fmap (/~ kilo gram) (payloadMass ur5) `shouldBe` Just 5
+      fmap (/~ milli meter) (reachLength ur5) `shouldSatisfy` maybe False (\v -> abs (v - 850) < 1e-9)
+      either (\(lo, hi) -> (lo /~ degree, hi /~ degree)) (const (0, 0)) (jointLimitsInUnits j1) `shouldSatisfy` (\(lo, hi) -> abs (lo + 360) < 1e-9 && abs (hi - 360) < 1e-9)
     it "unpublished speeds are absent, not guessed" $ do
       let Right puma = lookupRobot "puma560"
           Right lite = lookupRobot "dobot-magician-lite"

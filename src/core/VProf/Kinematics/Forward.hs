@@ -17,6 +17,7 @@ module VProf.Kinematics.Forward
   , poseToTf
   , constAt
   , linkVar
+  , motion
   ) where
 
 import Control.DeepSeq (NFData (..))
@@ -59,7 +60,7 @@ linkVar Chain{..} q i = go (U.unsafeIndex chainTermStart i) (U.unsafeIndex chain
 linkVariables :: Chain -> U.Vector Double -> U.Vector Double
 linkVariables ch q = U.generate (chainLinks ch) (linkVar ch q)
 
--- | acc · M_z(v).
+-- | acc · M_z(v): a rotation about z (revolute) or a translation along z (prismatic).
 motion :: Bool -> Double -> Tf -> Tf
 motion False v (Tf a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az) =
   let c = cos v; s = sin v

@@ -20,7 +20,7 @@ import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as M
 import qualified Numeric.LinearAlgebra as LA
 
-import VProf.Kinematics.Forward (constAt, linkVar)
+import VProf.Kinematics.Forward (constAt, linkVar, motion)
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform
 
@@ -38,7 +38,7 @@ jacobian ch@Chain{..} q = runST $ do
             let b = 6 * i
             M.unsafeWrite axes b (r02 acc); M.unsafeWrite axes (b + 1) (r12 acc); M.unsafeWrite axes (b + 2) (r22 acc)
             M.unsafeWrite axes (b + 3) (tx acc); M.unsafeWrite axes (b + 4) (ty acc); M.unsafeWrite axes (b + 5) (tz acc)
-            let !acc' = moveZ (U.unsafeIndex chainPrismatic i) (linkVar ch q i) acc
+            let !acc' = motion (U.unsafeIndex chainPrismatic i) (linkVar ch q i) acc
             sweep (i + 1) (compose acc' (constAt chainConst (i + 1)))
   tool <- sweep 0 (constAt chainConst 0)
   j <- M.replicate (6 * chainDof) 0
@@ -74,14 +74,6 @@ jacobian ch@Chain{..} q = runST $ do
 addAt :: M.MVector s Double -> Int -> Double -> ST s ()
 addAt v i x = M.unsafeModify v (+ x) i
 {-# INLINE addAt #-}
-
-moveZ :: Bool -> Double -> Tf -> Tf
-moveZ False v (Tf a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az) =
-  let c = cos v; s = sin v
-  in Tf (a00*c + a01*s) (a01*c - a00*s) a02 ax (a10*c + a11*s) (a11*c - a10*s) a12 ay (a20*c + a21*s) (a21*c - a20*s) a22 az
-moveZ True v (Tf a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az) =
-  Tf a00 a01 a02 (ax + v*a02) a10 a11 a12 (ay + v*a12) a20 a21 a22 (az + v*a22)
-{-# INLINE moveZ #-}
 
 -- | The Jacobian as 6 rows of n.
 jacobianRows :: Int -> Jacobian -> [[Double]]
