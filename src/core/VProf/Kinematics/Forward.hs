@@ -18,6 +18,7 @@ module VProf.Kinematics.Forward
   , constAt
   , linkVar
   , motion
+  , stepLink
   ) where
 
 import Control.DeepSeq (NFData (..))
@@ -74,34 +75,43 @@ motion True v (Tf a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az) =
 -- | The tool pose (base·links·tool) as a rigid transform. The joint vector is not checked here
 -- (length n assumed); see 'VProf.Kinematics.Validate.checkJointVector'.
 forward :: Chain -> U.Vector Double -> Tf
-forward ch@Chain{..} q =
-  let Tf b00 b01 b02 bx b10 b11 b12 by b20 b21 b22 bz = constAt chainConst 0
+forward ch q =
+  let Tf b00 b01 b02 bx b10 b11 b12 by b20 b21 b22 bz = constAt (chainConst ch) 0
   in go 0 b00 b01 b02 bx b10 b11 b12 by b20 b21 b22 bz
   where
     -- twelve strict doubles rather than a Tf, so that GHC keeps them unboxed through the loop
     go :: Int -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Tf
     go !i !a00 !a01 !a02 !ax !a10 !a11 !a12 !ay !a20 !a21 !a22 !az
-      | i >= chainLinks = Tf a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az
-      | otherwise =
-          let !v = linkVar ch q i
-              !pr = U.unsafeIndex chainPrismatic i
-              !c = if pr then 1 else cos v
-              !s = if pr then 0 else sin v
-              !t = if pr then v else 0
-              -- acc · M_z(v): columns 0 and 1 turned by v, or the translation moved along column 2
-              !m00 = a00*c + a01*s; !m01 = a01*c - a00*s
-              !m10 = a10*c + a11*s; !m11 = a11*c - a10*s
-              !m20 = a20*c + a21*s; !m21 = a21*c - a20*s
-              !mx = ax + t*a02; !my = ay + t*a12; !mz = az + t*a22
-              !b = 12 * (i + 1)
-              e k = U.unsafeIndex chainConst (b + k)
-              !c00 = e 0; !c01 = e 1; !c02 = e 2; !cx = e 3
-              !c10 = e 4; !c11 = e 5; !c12 = e 6; !cy = e 7
-              !c20 = e 8; !c21 = e 9; !c22 = e 10; !cz = e 11
-          in go (i + 1)
-               (m00*c00 + m01*c10 + a02*c20) (m00*c01 + m01*c11 + a02*c21) (m00*c02 + m01*c12 + a02*c22) (m00*cx + m01*cy + a02*cz + mx)
-               (m10*c00 + m11*c10 + a12*c20) (m10*c01 + m11*c11 + a12*c21) (m10*c02 + m11*c12 + a12*c22) (m10*cx + m11*cy + a12*cz + my)
-               (m20*c00 + m21*c10 + a22*c20) (m20*c01 + m21*c11 + a22*c21) (m20*c02 + m21*c12 + a22*c22) (m20*cx + m21*cy + a22*cz + mz)
+      | i >= chainLinks ch = Tf a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az
+      | otherwise = stepLink ch q i a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az (go (i + 1))
+
+-- | One moving link on an unboxed accumulator: acc · M_z(v_i) · C_{i+1}, passed to the
+-- continuation (the shared step of 'forward' and the Jacobian's sweep).
+stepLink
+  :: Chain -> U.Vector Double -> Int
+  -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double
+  -> (Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> Double -> r)
+  -> r
+stepLink ch@Chain{..} q i a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az k =
+  let !v = linkVar ch q i
+      !pr = U.unsafeIndex chainPrismatic i
+      !c = if pr then 1 else cos v
+      !s = if pr then 0 else sin v
+      !t = if pr then v else 0
+      -- acc · M_z(v): columns 0 and 1 turned by v, or the translation moved along column 2
+      !m00 = a00*c + a01*s; !m01 = a01*c - a00*s
+      !m10 = a10*c + a11*s; !m11 = a11*c - a10*s
+      !m20 = a20*c + a21*s; !m21 = a21*c - a20*s
+      !mx = ax + t*a02; !my = ay + t*a12; !mz = az + t*a22
+      !b = 12 * (i + 1)
+      e j = U.unsafeIndex chainConst (b + j)
+      !c00 = e 0; !c01 = e 1; !c02 = e 2; !cx = e 3
+      !c10 = e 4; !c11 = e 5; !c12 = e 6; !cy = e 7
+      !c20 = e 8; !c21 = e 9; !c22 = e 10; !cz = e 11
+  in k (m00*c00 + m01*c10 + a02*c20) (m00*c01 + m01*c11 + a02*c21) (m00*c02 + m01*c12 + a02*c22) (m00*cx + m01*cy + a02*cz + mx)
+       (m10*c00 + m11*c10 + a12*c20) (m10*c01 + m11*c11 + a12*c21) (m10*c02 + m11*c12 + a12*c22) (m10*cx + m11*cy + a12*cz + my)
+       (m20*c00 + m21*c10 + a22*c20) (m20*c01 + m21*c11 + a22*c21) (m20*c02 + m21*c12 + a22*c22) (m20*cx + m21*cy + a22*cz + mz)
+{-# INLINE stepLink #-}
 
 forwardPose :: Chain -> U.Vector Double -> Pose
 forwardPose ch = poseFromTf . forward ch

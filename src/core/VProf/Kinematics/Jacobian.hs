@@ -20,7 +20,7 @@ import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as M
 import qualified Numeric.LinearAlgebra as LA
 
-import VProf.Kinematics.Forward (constAt, linkVar, motion)
+import VProf.Kinematics.Forward (constAt, stepLink)
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform
 
@@ -32,15 +32,16 @@ type Jacobian = U.Vector Double
 jacobian :: Chain -> U.Vector Double -> (Tf, Jacobian)
 jacobian ch@Chain{..} q = runST $ do
   axes <- M.unsafeNew (6 * chainLinks)
-  let sweep !i !acc
-        | i >= chainLinks = pure acc
+  let sweep !i !a00 !a01 !a02 !ax !a10 !a11 !a12 !ay !a20 !a21 !a22 !az
+        | i >= chainLinks = pure (Tf a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az)
         | otherwise = do
+            -- the link moves about the z axis of this frame, through its origin
             let b = 6 * i
-            M.unsafeWrite axes b (r02 acc); M.unsafeWrite axes (b + 1) (r12 acc); M.unsafeWrite axes (b + 2) (r22 acc)
-            M.unsafeWrite axes (b + 3) (tx acc); M.unsafeWrite axes (b + 4) (ty acc); M.unsafeWrite axes (b + 5) (tz acc)
-            let !acc' = motion (U.unsafeIndex chainPrismatic i) (linkVar ch q i) acc
-            sweep (i + 1) (compose acc' (constAt chainConst (i + 1)))
-  tool <- sweep 0 (constAt chainConst 0)
+            M.unsafeWrite axes b a02; M.unsafeWrite axes (b + 1) a12; M.unsafeWrite axes (b + 2) a22
+            M.unsafeWrite axes (b + 3) ax; M.unsafeWrite axes (b + 4) ay; M.unsafeWrite axes (b + 5) az
+            stepLink ch q i a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az (sweep (i + 1))
+      Tf b00 b01 b02 bx b10 b11 b12 by b20 b21 b22 bz = constAt chainConst 0
+  tool <- sweep 0 b00 b01 b02 bx b10 b11 b12 by b20 b21 b22 bz
   j <- M.replicate (6 * chainDof) 0
   let !ex = tx tool; !ey = ty tool; !ez = tz tool
       link !i
