@@ -135,6 +135,23 @@ spec = do
         Left (OutsideLimits sols) -> any (any (\(j, v) -> j == "J2" && abs (v - deg 5) < 1e-9)) sols `shouldBe` True
         other -> expectationFailure (show other)
 
+  describe "numerical IK, all solutions" $
+    it "UR5: several distinct solutions of one pose, each exact and within limits, nearest the seed first" $ do
+      let k = lib "ur5"
+          ch = kinChain k
+          q = U.fromList [0.4, -1.1, 1.3, -0.7, 1.2, 0.5]
+          t = forward ch q
+      case solveIk defaultIkOptions {ikAllSolutions = True, ikMaxRestarts = 300} k t (Just q) of
+        Left f -> expectationFailure (describeFailure f)
+        Right sols -> do
+          length sols `shouldSatisfy` (>= 4)
+          solSeedDistance (head sols) `shouldSatisfy` (< 1e-4)
+          forM_ sols $ \s -> do
+            withinLimits 1e-9 ch (solJoints s) `shouldBe` True
+            residual (forward ch (solJoints s)) t `shouldSatisfy` (\(a, b) -> a <= 1e-6 && b <= 1e-6)
+          -- distinct: no two closer than 1e-4 rad
+          and [seedDistance (solJoints a) (solJoints b) > 1e-4 | (i, a) <- zip [0 :: Int ..] sols, (j, b) <- zip [0 ..] sols, i < j] `shouldBe` True
+
   describe "numerical IK failures" $ do
     it "UR5: a target 2 m away is beyond reach" $ do
       let k = lib "ur5"

@@ -91,6 +91,9 @@ spec = do
     it "lower above upper" $
       errs (wrap "<joint name=\"j\" type=\"prismatic\"><parent link=\"a\"/><child link=\"c\"/><limit lower=\"2\" upper=\"1\"/></joint>")
         `shouldSatisfy` any ("above upper" `isInfixOf`)
+    it "equal lower and upper limits fail validation, naming the field" $
+      errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><limit lower=\"1\" upper=\"1\"/></joint>")
+        `shouldSatisfy` any ("joints[0].limits.max" `isInfixOf`)
     it "an unsupported joint type in the chain" $
       errs (wrap "<joint name=\"j\" type=\"floating\"><parent link=\"a\"/><child link=\"c\"/></joint>")
         `shouldSatisfy` any ("not supported" `isInfixOf`)

@@ -27,6 +27,7 @@ import Text.XML.Cursor (Cursor, attribute, element, fromDocument, node, ($/))
 
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform
+import VProf.Kinematics.Validate (renderFieldError, validateRobot)
 
 data UrdfOptions = UrdfOptions
   { urdfBase :: Maybe String  -- ^ base link (default: the root link)
@@ -53,7 +54,7 @@ readUrdfFile opts path = do
   r <- try (BL.readFile path)
   pure $ case r of
     Left (e :: SomeException) -> Left ["cannot read " ++ path ++ ": " ++ show e]
-    Right bs -> readUrdf opts bs
+    Right bs -> (\r -> r {robotSources = ["URDF file " ++ path]}) <$> readUrdf opts bs
 
 -- | The names of the actuated joints of the chain, in order (the order of q).
 urdfJointNames :: Robot -> [String]
@@ -62,7 +63,11 @@ urdfJointNames = map jointName . robotJoints
 readUrdf :: UrdfOptions -> BL.ByteString -> Either [String] Robot
 readUrdf opts bs = case X.parseLBS X.def bs of
   Left e -> Left ["not well-formed XML: " ++ takeWhile (/= '\n') (show e)]
-  Right doc -> fromDoc opts doc
+  Right doc -> do
+    r <- fromDoc opts doc
+    case validateRobot r of
+      [] -> Right r
+      es -> Left (map renderFieldError es)
 
 fromDoc :: UrdfOptions -> X.Document -> Either [String] Robot
 fromDoc UrdfOptions{..} doc
