@@ -43,7 +43,7 @@ prepareChain ch = Kinematics ch method
       _ -> NumericLM
 
 finite :: Double -> Bool
-finite x = not (isNaN x || isInfinite x)
+finite = isFiniteNumber
 
 -- | Problems with a request (empty when it can be solved).
 checkRequest :: Chain -> Tf -> Maybe (U.Vector Double) -> [String]

@@ -24,7 +24,6 @@ module VProf.Kinematics.Model
   , emptyRobot
   , directDrive
   , linkTransform
-  , linkKindOf
   , dof
     -- * Units at the boundary
   , revoluteLimits
@@ -124,9 +123,6 @@ directDrive j sign off = Drive off [(j, sign)]
 dof :: Robot -> Int
 dof = length . robotJoints
 
-linkKindOf :: Link -> Maybe JointKind
-linkKindOf = linkJointKind
-
 -- | The transform of one link at link variable v (the textbook form, used by tests and frames).
 linkTransform :: Link -> Double -> Tf
 linkTransform Link{..} v = case (linkGeometry, linkJointKind) of
@@ -135,7 +131,7 @@ linkTransform Link{..} v = case (linkGeometry, linkJointKind) of
     let (th', d') = var k th d in rotZ th' `compose` trans 0 0 d' `compose` trans a 0 0 `compose` rotX al
   (DhModified al a th d, k) ->
     let (th', d') = var k th d in rotX al `compose` trans a 0 0 `compose` rotZ th' `compose` trans 0 0 d'
-  (UrdfJoint o ax, Nothing) -> o `seq` ax `seq` o
+  (UrdfJoint o _, Nothing) -> o
   (UrdfJoint o ax, Just Revolute) -> let r = rotationBetween (unit ax) in o `compose` r `compose` rotZ v `compose` inverse r
   (UrdfJoint o ax, Just Prismatic) -> let V3 x y z = unit ax in o `compose` trans (v*x) (v*y) (v*z)
   where

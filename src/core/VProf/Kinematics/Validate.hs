@@ -32,7 +32,7 @@ renderFieldError FieldError{..} =
   feField ++ " = " ++ feValue ++ (if null feUnit then "" else " " ++ feUnit) ++ ": " ++ feRule
 
 finite :: Double -> Bool
-finite x = not (isNaN x || isInfinite x)
+finite = isFiniteNumber
 
 unitOf :: JointKind -> (String, String, String)
 unitOf Revolute = ("rad", "rad/s", "rad/s^2")

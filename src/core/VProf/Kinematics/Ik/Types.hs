@@ -17,7 +17,7 @@ module VProf.Kinematics.Ik.Types
 
 import Control.DeepSeq (NFData (..))
 import qualified Data.Vector.Unboxed as U
-import Data.List (sortOn)
+import Data.List (intercalate, sortOn)
 import Data.Word (Word64)
 
 import VProf.Kinematics.Transform
@@ -71,16 +71,13 @@ describeFailure :: IkFailure -> String
 describeFailure = \f -> case f of
   BeyondReach d r -> "beyond reach: the target is " ++ mm d ++ " away, the arm reaches " ++ mm r ++ " (" ++ mm (d - r) ++ " too far)"
   InsideReach d r -> "too close: the target is " ++ mm d ++ " away, the arm cannot fold closer than " ++ mm r ++ " (" ++ mm (r - d) ++ " too close)"
-  OutsideLimits sols -> "every solution breaks a joint limit: " ++ concatMap (\s -> "[" ++ unwordsC [j ++ " by " ++ show v | (j, v) <- s] ++ "]") sols
+  OutsideLimits sols -> "every solution breaks a joint limit: " ++ concatMap (\s -> "[" ++ intercalate "; " [j ++ " by " ++ show v | (j, v) <- s] ++ "]") sols
   OrientationUnreachable t -> "the tool stays level: the target is tilted by " ++ show (t * 180 / pi) ++ " deg"
   Singular why -> "singular: " ++ why
   NotConverged p r -> "not converged: best residual " ++ show p ++ " m, " ++ show r ++ " rad"
-  InvalidRequest es -> "invalid request: " ++ unwordsC es
+  InvalidRequest es -> "invalid request: " ++ intercalate "; " es
   where
     mm x = show (fromIntegral (round (x * 1e6) :: Integer) / 1000 :: Double) ++ " mm"
-    unwordsC = foldr1' (\a b -> a ++ "; " ++ b)
-    foldr1' _ [] = ""
-    foldr1' g xs = foldr1 g xs
 
 -- | Position (m) and rotation (rad) error between a reached and a target transform.
 residual :: Tf -> Tf -> (Double, Double)

@@ -229,7 +229,7 @@ parseJoint c =
         ++ lefts [() <$ xyz, () <$ rpy, () <$ axis, () <$ limitParts, () <$ mimic]
 
 finite :: Double -> Bool
-finite x = not (isNaN x || isInfinite x)
+finite = isFiniteNumber
 
 -- | A decimal number as URDF files write them (".5", "-.5", "1.", "+2", "1e-3").
 readNum :: String -> Maybe Double
