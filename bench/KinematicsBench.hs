@@ -15,6 +15,7 @@ import Data.List (sort)
 import qualified Data.Vector.Unboxed as U
 import Data.Word (Word64)
 import GHC.Clock (getMonotonicTimeNSec)
+import System.CPUTime (getCPUTime)
 
 import VProf.Kinematics
 import VProf.Kinematics.Ik.Numeric (SplitMix (..), nextDouble)
@@ -44,6 +45,7 @@ data ProtocolResult = ProtocolResult
   { prSolves :: Int
   , prSuccesses :: Int
   , prMeanUs, prMedianUs, prP99Us :: Double
+  , prMeanCpuUs :: Double                       -- ^ CPU time: what the solver costs on a busy machine
   , prWorstPosition, prWorstRotation :: Double  -- ^ over the successes (m, rad)
   }
   deriving (Show)
@@ -54,20 +56,23 @@ tracIkProtocol k n s = do
   let ch = kinChain k
       seed = midLimits ch
   rs <- forM (protocolTargets ch n s) $ \(_, t) -> do
+    c0 <- getCPUTime
     t0 <- getMonotonicTimeNSec
     r <- solveIkIO 0.005 protocolOptions k t (Just seed)
     let res = case r of
           Right (sol : _) -> Just (residual (forward ch (solJoints sol)) t)
           _ -> Nothing
     t1 <- res `seq` getMonotonicTimeNSec
-    pure (fromIntegral (t1 - t0) / 1000 :: Double, res)
-  let times = sort (map fst rs)
+    c1 <- getCPUTime
+    pure ((fromIntegral (t1 - t0) / 1000 :: Double, fromIntegral (c1 - c0) / 1e6 :: Double), res)
+  let times = sort (map (fst . fst) rs)
       oks = [x | (_, Just x) <- rs]
       at :: Double -> Double
       at p = times !! min (n - 1) (floor (p * fromIntegral n))
   pure ProtocolResult
     { prSolves = n, prSuccesses = length oks
     , prMeanUs = sum times / fromIntegral n, prMedianUs = at 0.5, prP99Us = at 0.99
+    , prMeanCpuUs = sum (map (snd . fst) rs) / fromIntegral n
     , prWorstPosition = maximum (0 : map fst oks), prWorstRotation = maximum (0 : map snd oks) }
 
 kinematicsBenchmarks :: [Benchmark]

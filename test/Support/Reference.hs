@@ -20,15 +20,12 @@ import System.Environment (lookupEnv)
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform
 
--- | $VPROF_SHARED, else ../shared, else ../../shared.
+-- | $VPROF_SHARED, else ../shared (relative to the project root, where the tests run).
 sharedDir :: IO FilePath
 sharedDir = do
-  env <- lookupEnv "VPROF_SHARED"
-  case env of
-    Just d -> pure d
-    Nothing -> do
-      a <- doesDirectoryExist "../shared/reference"
-      pure (if a then "../shared" else "/work/shared")
+  d <- maybe "../shared" id <$> lookupEnv "VPROF_SHARED"
+  ok <- doesDirectoryExist (d ++ "/reference/kinematics")
+  if ok then pure d else fail ("the shared data is not at " ++ d ++ " (set VPROF_SHARED)")
 
 data DhRow = DhRow {rowType :: String, rowTheta, rowD, rowA, rowAlpha, rowOffset :: Double}
 
