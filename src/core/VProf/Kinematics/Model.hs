@@ -189,6 +189,7 @@ data Chain = Chain
   , chainFrameFix :: !(U.Vector Double)     -- ^ 12·m: from the moved frame to link i's own frame
   , chainLinkIndex :: !(U.Vector Int)       -- ^ m: index of the moving link in robotLinks
   , chainLo, chainHi :: !(U.Vector Double)  -- ^ n: joint limits
+  , chainRevoluteJoint :: !(U.Vector Bool)  -- ^ n: the joint is revolute
   }
 
 instance NFData Chain where
@@ -227,6 +228,7 @@ compile robot@Robot{..} =
     , chainLinkIndex = U.fromList [i | (i, _, _) <- moving]
     , chainLo = U.fromList (map (limMin . jointLimits) robotJoints)
     , chainHi = U.fromList (map (limMax . jointLimits) robotJoints)
+    , chainRevoluteJoint = U.fromList [jointKind j == Revolute | j <- robotJoints]
     }
   where
     n = length robotJoints

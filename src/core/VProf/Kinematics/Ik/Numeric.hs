@@ -89,9 +89,11 @@ descend :: IkOptions -> Bool -> Chain -> Tf -> U.Vector Double -> Attempt
 descend IkOptions{..} limited ch target q0 = loop 0 (1 / 0) 0 (clampQ q0)
   where
     n = chainDof ch
-    rev = U.fromList [jointKind jt == Revolute | jt <- robotJoints (chainRobot ch)]
+    rev = chainRevoluteJoint ch
+    lo i = U.unsafeIndex (chainLo ch) i
+    hi i = U.unsafeIndex (chainHi ch) i
     clampQ q
-      | limited = U.imap (\i x -> if rev U.! i then project (chainLo ch U.! i) (chainHi ch U.! i) x else max (chainLo ch U.! i) (min (chainHi ch U.! i) x)) q
+      | limited = U.imap (\i x -> if U.unsafeIndex rev i then project (lo i) (hi i) x else max (lo i) (min (hi i) x)) q
       | otherwise = q
     -- best: the lowest E so far; since: iterations since it dropped by a tenth
     loop :: Int -> Double -> Int -> U.Vector Double -> Attempt
@@ -108,16 +110,16 @@ descend IkOptions{..} limited ch target q0 = loop 0 (1 / 0) 0 (clampQ q0)
            let lam = dampingGain * en + 1e-12
                delta0 = lmStep n j e lam noMask
                -- joints at a bound that the step pushes outward are frozen and the step solved again
-               frozen = U.imap (\i d -> limited && pushesOut i (q U.! i) d) delta0
+               frozen = U.imap (\i d -> pushesOut i (U.unsafeIndex q i) d) delta0
                delta
-                 | U.or frozen = lmStep n j e lam frozen
+                 | limited && U.or frozen = lmStep n j e lam frozen
                  | otherwise = delta0
            in loop (it + 1) best' since' (clampQ (U.zipWith (+) q delta))
     noMask = U.replicate n False
     pushesOut i x d =
-      let lo = chainLo ch U.! i; hi = chainHi ch U.! i; w = 1e-9 * (1 + abs x)
-          wraps = rev U.! i && hi - lo >= 2 * pi
-      in not wraps && ((x >= hi - w && d > 0) || (x <= lo + w && d < 0))
+      let w = 1e-9 * (1 + abs x)
+          wraps = U.unsafeIndex rev i && hi i - lo i >= 2 * pi
+      in not wraps && ((x >= hi i - w && d > 0) || (x <= lo i + w && d < 0))
 
 -- | λ = gain·E (Chan and Lawrence).
 dampingGain :: Double
@@ -139,8 +141,14 @@ project lo hi x
 lmStep :: Int -> Jacobian -> (Double, Double, Double, Double, Double, Double) -> Double -> U.Vector Bool -> U.Vector Double
 lmStep n j (e0, e1, e2, e3, e4, e5) lam mask = runST $ do
   a <- M.new (n * n)
+  x <- M.unsafeNew n
   let col k r = if U.unsafeIndex mask k then 0 else U.unsafeIndex j (6 * k + r)
-      g = U.generate n (\k -> col k 0 * e0 + col k 1 * e1 + col k 2 * e2 + col k 3 * e3 + col k 4 * e4 + col k 5 * e5)
+      grad !k
+        | k >= n = pure ()
+        | otherwise = do
+            M.unsafeWrite x k (col k 0 * e0 + col k 1 * e1 + col k 2 * e2 + col k 3 * e3 + col k 4 * e4 + col k 5 * e5)
+            grad (k + 1)
+  grad 0
   let fill !r !c
         | r >= n = pure ()
         | c > r = fill (r + 1) 0
@@ -151,7 +159,6 @@ lmStep n j (e0, e1, e2, e3, e4, e5) lam mask = runST $ do
             fill r (c + 1)
   fill 0 0
   cholesky n a
-  x <- U.thaw g
   -- forward: L y = g
   let fwd !r
         | r >= n = pure ()
@@ -171,7 +178,7 @@ lmStep n j (e0, e1, e2, e3, e4, e5) lam mask = runST $ do
             back (r - 1)
   fwd 0
   back (n - 1)
-  U.freeze x
+  U.unsafeFreeze x
 
 sumTo :: Int -> (Int -> ST s Double) -> ST s Double
 sumTo m f = go 0 0
