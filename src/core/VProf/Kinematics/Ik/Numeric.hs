@@ -107,7 +107,7 @@ descend IkOptions{..} limited ch target q0 = loop 0 (1 / 0) 0 (clampQ q0)
       in if pe <= ikTolPosition && re <= ikTolRotation then Attempt q pe re True (it + 1)
          else if it >= ikMaxIterations || since' > stallLimit then Attempt q pe re False (it + 1)
          else
-           let lam = dampingGain * en + 1e-12
+           let lam = ikDampingGain * en + 1e-12
                delta0 = lmStep n j e lam noMask
                -- joints at a bound that the step pushes outward are frozen and the step solved again
                frozen = U.imap (\i d -> pushesOut i (U.unsafeIndex q i) d) delta0
@@ -120,10 +120,6 @@ descend IkOptions{..} limited ch target q0 = loop 0 (1 / 0) 0 (clampQ q0)
       let w = 1e-9 * (1 + abs x)
           wraps = U.unsafeIndex rev i && hi i - lo i >= 2 * pi
       in not wraps && ((x >= hi i - w && d > 0) || (x <= lo i + w && d < 0))
-
--- | λ = gain·E (Chan and Lawrence).
-dampingGain :: Double
-dampingGain = 1
 
 -- | A descent whose error has not dropped by a tenth for this many iterations restarts.
 stallLimit :: Int

@@ -30,11 +30,12 @@ data IkOptions = IkOptions
   , ikAllSolutions :: Bool      -- ^ numerical: keep restarting for more distinct solutions
   , ikRandomSeed :: Word64      -- ^ numerical: seed of the pure generator for the restarts
   , ikLimitTolerance :: Double  -- ^ how far past a limit still counts as within (default 1e-9)
+  , ikDampingGain :: Double     -- ^ numerical: λ = gain · E in the Levenberg–Marquardt step (default 0.1)
   }
   deriving (Eq, Show)
 
 defaultIkOptions :: IkOptions
-defaultIkOptions = IkOptions 1e-6 1e-6 60 200 False 0x9E3779B97F4A7C15 1e-9
+defaultIkOptions = IkOptions 1e-6 1e-6 60 200 False 0x9E3779B97F4A7C15 1e-9 0.1
 
 data IkSolution = IkSolution
   { solJoints :: U.Vector Double  -- ^ controller joint values (rad, m)
