@@ -1,4 +1,4 @@
-{-# LANGUAGE OverloadedStrings #-}
+{-# LANGUAGE OverloadedStrings, ScopedTypeVariables #-}
 -- | The URDF reader: every shared file loads; UR5 from DH and from its URDF agree; malformed files
 -- get errors naming the element; mimic joints couple.
 module VProf.Kinematics.UrdfSpec (spec) where

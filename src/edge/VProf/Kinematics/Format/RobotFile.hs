@@ -1,4 +1,4 @@
-{-# LANGUAGE OverloadedStrings, RecordWildCards, LambdaCase #-}
+{-# LANGUAGE OverloadedStrings, RecordWildCards, LambdaCase, ScopedTypeVariables, TupleSections #-}
 -- | Reads a robot file (YAML, or JSON since YAML is a superset) into a validated 'Robot'.
 --
 -- The file states its units (@units: {length: mm|m, angle: deg|rad}@, default m and deg) and

@@ -1,4 +1,4 @@
-{-# LANGUAGE OverloadedStrings, RecordWildCards, LambdaCase #-}
+{-# LANGUAGE OverloadedStrings, RecordWildCards, LambdaCase, ScopedTypeVariables #-}
 -- | Reads a URDF file into a 'Robot': the serial chain from a base link to a tip link.
 --
 -- Supported: @revolute@, @continuous@, @prismatic@ and @fixed@ joints with @origin@ (xyz, rpy;

@@ -1,4 +1,7 @@
--- | A throwaway driver running the kinematics specs (the project's Spec.hs discovers them too).
+-- | A stand-alone driver running only the kinematics specs (the project's Spec.hs discovers them
+-- too). Kept out of the module tree (the directory name is not a module name) so that the test
+-- suite does not pick it up:
+--   ghc -O1 -isrc/core -isrc/edge -itest -outputdir /tmp/kin-build -o /tmp/kin-test test/kin-driver/Main.hs
 module Main (main) where
 
 import Test.Hspec
