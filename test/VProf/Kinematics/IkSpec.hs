@@ -124,6 +124,10 @@ spec = do
           r `shouldSatisfy` (\x -> abs (x - 0.3) < 1e-12)
           d `shouldSatisfy` (\x -> abs (x - sqrt ((0.5 - 0.05472) ** 2 + (0.1 - 0.092) ** 2)) < 1e-12)
         other -> expectationFailure (show other)
+    it "a target at the shoulder (the elbow angle undetermined) is singular" $
+      case solveIk defaultIkOptions k (levelTarget g (V3 (0.02 + 0.03472) 0 (0.107 - 0.015)) 0) Nothing of
+        Left (Singular _) -> pure ()
+        other -> expectationFailure (show other)
     it "a tilted target names the tilt" $
       case solveIk defaultIkOptions k (compose (levelTarget g (V3 0.2 0 0.1) 0) (rotX (deg 10))) Nothing of
         Left (OrientationUnreachable t) -> t `shouldSatisfy` (\x -> abs (x - deg 10) < 1e-9)

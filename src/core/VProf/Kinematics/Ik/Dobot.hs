@@ -83,9 +83,10 @@ levelTarget g (V3 x y z) phi = (rotZ phi `compose` dgHome g) {tx = x, ty = y, tz
 solveDobot :: IkOptions -> Chain -> DobotGeometry -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
 solveDobot IkOptions{..} ch DobotGeometry{..} target seedM
   | tilt > max ikTolRotation 1e-9 = Left (OrientationUnreachable tilt)
-  | null planar = Left reachFailure
-  | null within = Left (OutsideLimits [[(names !! i, v) | (i, v) <- limitViolations ikLimitTolerance ch q] | q <- candidates])
-  | otherwise = Right (sortBySeed within)
+  | not (null within) = Right (sortBySeed within)
+  | dForward < eps && reachMin < eps = Left (Singular "the target is at the shoulder: the elbow angle is undetermined")
+  | null planar = Left (if dForward > reachMax then BeyondReach dForward reachMax else InsideReach dForward reachMin)
+  | otherwise = Left (OutsideLimits [[(names !! i, v) | (i, v) <- limitViolations ikLimitTolerance ch q] | q <- candidates])
   where
     robot = chainRobot ch
     names = map jointName (robotJoints robot)
@@ -116,14 +117,10 @@ solveDobot IkOptions{..} ch DobotGeometry{..} target seedM
               | sgn <- [1, -1], let al = gam + sgn * atan2 s c ]
     planar = nubBy close (concatMap planarFor q1s)
     close (a, b, c) (a', b', c') = abs (a - a') + abs (b - b') + abs (c - c') < 1e-12
-    -- the distance the planar problem misses by, from the branch reaching forward
-    reachFailure =
-      let h = rho - dgA1 - dgA5
-          d = sqrt (h * h + v * v)
-      in if d < eps && reachMin < eps then Singular "the target is at the shoulder: the elbow angle is undetermined"
-         else if d > reachMax then BeyondReach d reachMax else InsideReach d reachMin
+    -- the shoulder-to-flange distance of the branch reaching forward (for the reach failures)
+    dForward = let h = rho - dgA1 - dgA5 in sqrt (h * h + v * v)
     q4For q1 = dgToolSign * (phi - q1)
-    candidates = [U.fromList [q1, q2, q3, bestTurn 3 (q4For q1)] | (q1, q2, q3) <- planar]
+    candidates = [U.fromList [q1', q2, q3, bestTurn 3 (q4For q1')] | (q1, q2, q3) <- planar, let q1' = bestTurn 0 q1]
     -- of the turns by 2π of a joint value, the one within limits nearest the seed
     bestTurn j a =
       let lo = chainLo ch U.! j; hi = chainHi ch U.! j
