@@ -43,7 +43,7 @@ module VProf.Kinematics.Model
 import Control.DeepSeq (NFData (..))
 import qualified Data.Vector.Unboxed as U
 import qualified Numeric.Units.Dimensional.Prelude as D
-import Numeric.Units.Dimensional.Prelude (Quantity, PlaneAngle, Length, Mass, AngularVelocity, (*~), (/~))
+import Numeric.Units.Dimensional.Prelude (PlaneAngle, Length, Mass, AngularVelocity, (*~), (/~))
 
 import VProf.Kinematics.Transform
 
@@ -164,7 +164,7 @@ reachLength :: Robot -> Maybe (Length Double)
 reachLength r = (*~ D.meter) <$> robotReach r
 
 -- | A joint's limits: Left in angle for revolute, Right in length for prismatic.
-jointLimitsInUnits :: Joint -> Either (Quantity D.DPlaneAngle Double, PlaneAngle Double) (Length Double, Length Double)
+jointLimitsInUnits :: Joint -> Either (PlaneAngle Double, PlaneAngle Double) (Length Double, Length Double)
 jointLimitsInUnits Joint{..} = case jointKind of
   Revolute -> Left (limMin jointLimits *~ D.radian, limMax jointLimits *~ D.radian)
   Prismatic -> Right (limMin jointLimits *~ D.meter, limMax jointLimits *~ D.meter)
