@@ -1,0 +1,86 @@
+-- | Inverse kinematics, one API for every robot: a target pose and an optional seed give every
+-- solution found within the joint limits, sorted by distance to the seed, or a failure saying why.
+--
+-- 'prepare' picks the solver once per robot: the Dobot closed form when the model is the Dobot
+-- linkage ('VProf.Kinematics.Ik.Dobot'), otherwise the numerical solver
+-- ('VProf.Kinematics.Ik.Numeric'). Invariant: requests are checked first (finite target, rigid
+-- rotation, seed of the right length, finite): a bad request gets 'InvalidRequest', never an
+-- exception or a NaN.
+module VProf.Kinematics.Ik
+  ( Kinematics (..)
+  , Method (..)
+  , prepare
+  , prepareChain
+  , solveIk
+  , solveIkIO
+  , solvePose
+  , checkRequest
+  , module VProf.Kinematics.Ik.Types
+  ) where
+
+import qualified Data.Vector.Unboxed as U
+
+import VProf.Kinematics.Forward (Pose (..), poseToTf)
+import VProf.Kinematics.Ik.Dobot
+import VProf.Kinematics.Ik.Numeric
+import VProf.Kinematics.Ik.Types
+import VProf.Kinematics.Model
+import VProf.Kinematics.Transform
+
+data Method = ClosedFormDobot DobotGeometry | NumericLM
+
+-- | A robot ready for IK: its compiled chain and the solver chosen for it.
+data Kinematics = Kinematics {kinChain :: Chain, kinMethod :: Method}
+
+prepare :: Robot -> Kinematics
+prepare = prepareChain . compile
+
+prepareChain :: Chain -> Kinematics
+prepareChain ch = Kinematics ch method
+  where
+    method = case robotClosedForm (chainRobot ch) of
+      Just DobotLinkage | Right g <- dobotGeometry (chainRobot ch) -> ClosedFormDobot g
+      _ -> NumericLM
+
+finite :: Double -> Bool
+finite = isFiniteNumber
+
+-- | Problems with a request (empty when it can be solved).
+checkRequest :: Chain -> Tf -> Maybe (U.Vector Double) -> [String]
+checkRequest ch target seed
+  | isRigid 1e-6 target && maybe True (\s -> U.length s == chainDof ch && U.all finite s) seed = []
+  | otherwise = problems ch target seed
+
+problems :: Chain -> Tf -> Maybe (U.Vector Double) -> [String]
+problems ch target seed =
+  [ "target: " ++ show (length (filter (not . finite) (toRows target))) ++ " entries are not finite numbers" | not (all finite (toRows target)) ]
+    ++ [ "target: the rotation is not orthonormal with determinant 1" | all finite (toRows target), not (isRigid 1e-6 target) ]
+    ++ case seed of
+      Nothing -> []
+      Just s ->
+        [ "seed: " ++ show (U.length s) ++ " joint values for a robot with " ++ show (chainDof ch) ++ " joints" | U.length s /= chainDof ch ]
+          ++ [ "seed[" ++ show i ++ "]: " ++ show x ++ " is not a finite number" | (i, x) <- zip [0 :: Int ..] (U.toList s), not (finite x) ]
+
+-- | Solve for a tool transform (pure: the numerical solver's budget is its iteration and restart
+-- counts).
+solveIk :: IkOptions -> Kinematics -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
+solveIk opts (Kinematics ch m) target seed = case checkRequest ch target seed of
+  [] -> case m of
+    ClosedFormDobot g -> solveDobot opts ch g target seed
+    NumericLM -> solveNumeric opts ch target seed
+  errs -> Left (InvalidRequest errs)
+
+-- | Like 'solveIk' with a wall-time budget (seconds) for the numerical solver.
+solveIkIO :: Double -> IkOptions -> Kinematics -> Tf -> Maybe (U.Vector Double) -> IO (Either IkFailure [IkSolution])
+solveIkIO budget opts (Kinematics ch m) target seed = case checkRequest ch target seed of
+  [] -> case m of
+    ClosedFormDobot g -> pure (solveDobot opts ch g target seed)
+    NumericLM -> solveNumericIO budget opts ch target seed
+  errs -> pure (Left (InvalidRequest errs))
+
+-- | Solve for a pose (position, quaternion); a zero or non-finite quaternion is refused.
+solvePose :: IkOptions -> Kinematics -> Pose -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
+solvePose opts k p@(Pose (V3 x y z) (Quat w a b c)) seed
+  | not (all finite [x, y, z, w, a, b, c]) = Left (InvalidRequest ["pose: not every number is finite"])
+  | w * w + a * a + b * b + c * c < 1e-12 = Left (InvalidRequest ["pose: the quaternion is zero"])
+  | otherwise = solveIk opts k (poseToTf p) seed

@@ -1,0 +1,290 @@
+{-# LANGUAGE BangPatterns, RecordWildCards #-}
+-- | Numerical inverse kinematics for any chain: Levenberg–Marquardt on the full 6-D pose error
+-- (position in m, rotation vector in rad, both in the base frame), projected onto the joint limits,
+-- started from the seed and then from random configurations within the limits.
+--
+-- One step solves (JᵀJ + λI)·δ = Jᵀe with λ = μ·E (E = ½|e|², Chan–Lawrence/Sugihara damping: a
+-- Gauss–Newton step near the solution, a short gradient step far from it); a step that does not
+-- lower E is refused and μ grows tenfold. The random starts come from a pure SplitMix64 generator
+-- seeded by the caller, so a solve is a pure function of its inputs; 'solveNumericIO' adds a
+-- wall-time budget between starts. Invariant: a returned solution is within the limits and its
+-- forward kinematics matches the target to the tolerances (the check is the convergence test).
+module VProf.Kinematics.Ik.Numeric
+  ( solveNumeric
+  , solveNumericIO
+  , Attempt (..)
+  , attempts
+  , descend
+  , reachBound
+  , SplitMix (..)
+  , nextDouble
+  ) where
+
+import Control.Monad.ST (ST, runST)
+import Data.Bits (shiftR, xor)
+import qualified Data.Vector.Unboxed as U
+import qualified Data.Vector.Unboxed.Mutable as M
+import Data.Word (Word64)
+import GHC.Clock (getMonotonicTimeNSec)
+
+import VProf.Kinematics.Forward
+import VProf.Kinematics.Ik.Types
+import VProf.Kinematics.Jacobian
+import VProf.Kinematics.Model
+import VProf.Kinematics.Transform
+
+--------------------------------------------------------------------------------------------------
+-- A tiny pure generator (SplitMix64, Steele–Lea–Flood 2014)
+
+newtype SplitMix = SplitMix Word64
+
+nextWord :: SplitMix -> (Word64, SplitMix)
+nextWord (SplitMix s) =
+  let s' = s + 0x9E3779B97F4A7C15
+      z1 = (s' `xor` (s' `shiftR` 30)) * 0xBF58476D1CE4E5B9
+      z2 = (z1 `xor` (z1 `shiftR` 27)) * 0x94D049BB133111EB
+  in (z2 `xor` (z2 `shiftR` 31), SplitMix s')
+
+-- | Uniform in [0, 1).
+nextDouble :: SplitMix -> (Double, SplitMix)
+nextDouble g = let (w, g') = nextWord g in (fromIntegral (w `shiftR` 11) * (1 / 9007199254740992), g')
+
+--------------------------------------------------------------------------------------------------
+
+-- | The outcome of one descent from one start.
+data Attempt = Attempt
+  { attJoints :: !(U.Vector Double)
+  , attPosition :: !Double   -- ^ m
+  , attRotation :: !Double   -- ^ rad
+  , attConverged :: !Bool
+  , attIterations :: !Int    -- ^ Jacobian evaluations spent
+  }
+
+-- | The starts: the seed, then uniform random configurations within the limits (±π for an
+-- unbounded side).
+starts :: Word64 -> Chain -> U.Vector Double -> [U.Vector Double]
+starts s ch seed = seed : go (SplitMix s)
+  where
+    n = chainDof ch
+    lo i = let l = chainLo ch U.! i in if isInfinite l then -pi else l
+    hi i = let h = chainHi ch U.! i in if isInfinite h then pi else h
+    go g = let (q, g') = draw 0 g [] in U.fromListN n q : go g'
+    draw i g acc
+      | i >= n = (reverse acc, g)
+      | otherwise = let (u, g') = nextDouble g in draw (i + 1) g' (lo i + u * (hi i - lo i) : acc)
+
+-- | Every descent from every start, lazily.
+attempts :: IkOptions -> Bool -> Chain -> Tf -> U.Vector Double -> [Attempt]
+attempts opts limited ch target seed =
+  map (descend opts limited ch target) (starts (ikRandomSeed opts) ch seed)
+
+-- | The 6-D error e = (p_t − p, log(R_t·Rᵀ)).
+poseError :: Tf -> Tf -> (Double, Double, Double, Double, Double, Double)
+poseError target t =
+  let V3 wx wy wz = rotationLog (compose target (inverse t) {tx = 0, ty = 0, tz = 0})
+  in (tx target - tx t, ty target - ty t, tz target - tz t, wx, wy, wz)
+
+-- | One Levenberg–Marquardt descent from a start (limits enforced when the flag is set).
+descend :: IkOptions -> Bool -> Chain -> Tf -> U.Vector Double -> Attempt
+descend IkOptions{..} limited ch target q0 = loop 0 (1 / 0) 0 (clampQ q0)
+  where
+    n = chainDof ch
+    rev = chainRevoluteJoint ch
+    lo i = U.unsafeIndex (chainLo ch) i
+    hi i = U.unsafeIndex (chainHi ch) i
+    clampQ q
+      | limited = U.imap (\i x -> if U.unsafeIndex rev i then project (lo i) (hi i) x else max (lo i) (min (hi i) x)) q
+      | otherwise = q
+    -- best: the lowest E so far; since: iterations since it dropped by a tenth
+    loop :: Int -> Double -> Int -> U.Vector Double -> Attempt
+    loop !it !best !since !q =
+      let (t, j) = jacobian ch q
+          e@(e0, e1, e2, e3, e4, e5) = poseError target t
+          pe = sqrt (e0 * e0 + e1 * e1 + e2 * e2)
+          re = sqrt (e3 * e3 + e4 * e4 + e5 * e5)
+          en = 0.5 * (pe * pe + re * re)
+          (best', since') = if en < 0.9 * best then (en, 0) else (best, since + 1)
+      in if pe <= ikTolPosition && re <= ikTolRotation then Attempt q pe re True (it + 1)
+         else if it >= ikMaxIterations || since' > stallLimit then Attempt q pe re False (it + 1)
+         else
+           let lam = ikDampingGain * en + 1e-12
+               delta0 = lmStep n j e lam noMask
+               -- joints at a bound that the step pushes outward are frozen and the step solved again
+               frozen = U.imap (\i d -> pushesOut i (U.unsafeIndex q i) d) delta0
+               delta
+                 | limited && U.or frozen = lmStep n j e lam frozen
+                 | otherwise = delta0
+           in loop (it + 1) best' since' (clampQ (U.zipWith (+) q delta))
+    noMask = U.replicate n False
+    pushesOut i x d =
+      let w = 1e-9 * (1 + abs x)
+          wraps = U.unsafeIndex rev i && hi i - lo i >= 2 * pi
+      in not wraps && ((x >= hi i - w && d > 0) || (x <= lo i + w && d < 0))
+
+-- | A descent whose error has not dropped by a tenth for this many iterations restarts.
+stallLimit :: Int
+stallLimit = 5
+
+-- | Back within [lo, hi]: by whole turns when the range allows (revolute joints with a range of a
+-- turn or more), else by clamping.
+project :: Double -> Double -> Double -> Double
+project lo hi x
+  | x > hi = let y = x - 2 * pi * fromIntegral (ceiling ((x - hi) / (2 * pi)) :: Int) in if y >= lo then y else hi
+  | x < lo = let y = x + 2 * pi * fromIntegral (ceiling ((lo - x) / (2 * pi)) :: Int) in if y <= hi then y else lo
+  | otherwise = x
+
+-- | δ = (JᵀJ + λI)⁻¹ Jᵀe by Cholesky (n small); masked joints get δ = 0.
+lmStep :: Int -> Jacobian -> (Double, Double, Double, Double, Double, Double) -> Double -> U.Vector Bool -> U.Vector Double
+lmStep n j (e0, e1, e2, e3, e4, e5) lam mask = runST $ do
+  a <- M.new (n * n)
+  x <- M.unsafeNew n
+  let col k r = if U.unsafeIndex mask k then 0 else U.unsafeIndex j (6 * k + r)
+      grad !k
+        | k >= n = pure ()
+        | otherwise = do
+            M.unsafeWrite x k (col k 0 * e0 + col k 1 * e1 + col k 2 * e2 + col k 3 * e3 + col k 4 * e4 + col k 5 * e5)
+            grad (k + 1)
+  grad 0
+  let fill !r !c
+        | r >= n = pure ()
+        | c > r = fill (r + 1) 0
+        | otherwise = do
+            let s = col r 0 * col c 0 + col r 1 * col c 1 + col r 2 * col c 2 + col r 3 * col c 3 + col r 4 * col c 4 + col r 5 * col c 5
+                v = if r == c then s + lam else s
+            M.unsafeWrite a (r * n + c) v
+            fill r (c + 1)
+  fill 0 0
+  cholesky n a
+  -- forward: L y = g
+  let fwd !r
+        | r >= n = pure ()
+        | otherwise = do
+            s <- sumTo r (\k -> (*) <$> M.unsafeRead a (r * n + k) <*> M.unsafeRead x k)
+            gr <- M.unsafeRead x r
+            d <- M.unsafeRead a (r * n + r)
+            M.unsafeWrite x r ((gr - s) / d)
+            fwd (r + 1)
+      back !r
+        | r < 0 = pure ()
+        | otherwise = do
+            s <- sumFrom (r + 1) n (\k -> (*) <$> M.unsafeRead a (k * n + r) <*> M.unsafeRead x k)
+            yr <- M.unsafeRead x r
+            d <- M.unsafeRead a (r * n + r)
+            M.unsafeWrite x r ((yr - s) / d)
+            back (r - 1)
+  fwd 0
+  back (n - 1)
+  U.unsafeFreeze x
+
+sumTo :: Int -> (Int -> ST s Double) -> ST s Double
+sumTo m f = go 0 0
+  where
+    go !k !acc
+      | k >= m = pure acc
+      | otherwise = f k >>= \v -> go (k + 1) (acc + v)
+{-# INLINE sumTo #-}
+
+sumFrom :: Int -> Int -> (Int -> ST s Double) -> ST s Double
+sumFrom k0 m f = go k0 0
+  where
+    go !k !acc
+      | k >= m = pure acc
+      | otherwise = f k >>= \v -> go (k + 1) (acc + v)
+{-# INLINE sumFrom #-}
+
+-- | In-place lower Cholesky factor of a symmetric positive definite matrix (lower triangle used).
+cholesky :: Int -> M.MVector s Double -> ST s ()
+cholesky n a = outer 0
+  where
+    outer !c
+      | c >= n = pure ()
+      | otherwise = do
+          s <- sumTo c (\k -> (\v -> v * v) <$> M.unsafeRead a (c * n + k))
+          d0 <- M.unsafeRead a (c * n + c)
+          let d = sqrt (max 1e-300 (d0 - s))
+          M.unsafeWrite a (c * n + c) d
+          let rows !r
+                | r >= n = pure ()
+                | otherwise = do
+                    s' <- sumTo c (\k -> (*) <$> M.unsafeRead a (r * n + k) <*> M.unsafeRead a (c * n + k))
+                    v <- M.unsafeRead a (r * n + c)
+                    M.unsafeWrite a (r * n + c) ((v - s') / d)
+                    rows (r + 1)
+          rows (c + 1)
+          outer (c + 1)
+
+-- | An upper bound of the distance from the first moving axis's origin to the tool origin: the sum
+-- of the constant translations plus each prismatic joint's largest travel. (m)
+reachBound :: Chain -> (V3, Double)
+reachBound Chain{..} =
+  ( translation (constAt chainConst 0)
+  , sum [v3Norm (translation (constAt chainConst i)) | i <- [1 .. chainLinks]]
+      + sum [maximum (map abs (travel i)) | i <- [0 .. chainLinks - 1], chainPrismatic U.! i] )
+  where
+    -- the extreme values a prismatic link variable takes over the joint box
+    travel i =
+      let ts = [chainTermStart U.! i .. chainTermStart U.! (i + 1) - 1]
+          lo k = let l = chainLo U.! k in if isInfinite l then 0 else l
+          hi k = let h = chainHi U.! k in if isInfinite h then 0 else h
+          ext f = chainOffset U.! i + sum [f (c * lo k) (c * hi k) | t <- ts, let k = chainTermJoint U.! t; c = chainTermCoeff U.! t]
+      in [ext min, ext max]
+
+-- | Pure solve: the seed and up to 'ikMaxRestarts' random starts.
+solveNumeric :: IkOptions -> Chain -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
+solveNumeric opts ch target seedM = finish opts ch target seed (take (1 + ikMaxRestarts opts) (attempts opts True ch target seed))
+  where
+    seed = maybe (midLimits ch) id seedM
+
+-- | Like 'solveNumeric', also stopping when the wall-time budget (seconds) is spent (checked
+-- between starts; the seed's start always runs).
+solveNumericIO :: Double -> IkOptions -> Chain -> Tf -> Maybe (U.Vector Double) -> IO (Either IkFailure [IkSolution])
+solveNumericIO budget opts ch target seedM = do
+  t0 <- getMonotonicTimeNSec
+  let deadline = t0 + round (budget * 1e9)
+      run k acc (a : rest)
+        | k > ikMaxRestarts opts = pure (reverse acc)
+        | otherwise = do
+            now <- getMonotonicTimeNSec
+            if k > 0 && now > deadline then pure (reverse acc)
+            else if attConverged a && not (ikAllSolutions opts) then pure (reverse (a : acc))
+            else attConverged a `seq` run (k + 1) (a : acc) rest
+      run _ acc [] = pure (reverse acc)
+  as <- run (0 :: Int) [] (attempts opts True ch target seed)
+  pure (finish opts ch target seed as)
+  where
+    seed = maybe (midLimits ch) id seedM
+
+finish :: IkOptions -> Chain -> Tf -> U.Vector Double -> [Attempt] -> Either IkFailure [IkSolution]
+finish opts ch target seed as =
+  case found of
+    [] -> Left diagnose
+    sols -> Right (sortBySeed (dedupe sols))
+  where
+    taken = if ikAllSolutions opts then as else takeUntil attConverged as
+    found =
+      [ IkSolution q pe re (seedDistance q seed)
+      | Attempt q _ _ True _ <- taken
+      , withinLimits (ikLimitTolerance opts) ch q
+      , let (pe, re) = residual (forward ch q) target
+      , pe <= ikTolPosition opts * 1.0001 && re <= ikTolRotation opts * 1.0001 ]
+    dedupe [] = []
+    dedupe (s : rest) = s : dedupe [r | r <- rest, seedDistance (solJoints r) (solJoints s) > 1e-4]
+    (origin, bound) = reachBound ch
+    dist = v3Norm (v3Sub (translation target) origin)
+    names = map jointName (robotJoints (chainRobot ch))
+    diagnose
+      | dist > bound = BeyondReach dist bound
+      | otherwise =
+          -- does the pose have solutions if the limits are lifted?
+          let free = take 20 (attempts opts {ikMaxIterations = 100} False ch target seed)
+              outside = [limitViolations (ikLimitTolerance opts) ch (attJoints a) | a <- free, attConverged a]
+          in case [v | v <- outside, not (null v)] of
+               (v : _) -> OutsideLimits [[(names !! i, x) | (i, x) <- v]]
+               [] -> let best = minimumOn (\a -> attPosition a + attRotation a) as
+                     in maybe (NotConverged (1 / 0) (1 / 0)) (\a -> NotConverged (attPosition a) (attRotation a)) best
+    minimumOn _ [] = Nothing
+    minimumOn f xs = Just (foldr1 (\a b -> if f a <= f b then a else b) xs)
+
+takeUntil :: (a -> Bool) -> [a] -> [a]
+takeUntil _ [] = []
+takeUntil p (x : xs) = if p x then [x] else x : takeUntil p xs

@@ -1,0 +1,93 @@
+-- | The vocabulary of inverse kinematics shared by every solver: options, a solution, and the
+-- reasons a target has no solution.
+--
+-- Invariant: a solver returns solutions only within the joint limits (to 'ikLimitTolerance') whose
+-- forward kinematics matches the target to the tolerances, sorted by distance to the seed; a
+-- failure always says why, with the amount in SI units (m, rad).
+module VProf.Kinematics.Ik.Types
+  ( IkOptions (..)
+  , defaultIkOptions
+  , IkSolution (..)
+  , IkFailure (..)
+  , describeFailure
+  , residual
+  , sortBySeed
+  , seedDistance
+  ) where
+
+import Control.DeepSeq (NFData (..))
+import qualified Data.Vector.Unboxed as U
+import Data.List (intercalate, sortOn)
+import Data.Word (Word64)
+
+import VProf.Kinematics.Transform
+
+data IkOptions = IkOptions
+  { ikTolPosition :: Double     -- ^ m (default 1e-6)
+  , ikTolRotation :: Double     -- ^ rad (default 1e-6)
+  , ikMaxIterations :: Int      -- ^ numerical: iterations per start (default 60)
+  , ikMaxRestarts :: Int        -- ^ numerical: random restarts after the seed (default 200)
+  , ikAllSolutions :: Bool      -- ^ numerical: keep restarting for more distinct solutions
+  , ikRandomSeed :: Word64      -- ^ numerical: seed of the pure generator for the restarts
+  , ikLimitTolerance :: Double  -- ^ how far past a limit still counts as within (default 1e-9)
+  , ikDampingGain :: Double     -- ^ numerical: λ = gain · E in the Levenberg–Marquardt step (default 0.1)
+  }
+  deriving (Eq, Show)
+
+defaultIkOptions :: IkOptions
+defaultIkOptions = IkOptions 1e-6 1e-6 60 200 False 0x9E3779B97F4A7C15 1e-9 0.1
+
+data IkSolution = IkSolution
+  { solJoints :: U.Vector Double  -- ^ controller joint values (rad, m)
+  , solPositionError :: Double    -- ^ m, by forward kinematics
+  , solRotationError :: Double    -- ^ rad, by forward kinematics
+  , solSeedDistance :: Double     -- ^ Euclidean distance to the seed (or to mid-limits)
+  }
+  deriving (Eq, Show)
+
+instance NFData IkSolution where
+  rnf (IkSolution q a b c) = q `seq` a `seq` b `seq` c `seq` ()
+
+data IkFailure
+  = BeyondReach {failDistance :: Double, failReach :: Double}
+    -- ^ the target is failDistance from the reference point, the arm reaches failReach (m)
+  | InsideReach {failDistance :: Double, failReach :: Double}
+    -- ^ closer than the arm can fold (m): failReach is the minimum distance
+  | OutsideLimits [[(String, Double)]]
+    -- ^ every solution found breaks a limit: per solution, the joints and by how much (rad or m;
+    -- negative below the minimum, positive above the maximum)
+  | OrientationUnreachable {failTilt :: Double}
+    -- ^ the arm keeps its tool level: the target is tilted by this angle (rad)
+  | Singular String
+  | NotConverged {failPositionResidual :: Double, failRotationResidual :: Double}
+    -- ^ the best residual found within the budget (m, rad)
+  | InvalidRequest [String]
+  deriving (Eq, Show)
+
+instance NFData IkFailure where
+  rnf f = length (show f) `seq` ()
+
+-- | One sentence for a user.
+describeFailure :: IkFailure -> String
+describeFailure = \f -> case f of
+  BeyondReach d r -> "beyond reach: the target is " ++ mm d ++ " away, the arm reaches " ++ mm r ++ " (" ++ mm (d - r) ++ " too far)"
+  InsideReach d r -> "too close: the target is " ++ mm d ++ " away, the arm cannot fold closer than " ++ mm r ++ " (" ++ mm (r - d) ++ " too close)"
+  OutsideLimits sols -> "every solution breaks a joint limit: " ++ concatMap (\s -> "[" ++ intercalate "; " [j ++ " by " ++ show v | (j, v) <- s] ++ "]") sols
+  OrientationUnreachable t -> "the tool stays level: the target is tilted by " ++ show (t * 180 / pi) ++ " deg"
+  Singular why -> "singular: " ++ why
+  NotConverged p r -> "not converged: best residual " ++ show p ++ " m, " ++ show r ++ " rad"
+  InvalidRequest es -> "invalid request: " ++ intercalate "; " es
+  where
+    mm x = show (fromIntegral (round (x * 1e6) :: Integer) / 1000 :: Double) ++ " mm"
+
+-- | Position (m) and rotation (rad) error between a reached and a target transform.
+residual :: Tf -> Tf -> (Double, Double)
+residual reached target =
+  ( v3Norm (v3Sub (translation reached) (translation target))
+  , rotationAngle (compose (inverse target) reached) )
+
+seedDistance :: U.Vector Double -> U.Vector Double -> Double
+seedDistance a b = sqrt (U.sum (U.zipWith (\x y -> (x - y) * (x - y)) a b))
+
+sortBySeed :: [IkSolution] -> [IkSolution]
+sortBySeed = sortOn solSeedDistance

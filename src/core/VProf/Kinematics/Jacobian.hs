@@ -1,0 +1,98 @@
+{-# LANGUAGE BangPatterns, RecordWildCards #-}
+-- | The geometric Jacobian of the tool frame with respect to the actuated joints, Yoshikawa's
+-- manipulability and the condition number.
+--
+-- Rows 0–2 are the linear velocity of the tool origin, rows 3–5 the angular velocity, both in the
+-- world (base) frame. Invariant: a coupled link contributes its column times the coupling
+-- coefficient to every joint that drives it, so J·q̇ is the true tool twist also for the Dobot's
+-- linkage and URDF mimic joints. Stored column-major (6 doubles per joint).
+module VProf.Kinematics.Jacobian
+  ( Jacobian
+  , jacobian
+  , jacobianRows
+  , manipulability
+  , conditionNumber
+  , singularValues
+  ) where
+
+import Control.Monad.ST (ST, runST)
+import qualified Data.Vector.Unboxed as U
+import qualified Data.Vector.Unboxed.Mutable as M
+import qualified Numeric.LinearAlgebra as LA
+
+import VProf.Kinematics.Forward (constAt, stepLink)
+import VProf.Kinematics.Model
+import VProf.Kinematics.Transform
+
+-- | Column-major 6×n.
+type Jacobian = U.Vector Double
+
+-- | The tool transform and the Jacobian at q (one sweep storing each moving axis, then the
+-- columns; all in one mutable buffer).
+jacobian :: Chain -> U.Vector Double -> (Tf, Jacobian)
+jacobian ch@Chain{..} q = runST $ do
+  axes <- M.unsafeNew (6 * chainLinks)
+  let sweep !i !a00 !a01 !a02 !ax !a10 !a11 !a12 !ay !a20 !a21 !a22 !az
+        | i >= chainLinks = pure (Tf a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az)
+        | otherwise = do
+            -- the link moves about the z axis of this frame, through its origin
+            let b = 6 * i
+            M.unsafeWrite axes b a02; M.unsafeWrite axes (b + 1) a12; M.unsafeWrite axes (b + 2) a22
+            M.unsafeWrite axes (b + 3) ax; M.unsafeWrite axes (b + 4) ay; M.unsafeWrite axes (b + 5) az
+            stepLink ch q i a00 a01 a02 ax a10 a11 a12 ay a20 a21 a22 az (sweep (i + 1))
+      Tf b00 b01 b02 bx b10 b11 b12 by b20 b21 b22 bz = constAt chainConst 0
+  tool <- sweep 0 b00 b01 b02 bx b10 b11 b12 by b20 b21 b22 bz
+  j <- M.replicate (6 * chainDof) 0
+  let !ex = tx tool; !ey = ty tool; !ez = tz tool
+      link !i
+        | i >= chainLinks = pure ()
+        | otherwise = do
+            let b = 6 * i
+            zx <- M.unsafeRead axes b; zy <- M.unsafeRead axes (b + 1); zz <- M.unsafeRead axes (b + 2)
+            ox <- M.unsafeRead axes (b + 3); oy <- M.unsafeRead axes (b + 4); oz <- M.unsafeRead axes (b + 5)
+            let pr = U.unsafeIndex chainPrismatic i
+                dx = ex - ox; dy = ey - oy; dz = ez - oz
+                !c0 = if pr then zx else zy*dz - zz*dy
+                !c1 = if pr then zy else zz*dx - zx*dz
+                !c2 = if pr then zz else zx*dy - zy*dx
+                !c3 = if pr then 0 else zx
+                !c4 = if pr then 0 else zy
+                !c5 = if pr then 0 else zz
+                end = U.unsafeIndex chainTermStart (i + 1)
+                terms !t
+                  | t >= end = pure ()
+                  | otherwise = do
+                      let k = U.unsafeIndex chainTermJoint t; c = U.unsafeIndex chainTermCoeff t; o = 6 * k
+                      addAt j o (c * c0); addAt j (o + 1) (c * c1); addAt j (o + 2) (c * c2)
+                      addAt j (o + 3) (c * c3); addAt j (o + 4) (c * c4); addAt j (o + 5) (c * c5)
+                      terms (t + 1)
+            terms (U.unsafeIndex chainTermStart i)
+            link (i + 1)
+  link 0
+  jf <- U.unsafeFreeze j
+  pure (tool, jf)
+
+addAt :: M.MVector s Double -> Int -> Double -> ST s ()
+addAt v i x = M.unsafeModify v (+ x) i
+{-# INLINE addAt #-}
+
+-- | The Jacobian as 6 rows of n.
+jacobianRows :: Int -> Jacobian -> [[Double]]
+jacobianRows n j = [[j U.! (6 * k + r) | k <- [0 .. n - 1]] | r <- [0 .. 5]]
+
+-- | Singular values of the 6×n Jacobian (largest first; min(6, n) of them).
+singularValues :: Int -> Jacobian -> [Double]
+singularValues n j
+  | n == 0 = []
+  | otherwise = take (min 6 n) (LA.toList (LA.singularValues (LA.fromLists (jacobianRows n j))))
+
+-- | Yoshikawa's manipulability √det(J·Jᵀ) for n ≥ 6 (√det(Jᵀ·J) for n < 6): the product of the
+-- singular values.
+manipulability :: Int -> Jacobian -> Double
+manipulability n j = product (singularValues n j)
+
+-- | σ_max / σ_min (infinite at a singularity).
+conditionNumber :: Int -> Jacobian -> Double
+conditionNumber n j = case singularValues n j of
+  [] -> 1 / 0
+  svs -> let lo = minimum svs in if lo <= 0 then 1 / 0 else maximum svs / lo

@@ -1,0 +1,245 @@
+{-# LANGUAGE OverloadedStrings, RecordWildCards, LambdaCase, ScopedTypeVariables #-}
+-- | Reads a URDF file into a 'Robot': the serial chain from a base link to a tip link.
+--
+-- Supported: @revolute@, @continuous@, @prismatic@ and @fixed@ joints with @origin@ (xyz, rpy;
+-- R = Rz(y)·Ry(p)·Rx(r)), @axis@ (default x, normalised), @limit@ and @mimic@. Fixed joints are
+-- folded into the transforms; links, inertials, visuals, transmissions and everything else are
+-- ignored. Invariant: every error names the element (@joint "elbow_joint"@, @<origin>@) and what is
+-- wrong with it; all problems of the chain are reported at once, and nothing throws.
+module VProf.Kinematics.Format.Urdf
+  ( UrdfOptions (..)
+  , defaultUrdfOptions
+  , readUrdf
+  , readUrdfFile
+  , urdfJointNames
+  ) where
+
+import Control.Exception (SomeException, try)
+import qualified Data.ByteString.Lazy as BL
+import Data.Either (lefts, rights)
+import Data.List (find, nub)
+import qualified Data.Map.Strict as Map
+import Data.Maybe (fromMaybe, listToMaybe, mapMaybe)
+import qualified Data.Text as T
+import Text.Read (readMaybe)
+import qualified Text.XML as X
+import Text.XML.Cursor (Cursor, attribute, element, fromDocument, node, ($/))
+
+import VProf.Kinematics.Model
+import VProf.Kinematics.Transform
+import VProf.Kinematics.Validate (renderFieldError, validateRobot)
+
+data UrdfOptions = UrdfOptions
+  { urdfBase :: Maybe String  -- ^ base link (default: the root link)
+  , urdfTip :: Maybe String   -- ^ tip link (default: the only leaf link)
+  }
+  deriving (Eq, Show)
+
+defaultUrdfOptions :: UrdfOptions
+defaultUrdfOptions = UrdfOptions Nothing Nothing
+
+data UJoint = UJoint
+  { ujName :: String
+  , ujType :: String
+  , ujParent :: String
+  , ujChild :: String
+  , ujOrigin :: Tf
+  , ujAxis :: V3
+  , ujLimit :: Maybe (Maybe Double, Maybe Double, Maybe Double)  -- lower, upper, velocity
+  , ujMimic :: Maybe (String, Double, Double)                    -- joint, multiplier, offset
+  }
+
+readUrdfFile :: UrdfOptions -> FilePath -> IO (Either [String] Robot)
+readUrdfFile opts path = do
+  r <- try (BL.readFile path)
+  pure $ case r of
+    Left (e :: SomeException) -> Left ["cannot read " ++ path ++ ": " ++ show e]
+    Right bs -> (\r -> r {robotSources = ["URDF file " ++ path]}) <$> readUrdf opts bs
+
+-- | The names of the actuated joints of the chain, in order (the order of q).
+urdfJointNames :: Robot -> [String]
+urdfJointNames = map jointName . robotJoints
+
+readUrdf :: UrdfOptions -> BL.ByteString -> Either [String] Robot
+readUrdf opts bs = case X.parseLBS X.def bs of
+  Left e -> Left ["not well-formed XML: " ++ takeWhile (/= '\n') (show e)]
+  Right doc -> do
+    r <- fromDoc opts doc
+    case validateRobot r of
+      [] -> Right r
+      es -> Left (map renderFieldError es)
+
+fromDoc :: UrdfOptions -> X.Document -> Either [String] Robot
+fromDoc UrdfOptions{..} doc
+  | X.nameLocalName (X.elementName (X.documentRoot doc)) /= "robot" =
+      Left ["root element is <" ++ T.unpack (X.nameLocalName (X.elementName (X.documentRoot doc))) ++ ">, expected <robot>"]
+  | not (null jointErrs) = Left jointErrs
+  | otherwise = do
+      base <- maybe (pickRoot) Right urdfBase
+      tip <- maybe pickLeaf Right urdfTip
+      let known l = l `elem` allLinks
+      if not (known base) then Left ["base link " ++ show base ++ " is not a <link> of the robot"] else pure ()
+      if not (known tip) then Left ["tip link " ++ show tip ++ " is not a <link> of the robot (links: " ++ unwords (take 30 allLinks) ++ ")"] else pure ()
+      path <- pathTo base tip
+      buildChain robotName path
+  where
+    cur = fromDocument doc
+    robotName = maybe "urdf" T.unpack (listToMaybe (attribute "name" cur))
+    allLinks = map T.unpack (concatMap (attribute "name") (cur $/ element "link"))
+    parsed = map parseJoint (cur $/ element "joint")
+    jointErrs = concat (lefts parsed)
+    joints = rights parsed
+    byChild = Map.fromList [(ujChild j, j) | j <- joints]
+    children = nub (map ujChild joints)
+    parents = nub (map ujParent joints)
+    pickRoot = case [l | l <- allLinks, l `notElem` children] of
+      [r] -> Right r
+      rs -> Left ["cannot choose the base link: " ++ show (length rs) ++ " root links (" ++ unwords rs ++ "); name one"]
+    pickLeaf = case [l | l <- allLinks, l `notElem` parents] of
+      [l] -> Right l
+      ls -> Left ["cannot choose the tip link: " ++ show (length ls) ++ " leaf links (" ++ unwords ls ++ "); name one with the tip option"]
+    pathTo base tip = walk tip [] (0 :: Int)
+      where
+        walk l acc k
+          | l == base = Right acc
+          | k > length joints = Left ["the joints form a loop above link " ++ show tip]
+          | otherwise = case Map.lookup l byChild of
+              Nothing -> Left ["tip link " ++ show tip ++ " is not below base link " ++ show base]
+              Just j -> walk (ujParent j) (j : acc) (k + 1)
+
+buildChain :: String -> [UJoint] -> Either [String] Robot
+buildChain name path
+  | not (null errs) = Left errs
+  | null actuated = Left ["the chain from base to tip has no movable joint"]
+  | otherwise =
+      Right
+        (emptyRobot name)
+          { robotDescription = "URDF chain"
+          , robotSources = ["URDF file"]
+          , robotJoints = mapMaybe toJoint actuated
+          , robotLinks = map toLink path
+          }
+  where
+    movable j = ujType j `elem` ["revolute", "continuous", "prismatic"]
+    actuated = [j | j <- path, movable j, ujMimic j == Nothing]
+    index = Map.fromList (zip (map ujName actuated) [0 :: Int ..])
+    kindOf j = if ujType j == "prismatic" then Prismatic else Revolute
+    errs =
+      [ "joint " ++ show (ujName j) ++ ": type " ++ show (ujType j) ++ " is not supported in a serial chain (revolute, continuous, prismatic, fixed)"
+      | j <- path, not (movable j || ujType j == "fixed") ]
+      ++ concatMap limitErr actuated
+      ++ [ "joint " ++ show (ujName j) ++ ": <mimic joint=" ++ show m ++ "> names no actuated joint of the chain"
+         | j <- path, movable j, Just (m, _, _) <- [ujMimic j], resolve (0 :: Int) m == Nothing ]
+    limitErr j = case (ujType j, ujLimit j) of
+      ("continuous", _) -> []
+      (t, Nothing) -> ["joint " ++ show (ujName j) ++ ": a " ++ t ++ " joint needs a <limit> with lower and upper"]
+      (_, Just (lo, hi, _)) ->
+        ["joint " ++ show (ujName j) ++ ": <limit> lacks lower" | lo == Nothing]
+          ++ ["joint " ++ show (ujName j) ++ ": <limit> lacks upper" | hi == Nothing]
+          ++ [ "joint " ++ show (ujName j) ++ ": <limit> lower " ++ show l ++ " is above upper " ++ show h
+             | Just l <- [lo], Just h <- [hi], l > h ]
+    -- a mimic of a mimic resolves to (actuated index, multiplier, offset)
+    resolve depth m
+      | depth > 10 = Nothing
+      | Just i <- Map.lookup m index = Just (i, 1, 0)
+      | Just j <- find ((== m) . ujName) path, Just (m', k, o) <- ujMimic j = do
+          (i, k', o') <- resolve (depth + 1) m'
+          pure (i, k * k', k * o' + o)
+      | otherwise = Nothing
+    toJoint j = do
+      i <- Map.lookup (ujName j) index
+      let (lo, hi, vel) = case (ujType j, ujLimit j) of
+            ("continuous", l) -> (-1 / 0, 1 / 0, l >>= \(_, _, v) -> v)
+            (_, Just (l, h, v)) -> (fromMaybe 0 l, fromMaybe 0 h, v)
+            _ -> (0, 0, Nothing)
+      pure (i `seq` Joint (ujName j) (kindOf j) (Limits lo hi) (mfilter (> 0) vel) Nothing)
+    toLink j
+      | not (movable j) = Link (ujChild j) Nothing (FixedTransform (ujOrigin j)) (Drive 0 []) []
+      | otherwise =
+          let drive = case ujMimic j of
+                Nothing -> directDrive (fromMaybe 0 (Map.lookup (ujName j) index)) 1 0
+                Just (m, k, o) -> case resolve (0 :: Int) m of
+                  Just (i, k', o') -> Drive (k * o' + o) [(i, k * k')]
+                  Nothing -> Drive 0 []
+          in Link (ujChild j) (Just (kindOf j)) (UrdfJoint (ujOrigin j) (ujAxis j)) drive []
+    mfilter p = \case Just x | p x -> Just x; _ -> Nothing
+
+parseJoint :: Cursor -> Either [String] UJoint
+parseJoint c =
+  case errs of
+    [] -> Right UJoint
+            { ujName = name
+            , ujType = typ
+            , ujParent = fromMaybe "" parent
+            , ujChild = fromMaybe "" childL
+            , ujOrigin = fromRpy (either (const (V3 0 0 0)) id xyz) (either (const (V3 0 0 0)) id rpy)
+            , ujAxis = either (const (V3 1 0 0)) id axis
+            , ujLimit = limit
+            , ujMimic = either (const Nothing) id mimic
+            }
+    _ -> Left errs
+  where
+    name = maybe "" T.unpack (listToMaybe (attribute "name" c))
+    what = "joint " ++ show name
+    typ = maybe "" T.unpack (listToMaybe (attribute "type" c))
+    sub n = listToMaybe (c $/ element n)
+    attr n el = T.unpack <$> listToMaybe (attribute n el)
+    parent = sub "parent" >>= attr "link"
+    childL = sub "child" >>= attr "link"
+    vec el n dflt = case sub el >>= attr n of
+      Nothing -> Right dflt
+      Just s -> case mapM readNum (words s) of
+        Just [x, y, z] | all finite [x, y, z] -> Right (V3 x y z)
+        _ -> Left (what ++ ": <" ++ T.unpack (X.nameLocalName el) ++ " " ++ T.unpack (X.nameLocalName n) ++ "=" ++ show s ++ "> is not three finite numbers")
+    xyz = vec "origin" "xyz" (V3 0 0 0)
+    rpy = vec "origin" "rpy" (V3 0 0 0)
+    axis = vec "axis" "xyz" (V3 1 0 0) >>= \a ->
+      if typ == "fixed" then Right (V3 1 0 0)
+      else if v3Norm a < 1e-12 then Left (what ++ ": <axis xyz> is the zero vector") else Right (v3Scale (1 / v3Norm a) a)
+    numAttr el n = case attr n el of
+      Nothing -> Right Nothing
+      Just s -> case readNum s of
+        Just x | finite x -> Right (Just x)
+        _ -> Left (what ++ ": <" ++ T.unpack (elName el) ++ " " ++ T.unpack (X.nameLocalName n) ++ "=" ++ show s ++ "> is not a finite number")
+    elName el = case node el of
+      X.NodeElement e -> X.nameLocalName (X.elementName e)
+      _ -> "?"
+    limitE = sub "limit"
+    limitParts = case limitE of
+      Nothing -> Right Nothing
+      Just el -> do
+        lo <- numAttr el "lower"
+        hi <- numAttr el "upper"
+        v <- numAttr el "velocity"
+        pure (Just (lo, hi, v))
+    limit = either (const Nothing) id limitParts
+    mimic = case sub "mimic" of
+      Nothing -> Right Nothing
+      Just el -> case attr "joint" el of
+        Nothing -> Left (what ++ ": <mimic> has no joint attribute")
+        Just m -> do
+          k <- numAttr el "multiplier"
+          o <- numAttr el "offset"
+          pure (Just (m, fromMaybe 1 k, fromMaybe 0 o))
+    errs =
+      [what ++ ": no name attribute" | name == ""]
+        ++ [what ++ ": no type attribute" | typ == ""]
+        ++ [what ++ ": no <parent link=...>" | parent == Nothing]
+        ++ [what ++ ": no <child link=...>" | childL == Nothing]
+        ++ lefts [() <$ xyz, () <$ rpy, () <$ axis, () <$ limitParts, () <$ mimic]
+
+finite :: Double -> Bool
+finite = isFiniteNumber
+
+-- | A decimal number as URDF files write them (".5", "-.5", "1.", "+2", "1e-3").
+readNum :: String -> Maybe Double
+readNum s0 = readMaybe (fix s0)
+  where
+    fix ('+' : r) = fix r
+    fix ('-' : r) = '-' : fix r
+    fix r@('.' : _) = fixEnd ('0' : r)
+    fix r = fixEnd r
+    fixEnd r = case break (== '.') r of
+      (a, ".") -> a ++ ".0"
+      (a, '.' : b@(c : _)) | c `elem` ("eE" :: String) -> a ++ ".0" ++ b
+      _ -> r

@@ -1,0 +1,124 @@
+{-# LANGUAGE OverloadedStrings, ScopedTypeVariables #-}
+-- | The URDF reader: every shared file loads; UR5 from DH and from its URDF agree; malformed files
+-- get errors naming the element; mimic joints couple.
+module VProf.Kinematics.UrdfSpec (spec) where
+
+import Control.Exception (IOException, try)
+import Control.Monad (forM_)
+import qualified Data.ByteString.Lazy.Char8 as BL
+import Data.List (isInfixOf)
+import qualified Data.Vector.Unboxed as U
+import System.FilePath ((</>))
+import Test.Hspec
+import Test.QuickCheck
+
+import Support.FkOracle
+import Support.Gen
+import Support.Reference
+import VProf.Kinematics
+import VProf.Kinematics.Format.Urdf
+import VProf.Kinematics.Library
+
+urdfTips :: [(FilePath, String, Int)]
+urdfTips =
+  [ ("irb140.urdf", "tool0", 6), ("kinova.urdf", "j2s6s200_end_effector", 6), ("kr210l150.urdf", "tool0", 6)
+  , ("kuka_iiwa_model.urdf", "lbr_iiwa_link_7", 7), ("panda.urdf", "panda_link8", 7), ("ur10_robot.urdf", "tool0", 6)
+  , ("ur5_robot.urdf", "tool0", 6), ("xarm7.urdf", "link_eef", 7) ]
+
+wrap :: String -> BL.ByteString
+wrap body = BL.pack ("<robot name=\"t\"><link name=\"a\"/><link name=\"b\"/><link name=\"c\"/>" ++ body ++ "</robot>")
+
+errs :: BL.ByteString -> [String]
+errs = either id (const []) . readUrdf defaultUrdfOptions {urdfBase = Just "a", urdfTip = Just "c"}
+
+-- | The URDF UR5 is the library's DH UR5 with the base turned π about z.
+ur5Agree :: Robot -> Property
+ur5Agree u =
+  let Right d = lookupRobot "ur5"
+      cu = compile u
+      cd = compile d
+  in forAllQ cu $ \q ->
+       let a = forward cu q
+           b = compose (rotZ pi) (forward cd q)
+       in counterexample (show (toRows a, toRows b)) $ maximum (zipWith (\x y -> abs (x - y)) (toRows a) (toRows b)) < 1e-9
+
+spec :: Spec
+spec = do
+  describe "shared URDF files" $
+    forM_ urdfTips $ \(file, tip, n) -> it (file ++ " loads with " ++ show n ++ " joints to " ++ tip) $ do
+      dir <- sharedDir
+      r <- readUrdfFile defaultUrdfOptions {urdfTip = Just tip} (dir </> "data" </> "urdf" </> file)
+      either (expectationFailure . unlines) (\rb -> (dof rb, null (validateRobot rb)) `shouldBe` (n, True)) r
+
+  describe "UR5: DH (library) and ur5_robot.urdf" $ do
+    eu <- runIO (try (sharedDir >>= \dir -> readUrdfFile defaultUrdfOptions {urdfTip = Just "tool0"} (dir </> "data" </> "urdf" </> "ur5_robot.urdf")))
+    it "agree after the base frame (the URDF base_link is turned π about z)" $
+      case eu of
+        Left (e :: IOException) -> property (counterexample (show e) False)
+        Right (Left es) -> property (counterexample (unlines es) False)
+        Right (Right u) -> ur5Agree u
+
+  describe "URDF semantics" $ do
+    it "origin rpy is Rz(y)·Ry(p)·Rx(r), the axis is normalised, fixed joints fold, against the oracle" $ do
+      let doc = wrap $ concat
+            [ "<joint name=\"j1\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/>"
+            , "<origin xyz=\"0.1 -0.2 0.3\" rpy=\"0.3 -0.7 1.1\"/><axis xyz=\"0 2 2\"/><limit lower=\"-3\" upper=\"3\"/></joint>"
+            , "<joint name=\"f\" type=\"fixed\"><parent link=\"b\"/><child link=\"c\"/><origin xyz=\".5 0 0\" rpy=\"0 0 1.57\"/></joint>" ]
+          Right r = readUrdf defaultUrdfOptions {urdfTip = Just "c"} doc
+          ch = compile r
+      property $ forAll (choose (-3, 3)) $ \q ->
+        let o = urdfJoint (0.1, -0.2, 0.3) (0.3, -0.7, 1.1) (0, 2, 2) (Just False) q `mmul` urdfJoint (0.5, 0, 0) (0, 0, 1.57) (1, 0, 0) Nothing 0
+        in maxDiff o (matFromRows (toRows4 (forward ch (U.fromList [q])))) < 1e-12
+    it "a mimic joint follows its master (multiplier and offset)" $ do
+      let doc = wrap $ concat
+            [ "<joint name=\"m\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/><axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\"/></joint>"
+            , "<joint name=\"s\" type=\"prismatic\"><parent link=\"b\"/><child link=\"c\"/><origin xyz=\"1 0 0\"/><axis xyz=\"1 0 0\"/>"
+            , "<limit lower=\"0\" upper=\"1\"/><mimic joint=\"m\" multiplier=\"0.5\" offset=\"0.25\"/></joint>" ]
+          Right r = readUrdf defaultUrdfOptions {urdfTip = Just "c"} doc
+          ch = compile r
+          t = forward ch (U.fromList [0.4])
+      dof r `shouldBe` 1
+      -- prismatic along x by 0.5·0.4 + 0.25 = 0.45, after a turn of 0.4 about z
+      (abs (tx t - 1.45 * cos 0.4) < 1e-12, abs (ty t - 1.45 * sin 0.4) < 1e-12) `shouldBe` (True, True)
+    it "a continuous joint has no limits" $ do
+      let Right r = readUrdf defaultUrdfOptions {urdfBase = Just "a", urdfTip = Just "b"} (wrap "<joint name=\"c\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/></joint>")
+      map jointLimits (robotJoints r) `shouldBe` [Limits (-1 / 0) (1 / 0)]
+
+  describe "malformed URDF: clear errors, nothing thrown" $ do
+    it "not XML" $ errs "<robot><link" `shouldSatisfy` any ("not well-formed XML" `isInfixOf`)
+    it "wrong root" $ errs "<model/>" `shouldSatisfy` any ("expected <robot>" `isInfixOf`)
+    it "bad origin numbers name the joint and the attribute" $
+      errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><origin xyz=\"1 x 2\"/><limit lower=\"0\" upper=\"1\"/></joint>")
+        `shouldSatisfy` any (\e -> "joint \"j\"" `isInfixOf` e && "origin xyz" `isInfixOf` e)
+    it "a zero axis" $
+      errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><axis xyz=\"0 0 0\"/><limit lower=\"0\" upper=\"1\"/></joint>")
+        `shouldSatisfy` any ("zero vector" `isInfixOf`)
+    it "a revolute joint without limits" $
+      errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/></joint>")
+        `shouldSatisfy` any ("needs a <limit>" `isInfixOf`)
+    it "lower above upper" $
+      errs (wrap "<joint name=\"j\" type=\"prismatic\"><parent link=\"a\"/><child link=\"c\"/><limit lower=\"2\" upper=\"1\"/></joint>")
+        `shouldSatisfy` any ("above upper" `isInfixOf`)
+    it "equal lower and upper limits fail validation, naming the field" $
+      errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><limit lower=\"1\" upper=\"1\"/></joint>")
+        `shouldSatisfy` any ("joints[0].limits.max" `isInfixOf`)
+    it "an unsupported joint type in the chain" $
+      errs (wrap "<joint name=\"j\" type=\"floating\"><parent link=\"a\"/><child link=\"c\"/></joint>")
+        `shouldSatisfy` any ("not supported" `isInfixOf`)
+    it "a missing parent" $
+      errs (wrap "<joint name=\"j\" type=\"fixed\"><child link=\"c\"/></joint>") `shouldSatisfy` any ("no <parent" `isInfixOf`)
+    it "an unknown tip link" $
+      either id (const []) (readUrdf defaultUrdfOptions {urdfBase = Just "a", urdfTip = Just "nope"} (wrap ""))
+        `shouldSatisfy` any ("tip link \"nope\"" `isInfixOf`)
+    it "a tip not below the base" $
+      either id (const []) (readUrdf defaultUrdfOptions {urdfTip = Just "a", urdfBase = Just "c"} (wrap "<joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"c\"/></joint>"))
+        `shouldSatisfy` any ("not below" `isInfixOf`)
+    it "a mimic of an unknown joint" $
+      errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><limit lower=\"0\" upper=\"1\"/><mimic joint=\"ghost\"/></joint>")
+        `shouldSatisfy` any ("ghost" `isInfixOf`)
+    it "an ambiguous base link asks for one" $
+      either id (const []) (readUrdf defaultUrdfOptions {urdfTip = Just "c"} (wrap ""))
+        `shouldSatisfy` any ("cannot choose the base link" `isInfixOf`)
+    it "a missing file" $ do
+      r <- readUrdfFile defaultUrdfOptions "/nonexistent/robot.urdf"
+      either id (const []) r `shouldSatisfy` any ("cannot read" `isInfixOf`)
