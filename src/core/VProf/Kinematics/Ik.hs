@@ -26,6 +26,7 @@ import VProf.Kinematics.Ik.Numeric
 import VProf.Kinematics.Ik.Types
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform
+import VProf.Validation (finite)
 
 data Method = ClosedFormDobot DobotGeometry | NumericLM
 
@@ -42,8 +43,6 @@ prepareChain ch = Kinematics ch method
       Just DobotLinkage | Right g <- dobotGeometry (chainRobot ch) -> ClosedFormDobot g
       _ -> NumericLM
 
-finite :: Double -> Bool
-finite = isFiniteNumber
 
 -- | Problems with a request (empty when it can be solved).
 checkRequest :: Chain -> Tf -> Maybe (U.Vector Double) -> [String]

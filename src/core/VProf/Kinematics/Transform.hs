@@ -38,10 +38,10 @@ module VProf.Kinematics.Transform
   , v3Scale
   , v3Dot
   , v3Cross
-  , isFiniteNumber
   ) where
 
 import Control.DeepSeq (NFData (..))
+import VProf.Validation (finite)
 
 -- | A 3-vector.
 data V3 = V3 {-# UNPACK #-} !Double {-# UNPACK #-} !Double {-# UNPACK #-} !Double
@@ -205,14 +205,11 @@ isRigid tol Tf{..} =
     && near (r00*r01 + r10*r11 + r20*r21) 0 && near (r00*r02 + r10*r12 + r20*r22) 0 && near (r01*r02 + r11*r12 + r21*r22) 0
     && near det 1
   where
-    fin = isFiniteNumber
+    fin = finite
     near x y = abs (x - y) <= tol
     det = r00 * (r11*r22 - r12*r21) - r01 * (r10*r22 - r12*r20) + r02 * (r10*r21 - r11*r20)
 
 -- | Neither NaN nor ±∞.
-isFiniteNumber :: Double -> Bool
-isFiniteNumber x = not (isNaN x || isInfinite x)
-
 v3Norm :: V3 -> Double
 v3Norm (V3 x y z) = sqrt (x*x + y*y + z*z)
 

@@ -1,11 +1,9 @@
-{-# LANGUAGE RecordWildCards #-}
 -- | Validation of robot models and joint vectors: every problem at once, each naming the field
 -- (@joints[2].limits.max@), the offending value, its unit and the rule it breaks.
 --
 -- Invariant: a model for which 'validateRobot' returns no error can be compiled and used by
 -- forward kinematics, the Jacobian and IK without producing NaN from its own data; a joint vector
 -- for which 'checkJointVector' returns no error has the right length and finite entries.
--- ('FieldError' is local for now; it will be unified with the project's shared one.)
 module VProf.Kinematics.Validate
   ( FieldError (..)
   , renderFieldError
@@ -17,22 +15,12 @@ import Data.List (nub, (\\))
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Kinematics.Model
+import VProf.Validation
 import VProf.Kinematics.Transform
 
-data FieldError = FieldError
-  { feField :: String  -- ^ e.g. @joints[2].limits.max@
-  , feValue :: String  -- ^ the offending value as given
-  , feUnit :: String   -- ^ @rad@, @m@, @rad/s@, … or empty
-  , feRule :: String   -- ^ what it should be
-  }
-  deriving (Eq, Show)
-
-renderFieldError :: FieldError -> String
-renderFieldError FieldError{..} =
-  feField ++ " = " ++ feValue ++ (if null feUnit then "" else " " ++ feUnit) ++ ": " ++ feRule
-
-finite :: Double -> Bool
-finite = isFiniteNumber
+-- | An error with the value as text (as the model holds it, in its SI unit).
+fe :: String -> String -> String -> String -> FieldError
+fe f v = FieldError f (Literal v)
 
 unitOf :: JointKind -> (String, String, String)
 unitOf Revolute = ("rad", "rad/s", "rad/s^2")
@@ -40,18 +28,18 @@ unitOf Prismatic = ("m", "m/s", "m/s^2")
 
 validateRobot :: Robot -> [FieldError]
 validateRobot Robot{..} =
-  [FieldError "name" (show robotName) "" "must not be empty" | null robotName]
-    ++ [FieldError "joints" "[]" "" "a robot needs at least one actuated joint" | null robotJoints]
-    ++ [ FieldError ("joints[" ++ show i ++ "].name") (show (jointName j)) "" "duplicate joint name"
+  [fe "name" (show robotName) "" "must not be empty" | null robotName]
+    ++ [fe "joints" "[]" "" "a robot needs at least one actuated joint" | null robotJoints]
+    ++ [ fe ("joints[" ++ show i ++ "].name") (show (jointName j)) "" "duplicate joint name"
        | (i, j) <- zip [0 :: Int ..] robotJoints, jointName j `elem` map jointName (take i robotJoints) ]
     ++ concat (zipWith jointErrs [0 ..] robotJoints)
     ++ concat (zipWith linkErrs [0 ..] robotLinks)
-    ++ [ FieldError ("joints[" ++ show k ++ "]") (show (jointName (robotJoints !! k))) "" "drives no link"
+    ++ [ fe ("joints[" ++ show k ++ "]") (show (jointName (robotJoints !! k))) "" "drives no link"
        | k <- [0 .. n - 1] \\ nub driven ]
     ++ tfErrs "base" robotBase
     ++ tfErrs "tool" robotTool
-    ++ [FieldError "payload" (show p) "kg" "must be a finite number ≥ 0" | Just p <- [robotPayload], not (finite p && p >= 0)]
-    ++ [FieldError "reach" (show r) "m" "must be a finite number > 0" | Just r <- [robotReach], not (finite r && r > 0)]
+    ++ [fe "payload" (show p) "kg" "must be a finite number ≥ 0" | Just p <- [robotPayload], not (finite p && p >= 0)]
+    ++ [fe "reach" (show r) "m" "must be a finite number > 0" | Just r <- [robotReach], not (finite r && r > 0)]
   where
     n = length robotJoints
     driven = [k | l <- robotLinks, linkJointKind l /= Nothing, (k, _) <- driveTerms (linkDrive l)]
@@ -60,12 +48,12 @@ validateRobot Robot{..} =
       let p = "joints[" ++ show i ++ "]"
           (u, uv, ua) = unitOf jointKind
           Limits lo hi = jointLimits
-      in [FieldError (p ++ ".limits.min") (show lo) u "must be a number (−∞ only for a continuous joint)" | isNaN lo || lo == 1 / 0]
-           ++ [FieldError (p ++ ".limits.max") (show hi) u "must be a number (+∞ only for a continuous joint)" | isNaN hi || hi == -1 / 0]
-           ++ [FieldError (p ++ ".limits.max") (show hi) u ("must be above limits.min (" ++ show lo ++ ")") | not (isNaN lo || isNaN hi), hi <= lo]
-           ++ [FieldError (p ++ ".limits") (show lo ++ ".." ++ show hi) u "a prismatic joint needs finite limits" | jointKind == Prismatic, isInfinite lo || isInfinite hi]
-           ++ [FieldError (p ++ ".max_velocity") (show v) uv "must be a finite number > 0 (or absent)" | Just v <- [jointMaxVelocity], not (finite v && v > 0)]
-           ++ [FieldError (p ++ ".max_acceleration") (show a) ua "must be a finite number > 0 (or absent)" | Just a <- [jointMaxAcceleration], not (finite a && a > 0)]
+      in [fe (p ++ ".limits.min") (show lo) u "must be a number (−∞ only for a continuous joint)" | isNaN lo || lo == 1 / 0]
+           ++ [fe (p ++ ".limits.max") (show hi) u "must be a number (+∞ only for a continuous joint)" | isNaN hi || hi == -1 / 0]
+           ++ [fe (p ++ ".limits.max") (show hi) u ("must be above limits.min (" ++ show lo ++ ")") | not (isNaN lo || isNaN hi), hi <= lo]
+           ++ [fe (p ++ ".limits") (show lo ++ ".." ++ show hi) u "a prismatic joint needs finite limits" | jointKind == Prismatic, isInfinite lo || isInfinite hi]
+           ++ [fe (p ++ ".max_velocity") (show v) uv "must be a finite number > 0 (or absent)" | Just v <- [jointMaxVelocity], not (finite v && v > 0)]
+           ++ [fe (p ++ ".max_acceleration") (show a) ua "must be a finite number > 0 (or absent)" | Just a <- [jointMaxAcceleration], not (finite a && a > 0)]
     linkErrs :: Int -> Link -> [FieldError]
     linkErrs i Link{..} =
       let p = "links[" ++ show i ++ "]"
@@ -74,36 +62,36 @@ validateRobot Robot{..} =
             DhModified a b c d -> nums [("dh.alpha", a, "rad"), ("dh.a", b, "m"), ("dh.theta", c, "rad"), ("dh.d", d, "m")]
             UrdfJoint o (V3 x y z) ->
               tfErrs (p ++ ".origin") o
-                ++ [FieldError (p ++ ".axis") (show [x, y, z]) "" "must be a finite, non-zero vector" | not (all finite [x, y, z]) || v3Norm (V3 x y z) < 1e-12]
+                ++ [fe (p ++ ".axis") (show [x, y, z]) "" "must be a finite, non-zero vector" | not (all finite [x, y, z]) || v3Norm (V3 x y z) < 1e-12]
             FixedTransform t -> tfErrs (p ++ ".transform") t
-          nums xs = [FieldError (p ++ "." ++ f) (show v) u "must be a finite number" | (f, v, u) <- xs, not (finite v)]
+          nums xs = [fe (p ++ "." ++ f) (show v) u "must be a finite number" | (f, v, u) <- xs, not (finite v)]
           drive = case linkJointKind of
             Nothing -> []
             Just _ ->
-              [FieldError (p ++ ".drive") "[]" "" "a moving link needs at least one driving joint" | null (driveTerms linkDrive)]
-                ++ [FieldError (p ++ ".drive.offset") (show (driveOffset linkDrive)) "" "must be a finite number" | not (finite (driveOffset linkDrive))]
-                ++ [ FieldError (p ++ ".drive[" ++ show t ++ "].joint") (show k) "" ("must name one of the " ++ show n ++ " joints (0-based)")
+              [fe (p ++ ".drive") "[]" "" "a moving link needs at least one driving joint" | null (driveTerms linkDrive)]
+                ++ [fe (p ++ ".drive.offset") (show (driveOffset linkDrive)) "" "must be a finite number" | not (finite (driveOffset linkDrive))]
+                ++ [ fe (p ++ ".drive[" ++ show t ++ "].joint") (show k) "" ("must name one of the " ++ show n ++ " joints (0-based)")
                    | (t, (k, _)) <- zip [0 :: Int ..] (driveTerms linkDrive), k < 0 || k >= n ]
-                ++ [ FieldError (p ++ ".drive[" ++ show t ++ "].coefficient") (show c) "" "must be a finite, non-zero number"
+                ++ [ fe (p ++ ".drive[" ++ show t ++ "].coefficient") (show c) "" "must be a finite, non-zero number"
                    | (t, (_, c)) <- zip [0 :: Int ..] (driveTerms linkDrive), not (finite c) || c == 0 ]
           caps = concat
-            [ [FieldError (p ++ ".capsules[" ++ show c ++ "].radius") (show capRadius) "m" "must be a finite number ≥ 0" | not (finite capRadius && capRadius >= 0)]
-                ++ [FieldError (p ++ ".capsules[" ++ show c ++ "]") "" "m" "endpoints must be finite" | not (all finite [ax, ay, az, bx, by, bz])]
+            [ [fe (p ++ ".capsules[" ++ show c ++ "].radius") (show capRadius) "m" "must be a finite number ≥ 0" | not (finite capRadius && capRadius >= 0)]
+                ++ [fe (p ++ ".capsules[" ++ show c ++ "]") "" "m" "endpoints must be finite" | not (all finite [ax, ay, az, bx, by, bz])]
             | (c, Capsule{..}) <- zip [0 :: Int ..] linkCapsules, let V3 ax ay az = capA; V3 bx by bz = capB ]
       in geo ++ drive ++ caps
     tfErrs f t
-      | not (all finite (toRows t)) = [FieldError f (show (toRows t)) "" "every entry must be a finite number"]
-      | not (isRigid 1e-6 t) = [FieldError (f ++ ".rotation") (show (take 3 (toRows t))) "" "must be orthonormal with determinant +1"]
+      | not (all finite (toRows t)) = [fe f (show (toRows t)) "" "every entry must be a finite number"]
+      | not (isRigid 1e-6 t) = [fe (f ++ ".rotation") (show (take 3 (toRows t))) "" "must be orthonormal with determinant +1"]
       | otherwise = []
 
 -- | A joint vector for a robot of n joints: length, finite entries and (when asked) limits.
 checkJointVector :: Bool -> Robot -> U.Vector Double -> [FieldError]
 checkJointVector limits Robot{..} q =
-  [ FieldError "q" (show (U.length q) ++ " values") "" ("the robot has " ++ show (length robotJoints) ++ " joints") | U.length q /= length robotJoints ]
-    ++ [ FieldError ("q[" ++ show i ++ "]") (show x) u "must be a finite number"
+  [ fe "q" (show (U.length q) ++ " values") "" ("the robot has " ++ show (length robotJoints) ++ " joints") | U.length q /= length robotJoints ]
+    ++ [ fe ("q[" ++ show i ++ "]") (show x) u "must be a finite number"
        | (i, x, j) <- zip3 [0 :: Int ..] (U.toList q) robotJoints, not (finite x), let (u, _, _) = unitOf (jointKind j) ]
     ++ if not limits then [] else
-      [ FieldError ("q[" ++ show i ++ "]") (show x) u ("outside the limits of " ++ jointName j ++ " [" ++ show lo ++ ", " ++ show hi ++ "]")
+      [ fe ("q[" ++ show i ++ "]") (show x) u ("outside the limits of " ++ jointName j ++ " [" ++ show lo ++ ", " ++ show hi ++ "]")
       | (i, x, j) <- zip3 [0 :: Int ..] (U.toList q) robotJoints, finite x
       , let Limits lo hi = jointLimits j; (u, _, _) = unitOf (jointKind j)
       , x < lo || x > hi ]

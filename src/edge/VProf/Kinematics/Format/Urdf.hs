@@ -27,6 +27,7 @@ import Text.XML.Cursor (Cursor, attribute, element, fromDocument, node, ($/))
 
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform
+import VProf.Validation (finite)
 import VProf.Kinematics.Validate (renderFieldError, validateRobot)
 
 data UrdfOptions = UrdfOptions
@@ -228,8 +229,6 @@ parseJoint c =
         ++ [what ++ ": no <child link=...>" | childL == Nothing]
         ++ lefts [() <$ xyz, () <$ rpy, () <$ axis, () <$ limitParts, () <$ mimic]
 
-finite :: Double -> Bool
-finite = isFiniteNumber
 
 -- | A decimal number as URDF files write them (".5", "-.5", "1.", "+2", "1e-3").
 readNum :: String -> Maybe Double
