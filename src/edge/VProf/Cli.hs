@@ -8,6 +8,7 @@ import Options.Applicative
 import System.Exit
 
 import VProf.Cli.Compress (compressCommand)
+import VProf.Cli.Kinematics (fkCommand, ikCommand, robotsCommand)
 import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
 import VProf.Cli.Serve (serveCommand)
 import VProf.Service (service)
@@ -21,7 +22,7 @@ main = do
     versionFlag = infoOption versionString (long "version" <> help "print the version")
     desc = fullDesc
       <> failureCode 2
-      <> header "vprof - jerk-limited velocity profiles and path compression for robot automation stacks"
+      <> header "vprof - jerk-limited velocity profiles, path compression and robot kinematics for robot automation stacks"
       <> progDesc "vprof REQUEST generates a velocity profile from a ProfileRequest (.pb or .json). \
                   \Exit codes: 0 ok, 1 illegal/infeasible/not converged, 2 invalid input."
     commands = hsubparser
@@ -29,5 +30,8 @@ main = do
      <> command "check" (info checkCommand (progDesc "Check a profile (CSV, JSON or pb) against a request; exit 1 on any violation"))
      <> command "encode" (info encodeCommand (progDesc "Write the binary protobuf form of a (JSON) ProfileRequest"))
      <> command "compress" (info compressCommand (progDesc "Compress a recorded 6-DOF motion into a few timed straight moves"))
+     <> command "robots" (info robotsCommand (progDesc "List the built-in robot library, or show one robot (library name, robot file or URDF)"))
+     <> command "fk" (info fkCommand (forwardOptions <> progDesc "Forward kinematics: the tool pose, manipulability and condition number for joint values (negative values need no quoting)"))
+     <> command "ik" (info ikCommand (progDesc "Inverse kinematics: joint values within the limits that reach a pose, nearest the seed first"))
      <> command "serve" (info (serveCommand service) (progDesc "Serve length-delimited Request/Response messages over TCP or --stdio"))
       ) <|> generateOptions

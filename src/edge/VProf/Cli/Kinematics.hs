@@ -1,0 +1,228 @@
+{-# LANGUAGE OverloadedStrings #-}
+-- | The kinematics commands of the @vprof@ executable:
+--
+-- > vprof robots [NAME] [--format table|json]
+-- > vprof fk ROBOT Q... [--deg] [--tip LINK] [--format table|json]
+-- > vprof ik ROBOT --pose X Y Z QW QX QY QZ [--seed Q...] [--all] [--deg] [--tip LINK] [--format table|json]
+--
+-- ROBOT is a library name (@vprof robots@ lists them) or a robot file (@.yaml@, @.json@)
+-- or a URDF (@.urdf@, with @--tip@ naming the last link; the base is the URDF's root).
+-- Positions in m, orientations as unit quaternions (w, x, y, z); joint values in rad and m,
+-- or degrees with @--deg@. Exit codes: 0 ok, 1 no IK solution, 2 invalid input.
+module VProf.Cli.Kinematics
+  ( robotsCommand
+  , fkCommand
+  , ikCommand
+  , loadRobot
+  ) where
+
+import qualified Data.Aeson as A
+import qualified Data.ByteString.Lazy.Char8 as BLC
+import Data.Char (toLower)
+import Data.List (intercalate)
+import qualified Data.Vector.Unboxed as U
+import Numeric (showFFloat)
+import Options.Applicative
+import System.Exit
+import System.FilePath (takeExtension)
+import System.IO
+
+import VProf.Kinematics
+import VProf.Kinematics.Format.RobotFile (readRobotFile)
+import VProf.Kinematics.Format.Urdf (UrdfOptions (..), defaultUrdfOptions, readUrdfFile)
+import VProf.Kinematics.Library (libraryRobots, lookupRobot)
+
+data Format = Table | Json deriving (Eq)
+
+formatOption :: Parser Format
+formatOption = option (eitherReader f) (long "format" <> metavar "table|json" <> value Table
+                                         <> help "output format (default: table)")
+  where
+    f s = case map toLower s of
+      "table" -> Right Table
+      "json" -> Right Json
+      _ -> Left ("--format: unknown format " ++ show s ++ " (table or json)")
+
+tipOption :: Parser (Maybe String)
+tipOption = optional (strOption (long "tip" <> metavar "LINK" <> help "URDF only: the last link of the chain (default: the only leaf)"))
+
+-- | A library robot or a robot file; Left is a message for the user.
+loadRobot :: Maybe String -> String -> IO (Either String Robot)
+loadRobot tip name = case map toLower (takeExtension name) of
+  ext | ext `elem` [".yaml", ".yml", ".json"] -> joinErrors <$> readRobotFile name
+      | ext == ".urdf" -> joinErrors <$> readUrdfFile defaultUrdfOptions { urdfTip = tip } name
+      | otherwise -> pure (lookupRobot name)
+  where
+    joinErrors = either (Left . ((name ++ ": ") ++) . intercalate "; ") Right
+
+failWith :: String -> IO ExitCode
+failWith msg = hPutStrLn stderr ("vprof: " ++ msg) >> pure (ExitFailure 2)
+
+num :: Int -> Double -> String
+num d x = showFFloat (Just d) x ""
+
+------------------------------------------------------------------------------ robots
+
+robotsCommand :: Parser (IO ExitCode)
+robotsCommand = run <$> optional (strArgument (metavar "NAME" <> help "show one robot (a library name or a robot file)"))
+                    <*> tipOption <*> formatOption
+  where
+    run Nothing _ fmt = do
+      let rows = [ (key, r) | (key, Right r) <- libraryRobots ]
+          bad = [ (key, es) | (key, Left es) <- libraryRobots ]
+      case fmt of
+        Json -> BLC.putStrLn (A.encode [ robotJson key r | (key, r) <- rows ])
+        Table -> do
+          putStrLn (pad 22 "name" ++ pad 5 "DOF" ++ pad 10 "reach" ++ pad 10 "payload" ++ "source")
+          mapM_ (\(key, r) -> putStrLn (pad 22 key ++ pad 5 (show (dof r)) ++ pad 10 (maybe "-" (\x -> num 3 x ++ " m") (robotReach r))
+                                        ++ pad 10 (maybe "-" (\x -> num 2 x ++ " kg") (robotPayload r))
+                                        ++ take 70 (concat (take 1 (robotSources r))))) rows
+      mapM_ (\(key, es) -> hPutStrLn stderr ("vprof: library robot " ++ key ++ " is invalid: " ++ intercalate "; " es)) bad
+      pure (if null bad then ExitSuccess else ExitFailure 1)
+    run (Just name) tip fmt = do
+      er <- loadRobot tip name
+      case er of
+        Left e -> failWith e
+        Right r -> do
+          case fmt of
+            Json -> BLC.putStrLn (A.encode (robotJson name r))
+            Table -> putStr (describeRobot r)
+          pure ExitSuccess
+    pad n s = take (n - 1) s ++ replicate (n - length (take (n - 1) s)) ' '
+
+robotJson :: String -> Robot -> A.Value
+robotJson key r = A.object
+  [ "name" A..= key, "title" A..= robotName r, "description" A..= robotDescription r
+  , "dof" A..= dof r, "reach_m" A..= robotReach r, "payload_kg" A..= robotPayload r
+  , "sources" A..= robotSources r
+  , "joints" A..= [ A.object [ "name" A..= jointName j, "kind" A..= show (jointKind j)
+                             , "min" A..= finiteOrNull (limMin (jointLimits j)), "max" A..= finiteOrNull (limMax (jointLimits j))
+                             , "max_velocity" A..= jointMaxVelocity j ]
+                  | j <- robotJoints r ] ]
+
+-- | JSON has no infinity: an unbounded (continuous) limit is null.
+finiteOrNull :: Double -> Maybe Double
+finiteOrNull x = if isInfinite x || isNaN x then Nothing else Just x
+
+describeRobot :: Robot -> String
+describeRobot r = unlines $
+  [ robotName r ++ " — " ++ robotDescription r
+  , "DOF " ++ show (dof r) ++ ", reach " ++ maybe "not given" (\x -> num 3 x ++ " m") (robotReach r)
+    ++ ", payload " ++ maybe "not given" (\x -> num 2 x ++ " kg") (robotPayload r)
+  , "joints (limits in deg for revolute, m for prismatic; speed in deg/s or m/s):" ]
+  ++ [ "  " ++ jointName j ++ ": " ++ show (jointKind j) ++ " [" ++ showL (conv j (limMin (jointLimits j))) ++ ", "
+       ++ showL (conv j (limMax (jointLimits j))) ++ "]"
+       ++ maybe "" (\v -> ", speed " ++ num 1 (conv j v)) (jointMaxVelocity j)
+     | j <- robotJoints r ]
+  ++ "sources:" : map ("  " ++) (robotSources r)
+  where
+    conv j x = if jointKind j == Revolute then x * 180 / pi else x
+    showL x | isInfinite x = if x > 0 then "inf" else "-inf"
+            | otherwise = num 2 x
+------------------------------------------------------------------------------ fk
+
+data FkOpts = FkOpts { fkRobot :: String, fkQ :: [Double], fkDeg :: Bool, fkTip :: Maybe String, fkFormat :: Format }
+
+fkCommand :: Parser (IO ExitCode)
+fkCommand = runFk <$> (FkOpts
+  <$> strArgument (metavar "ROBOT" <> help "a library name, a robot file (.yaml/.json) or a URDF (.urdf)")
+  <*> many (argument auto (metavar "Q..." <> help "joint values (rad or m; degrees with --deg)"))
+  <*> switch (long "deg" <> help "revolute joint values in degrees")
+  <*> tipOption <*> formatOption)
+
+-- | Joint values as typed, to the controller's SI values.
+jointsFrom :: Bool -> Robot -> [Double] -> U.Vector Double
+jointsFrom deg r qs = U.fromList [ if deg && jointKind j == Revolute then q * pi / 180 else q
+                                 | (j, q) <- zip (robotJoints r ++ repeat (last (robotJoints r))) qs ]
+
+jointsTo :: Bool -> Robot -> U.Vector Double -> [Double]
+jointsTo deg r q = [ if deg && jointKind j == Revolute then x * 180 / pi else x | (j, x) <- zip (robotJoints r) (U.toList q) ]
+
+runFk :: FkOpts -> IO ExitCode
+runFk o = do
+  er <- loadRobot (fkTip o) (fkRobot o)
+  case er of
+    Left e -> failWith e
+    Right r -> do
+      let q = jointsFrom (fkDeg o) r (fkQ o)
+      case checkJointVector False r q of
+        es@(_ : _) -> failWith (intercalate "; " (map renderFieldError es))
+        [] -> do
+          let ch = compile r
+              Pose (V3 x y z) (Quat w qx' qy' qz') = forwardPose ch q
+              (_, jac) = jacobian ch q
+              n = dof r
+              manip = manipulability n jac
+              cond = conditionNumber n jac
+          case fkFormat o of
+            Json -> BLC.putStrLn $ A.encode $ A.object
+              [ "position" A..= [x, y, z], "orientation" A..= [w, qx', qy', qz']
+              , "matrix" A..= toRows (forward ch q), "manipulability" A..= manip, "condition_number" A..= cond ]
+            Table -> putStr $ unlines
+              [ "position:        " ++ unwords (map (num 6) [x, y, z]) ++ " m"
+              , "orientation:     " ++ unwords (map (num 6) [w, qx', qy', qz']) ++ " (w x y z)"
+              , "manipulability:  " ++ showFFloat (Just 6) manip ""
+              , "condition:       " ++ (if isInfinite cond then "inf (singular)" else num 2 cond) ]
+          pure ExitSuccess
+
+------------------------------------------------------------------------------ ik
+
+data IkOpts = IkOpts
+  { ikRobotName :: String, ikPose :: [Double], ikSeedQ :: Maybe [Double], ikAll :: Bool
+  , ikDeg :: Bool, ikTip :: Maybe String, ikFormat :: Format, ikBudget :: Double }
+
+ikCommand :: Parser (IO ExitCode)
+ikCommand = runIk <$> (IkOpts
+  <$> strArgument (metavar "ROBOT" <> help "a library name, a robot file (.yaml/.json) or a URDF (.urdf)")
+  <*> option (eitherReader (numbers 7)) (long "pose" <> metavar "\"X Y Z QW QX QY QZ\""
+        <> help "target: position in m and a unit quaternion (w x y z), as one argument")
+  <*> optional (option (eitherReader (numbers 0)) (long "seed" <> metavar "\"Q...\"" <> help "start near these joint values (default: mid-limits)"))
+  <*> switch (long "all" <> help "search for every solution (the numerical solver keeps restarting), not only the nearest")
+  <*> switch (long "deg" <> help "joint values in and out in degrees")
+  <*> tipOption <*> formatOption
+  <*> option auto (long "time-budget" <> metavar "SECONDS" <> value 1 <> showDefault <> help "wall-clock budget of the numerical solver"))
+  where
+    numbers k s = case mapM readD (words (map (\c -> if c == ',' then ' ' else c) s)) of
+      Just xs | k == 0 || length xs == k -> Right xs
+      _ -> Left ("expected " ++ (if k == 0 then "numbers" else show k ++ " numbers") ++ ", got " ++ show s)
+    readD w = case reads w of
+      [(d, "")] -> Just (d :: Double)
+      _ -> Nothing
+
+runIk :: IkOpts -> IO ExitCode
+runIk o = do
+  er <- loadRobot (ikTip o) (ikRobotName o)
+  case er of
+    Left e -> failWith e
+    Right r -> case ikPose o of
+      [x, y, z, w, qx', qy', qz']
+        | abs (sqrt (w * w + qx' * qx' + qy' * qy' + qz' * qz') - 1) > 1e-6 ->
+            failWith ("--pose: the quaternion (" ++ unwords (map show [w, qx', qy', qz']) ++ ") is not a unit quaternion")
+        | otherwise -> do
+            let target = fromQuat (V3 x y z) (Quat w qx' qy' qz')
+                seed = jointsFrom (ikDeg o) r <$> ikSeedQ o
+                opts = defaultIkOptions { ikAllSolutions = ikAll o }
+            res <- solveIkIO (ikBudget o) opts (prepare r) target seed
+            case res of
+              Left (InvalidRequest es) -> failWith (intercalate "; " es)
+              Left f -> do
+                case ikFormat o of
+                  Json -> BLC.putStrLn (A.encode (A.object [ "error" A..= describeFailure f ]))
+                  Table -> hPutStrLn stderr ("vprof ik: " ++ describeFailure f)
+                pure (ExitFailure 1)
+              Right sols -> do
+                let shown = if ikAll o then sols else take 1 sols
+                case ikFormat o of
+                  Json -> BLC.putStrLn $ A.encode $ A.object
+                    [ "solutions" A..= [ A.object [ "q" A..= jointsTo (ikDeg o) r (solJoints s)
+                                                  , "position_error" A..= solPositionError s
+                                                  , "rotation_error" A..= solRotationError s ]
+                                       | s <- shown ] ]
+                  Table -> do
+                    putStrLn (show (length sols) ++ " solution(s) within the joint limits, nearest the seed first"
+                              ++ (if ikDeg o then " (deg)" else " (rad, m)"))
+                    mapM_ (\s -> putStrLn ("  " ++ unwords (map (num 6) (jointsTo (ikDeg o) r (solJoints s)))
+                                           ++ "   error " ++ showFFloat (Just 1) (solPositionError s) "" ++ " m, "
+                                           ++ showFFloat (Just 1) (solRotationError s) "" ++ " rad")) shown
+                pure ExitSuccess
+      _ -> failWith "--pose: expected 7 numbers"

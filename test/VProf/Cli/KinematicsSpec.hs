@@ -1,0 +1,46 @@
+-- | The kinematics subcommands end to end (in process): exit codes for good input, an
+-- unreachable target and bad input, for library robots, robot files and URDF.
+module VProf.Cli.KinematicsSpec (spec) where
+
+import Options.Applicative
+import System.Exit (ExitCode (..))
+import System.FilePath ((</>))
+import System.IO.Temp (withSystemTempDirectory)
+import Test.Hspec
+
+import Support.Arbitrary (shared)
+import VProf.Cli.Kinematics (fkCommand, ikCommand, loadRobot, robotsCommand)
+import VProf.Kinematics (dof)
+
+run :: Parser (IO ExitCode) -> [String] -> IO ExitCode
+run p args = case execParserPure defaultPrefs (info p forwardOptions) args of
+  Success act -> act
+  _ -> pure (ExitFailure 99)
+
+spec :: Spec
+spec = describe "vprof robots / fk / ik" $ do
+  it "lists the library and shows a robot" $ do
+    run robotsCommand [] `shouldReturn` ExitSuccess
+    run robotsCommand ["ur5", "--format", "json"] `shouldReturn` ExitSuccess
+  it "forward kinematics: 0 for good joint values (negative ones too), 2 for a wrong count or an unknown robot" $ do
+    run fkCommand ["ur5", "0", "-90", "90", "0", "90", "0", "--deg"] `shouldReturn` ExitSuccess
+    run fkCommand ["ur5", "0", "1"] `shouldReturn` ExitFailure 2
+    run fkCommand ["no-such-robot", "0"] `shouldReturn` ExitFailure 2
+    run fkCommand ["ur5", "0", "0", "0", "0", "0", "NaN"] `shouldReturn` ExitFailure 99
+  it "inverse kinematics: 0 for a reachable pose, 1 beyond reach, 2 for a quaternion that is not a unit" $ do
+    run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0"] `shouldReturn` ExitSuccess
+    run ikCommand ["dobot-magician-lite", "--pose", "0.2 0.05 0.1 1 0 0 0", "--all"] `shouldReturn` ExitSuccess
+    run ikCommand ["ur5", "--pose", "3 0 0 1 0 0 0"] `shouldReturn` ExitFailure 1
+    run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 1 1 0 0"] `shouldReturn` ExitFailure 2
+    run ikCommand ["ur5", "--pose", "0.4 0.1 0.3"] `shouldReturn` ExitFailure 99
+  it "reads a URDF with --tip and a robot file; a malformed file is exit code 2" $ do
+    dir <- shared
+    let urdf = dir </> "data" </> "urdf" </> "panda.urdf"
+    Right panda <- loadRobot (Just "panda_link8") urdf
+    dof panda `shouldBe` 7
+    run fkCommand [urdf, "--tip", "panda_link8", "0", "0", "0", "-1.5", "0", "1.5", "0"] `shouldReturn` ExitSuccess
+    run fkCommand ["src/robots/ur5.yaml", "0", "0", "0", "0", "0", "0"] `shouldReturn` ExitSuccess
+    withSystemTempDirectory "vprof-kin" $ \tmp -> do
+      let bad = tmp </> "bad.yaml"
+      writeFile bad "name: broken\njoints: [1, 2\n"
+      run fkCommand [bad, "0"] `shouldReturn` ExitFailure 2
