@@ -1,16 +1,17 @@
+{-# LANGUAGE BangPatterns #-}
 -- | An independent count of IK solutions: damped least squares (Levenberg–Marquardt)
--- on the 6-D pose error of the oracle's forward kinematics, with a forward-difference
--- Jacobian, from many deterministic random seeds; converged results are wrapped into
--- (−π, π] and deduplicated. Joint limits are not applied. Slow (milliseconds), for tests.
+-- on the 6-D pose error of a standard-DH forward kinematics, with a forward-difference
+-- Jacobian, from many deterministic pseudo-random seeds; converged results (pose error
+-- below 1e-10 by the list-based oracle) are wrapped into (−π, π] and deduplicated.
+-- Joint limits are not applied. Its own strict FK ('fastFk', checked against the oracle
+-- in the spec) keeps a thousand seeds per pose affordable.
 module Support.NumericIk
-  ( numericSolutions, wrapAngle, angleDist
+  ( numericSolutions, wrapAngle, angleDist, fastFk, M34 (..), m34ToMat
   ) where
 
 import Data.Bits (shiftL, shiftR, xor)
 import Data.List (foldl')
 import Data.Word (Word64)
-import Numeric.LinearAlgebra (Matrix, Vector, fromList, fromLists, ident, linearSolve, asColumn, toList, flatten, tr, (<>), scale)
-import Prelude hiding ((<>))
 import Support.DhOracle
 
 wrapAngle :: Double -> Double
@@ -21,52 +22,94 @@ wrapAngle x = let y = x - 2 * pi * fromIntegral (round (x / (2 * pi)) :: Int)
 angleDist :: [Double] -> [Double] -> Double
 angleDist a b = maximum (zipWith (\x y -> abs (wrapAngle (x - y))) a b)
 
--- | Position error and orientation error ½ Σ cᵢ × c*ᵢ over the rotation's columns.
-errorVec :: Mat4 -> Mat4 -> [Double]
-errorVec target cur =
-  let col m j = [m !! i !! j | i <- [0 .. 2]]
-      crossL [a, b, c] [x, y, z] = [b * z - c * y, c * x - a * z, a * y - b * x]
-      crossL _ _ = [0, 0, 0]
-      pos = [target !! i !! 3 - cur !! i !! 3 | i <- [0 .. 2]]
-      rot = foldl' (zipWith (+)) [0, 0, 0] [crossL (col cur j) (col target j) | j <- [0 .. 2]]
-  in pos ++ map (* 0.5) rot
+-- | A homogeneous transform's top three rows.
+data M34 = M34 !Double !Double !Double !Double !Double !Double !Double !Double !Double !Double !Double !Double
 
--- | LM from one seed; the converged joint vector if the pose error falls below 1e-13.
-lm :: ([Double] -> Mat4) -> Mat4 -> [Double] -> Maybe [Double]
-lm fk target = go (0 :: Int) 1e-3
+m34ToMat :: M34 -> Mat4
+m34ToMat (M34 a b c d e f g h i j k l) = [[a, b, c, d], [e, f, g, h], [i, j, k, l], [0, 0, 0, 1]]
+
+mul :: M34 -> M34 -> M34
+mul (M34 a b c d e f g h i j k l) (M34 a' b' c' d' e' f' g' h' i' j' k' l') =
+  M34 (a * a' + b * e' + c * i') (a * b' + b * f' + c * j') (a * c' + b * g' + c * k') (a * d' + b * h' + c * l' + d)
+      (e * a' + f * e' + g * i') (e * b' + f * f' + g * j') (e * c' + f * g' + g * k') (e * d' + f * h' + g * l' + h)
+      (i * a' + j * e' + k * i') (i * b' + j * f' + k * j') (i * c' + j * g' + k * k') (i * d' + j * h' + k * l' + l)
+
+-- | Standard DH, identity base and tool.
+fastFk :: [DhRow] -> [Double] -> M34
+fastFk rows qs = foldl' mul (M34 1 0 0 0 0 1 0 0 0 0 1 0) (zipWith link rows qs)
+  where
+    link (DhRow off d a al) q =
+      let th = q + off; ct = cos th; st = sin th; ca = cos al; sa = sin al
+      in M34 ct (-st * ca) (st * sa) (a * ct) st (ct * ca) (-ct * sa) (a * st) 0 sa ca d
+
+-- | Position error and orientation error ½ Σ cᵢ × c*ᵢ over the rotation's columns.
+errorVec :: M34 -> M34 -> [Double]
+errorVec (M34 ta tb tc td te tf tg th ti tj tk tl) (M34 a b c d e f g h i j k l) =
+  let cr (x1, y1, z1) (x2, y2, z2) = (y1 * z2 - z1 * y2, z1 * x2 - x1 * z2, x1 * y2 - y1 * x2)
+      (r1, r2, r3) = cr (a, e, i) (ta, te, ti)
+      (s1, s2, s3) = cr (b, f, j) (tb, tf, tj)
+      (u1, u2, u3) = cr (c, g, k) (tc, tg, tk)
+  in [td - d, th - h, tl - l, 0.5 * (r1 + s1 + u1), 0.5 * (r2 + s2 + u2), 0.5 * (r3 + s3 + u3)]
+
+norm :: [Double] -> Double
+norm = sqrt . sum . map (\x -> x * x)
+
+-- | Solve the 6×6 system a x = b by Gaussian elimination with partial pivoting.
+solve6 :: [[Double]] -> [Double] -> Maybe [Double]
+solve6 a0 b0 = go (zipWith (\r x -> r ++ [x]) a0 b0) []
+  where
+    go [] done = Just (backSub done)
+    go rows done =
+      let pivotRow = foldr1 (\r s -> if abs (head r) >= abs (head s) then r else s) rows
+          rest = dropOne pivotRow rows
+          p = head pivotRow
+      in if abs p < 1e-300 then Nothing else
+           let elim r = let f = head r / p in zipWith (\x y -> x - f * y) (tail r) (tail pivotRow)
+           in go (map elim rest) (pivotRow : done)
+    dropOne r (x : xs) | x == r = xs | otherwise = x : dropOne r xs
+    dropOne _ [] = []
+    backSub = foldl' (\xs row -> let coeffs = init (tail row); rhs = last row
+                                     x = (rhs - sum (zipWith (*) coeffs xs)) / head row
+                                 in x : xs) []
+
+-- | LM from one seed; the converged joint vector if the pose error falls below 1e-11.
+lm :: ([Double] -> M34) -> M34 -> [Double] -> Maybe [Double]
+lm fk target = go (0 :: Int) 1e-2
   where
     go it lam q
-      | it > 300 = Nothing
+      | it > 400 = Nothing
       | otherwise =
           let e = errorVec target (fk q)
-              en = sqrt (sum (map (^ (2 :: Int)) e))
-          in if en < 1e-13 then Just q else
+              en = norm e
+          in if en < 1e-11 then Just q else
                let h = 1e-7
-                   jcols = [ map (/ h) (zipWith (-) e (errorVec target (fk (bump k h q)))) | k <- [0 .. 5 :: Int] ]
-                   -- e(q + δ) ≈ e(q) − J δ with J's columns (e(q) − e(q + h eₖ))/h
-                   jm = tr (fromLists jcols) :: Matrix Double
-                   ev = fromList e :: Vector Double
-                   a = tr jm <> jm + scale lam (ident 6)
-                   g = tr jm <> asColumn ev
-               in case linearSolve a g of
+                   cols = [map (/ h) (zipWith (-) e (errorVec target (fk (bump k h q)))) | k <- [0 .. 5 :: Int]]
+                   -- e(q + δ) ≈ e(q) − J δ; J's columns are cols
+                   jtj = [[sum (zipWith (*) ci cj) + (if i == j then lam else 0) | (j, cj) <- zip [0 :: Int ..] cols] | (i, ci) <- zip [0 ..] cols]
+                   jte = [sum (zipWith (*) ci e) | ci <- cols]
+               in case solve6 jtj jte of
                     Nothing -> Nothing
-                    Just dm ->
-                      let d = toList (flatten dm)
-                          q' = zipWith (+) q d
-                          e' = errorVec target (fk q')
-                          en' = sqrt (sum (map (^ (2 :: Int)) e'))
-                      in if en' < en then go (it + 1) (max 1e-12 (lam / 3)) q'
+                    Just d ->
+                      let q' = zipWith (+) q d
+                          en' = norm (errorVec target (fk q'))
+                      in if en' < en then go (it + 1) (max 1e-12 (lam / 5)) q'
                          else go (it + 1) (lam * 4) q
     bump k h q = [if i == k then x + h else x | (i, x) <- zip [0 ..] q]
 
--- | Every distinct solution found from @n@ seeds (deterministic xorshift), wrapped into (−π, π].
-numericSolutions :: Int -> ([Double] -> Mat4) -> Mat4 -> [[Double]]
-numericSolutions n fk target = foldl' add [] found
+-- | Every distinct solution found from @n@ seeds (deterministic xorshift), wrapped into
+-- (−π, π]; each checked with the list-based oracle to 1e-10.
+numericSolutions :: Int -> [DhRow] -> Mat4 -> [[Double]]
+numericSolutions n rows target = foldl' add [] found
   where
-    seeds = take n (chunks (map toAngle (iterate xorshift 0x9E3779B97F4A7C15)))
+    fk = fastFk rows
+    tgt = case target of
+      [[a, b, c, d], [e, f, g, h], [i, j, k, l], _] -> M34 a b c d e f g h i j k l
+      _ -> error "4x4"
+    seeds = take n (chunks (map toAngle (tail (iterate xorshift 0x9E3779B97F4A7C15))))
     toAngle w = (fromIntegral (w `mod` 1000003) / 1000003 * 2 - 1) * pi
-    chunks xs = let (a, b) = splitAt 6 (drop 1 xs) in a : chunks b
-    found = [map wrapAngle q | Just q <- map (lm fk target) seeds, poseError (fk q) target < 1e-11]
+    chunks xs = let (a, b) = splitAt 6 xs in a : chunks b
+    found = [ map wrapAngle q | Just q <- map (lm fk tgt) seeds
+            , poseError (fkOracle rows ident4 ident4 q) target < 1e-10 ]
     add acc q = if any (\p -> angleDist p q < 1e-6) acc then acc else acc ++ [q]
 
 xorshift :: Word64 -> Word64

@@ -42,6 +42,10 @@ data Raw = Raw !Double !Double !Double !Double !Double !Double !Branch ![Singula
 tolReach :: Double
 tolReach = 1e-9
 
+-- | Elbow angles this close to 0 or π count as stretched or folded.
+tolElbow :: Double
+tolElbow = 1e-7
+
 -- | Below this a sine (or a distance in m, for the wrist point to axis 1) counts as zero.
 tolSing :: Double
 tolSing = 1e-12
@@ -66,6 +70,7 @@ wrap x
 -- −sin α1·(−s1 px + c1 py) + cos α1·(pz − d1) = dz, i.e. (−s1 px + c1 py) = K.
 -- Returns the right-shoulder (x₁·p ≥ 0) solution first. On axis 1 with K = 0
 -- (shoulder singularity) θ1 is free: q1 = 0 and its opposite are returned, flagged.
+-- On the cylinder of radius |K| the two shoulders coincide: one solution, flagged.
 shoulderAngles :: Consts -> Double -> V3 -> Either Double [(Double, Shoulder, Bool)]
 shoulderAngles Consts{..} dz (V3 px py pz) =
   let k = (cCa1 * (pz - cD1) - dz) / cSa1
@@ -78,11 +83,12 @@ shoulderAngles Consts{..} dz (V3 px py pz) =
              phi = atan2 py px
          in if h2 < 0
               then if abs k - r <= tolReach
-                     then Right [(phi - atan2 k 0, ShoulderRight, False)]
+                     then Right [(phi - atan2 k 0, ShoulderRight, True)]
                      else Left (abs k - r)
               else let h = sqrt h2
-                   in if h < tolSing
-                        then Right [(phi - atan2 k h, ShoulderRight, False)]
+                   in if h < tolElbow * r
+                        -- on the cylinder |K| (within 1e-7 rad): one shoulder, flagged
+                        then Right [(phi - atan2 k 0, ShoulderRight, True)]
                         else Right [(phi - atan2 k h, ShoulderRight, False), (phi - atan2 k (-h), ShoulderLeft, False)]
 {-# INLINE shoulderAngles #-}
 
@@ -101,10 +107,15 @@ elbowAngle a b r =
      else if den0 < 0 && inner - r > tolReach then Left (inner - r)
      else
        let num = max 0 num0; den = max 0 den0
-           g' | num == 0 && den == 0 = if r < 0.5 * outer then pi else 0
+           g0 | num == 0 && den == 0 = if r < 0.5 * outer then pi else 0
               | otherwise = 2 * atan2 (sqrt num) (sqrt den)
+           -- within 1e-7 rad of stretched or folded the pair is one solution (a length
+           -- error of 1e-16 m already moves γ by 1e-8 there; snapping costs < 1e-14 m)
+           coincide = g0 < tolElbow || pi - g0 < tolElbow
+           g' | not coincide = g0
+              | g0 < tolElbow = 0
+              | otherwise = pi
            g = if a * b >= 0 then g' else pi - g'
-           coincide = sin g' < 1e-12
        in Right (g, coincide)
 {-# INLINE elbowAngle #-}
 

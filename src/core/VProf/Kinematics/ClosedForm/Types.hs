@@ -207,7 +207,8 @@ parseBranch str = case map toUpper str of
 -- | A degenerate configuration met by a solution, and the documented choice made there.
 data Singularity
   = WristSingular      -- ^ sin θ5 ≈ 0: only θ4 ± θ6 is determined; q4 = 0 (Pieper) or q6 = 0 (UR) is chosen
-  | ShoulderSingular   -- ^ the wrist point on axis 1: θ1 is free; q1 = 0 (and its opposite) is chosen
+  | ShoulderSingular   -- ^ the wrist point on axis 1 (θ1 free: q1 = 0 and its opposite are chosen), or on
+                       --   the cylinder of radius |K| around it (the two shoulders coincide; returned once)
   | ElbowStretched     -- ^ the two elbow solutions coincide (arm stretched or folded); returned once
   deriving (Eq, Ord, Show, Enum, Bounded)
 
