@@ -170,18 +170,24 @@ spec = do
   describe ("recovery: " ++ show recoveryCount ++ " random q within limits per robot") $
     forM_ fixtures $ \f -> it (fxName f ++ ": q among the solutions, every solution reproduces the pose to 1e-10 and lies within limits") $ do
       let dh = fixtureDh f
+          rows = fixtureRows f
           Right solver = prepare dh
       property $ withMaxSuccess recoveryCount $ forAll (genQ dh) $ \q ->
         let target = fkFix f q
-        in case solveWith solver (matToPose target) of
-             Left e -> counterexample (show e) False
-             Right sols ->
-               let principal = nub [map wrapAngle (U.toList (solQ s)) | s <- sols]
-                   errs = [poseError (fkFix f p) target | p <- principal]
-                   hit = [s | s <- sols, maxDiff (U.toList (solQ s)) q < 1e-6]
+        in case (solveWith solver (matToPose target), solvePrincipal solver (matToPose target)) of
+             (Left e, _) -> counterexample (show e) False
+             (_, Left e) -> counterexample (show e) False
+             (Right sols, Right prin) ->
+               let principal = map solQ prin
+                   -- the strict FK of the numerical count (checked against the oracle above)
+                   errs = [poseError (m34ToMat (fastFk rows (U.toList p))) target | p <- principal]
+                   qv = U.fromList q
+                   hit = [s | s <- sols, U.maximum (U.map abs (U.zipWith (-) (solQ s) qv)) < 1e-6]
+                   isVariant s = any (\p -> U.all (\x -> abs (wrapAngle x) < 1e-9) (U.zipWith (-) p (solQ s))) principal
                in counterexample (show (map solQ sols, errs)) $
                     not (null hit)
                     .&&. all (< 1e-10) errs
+                    .&&. all isVariant sols
                     .&&. all (withinLimits dh . solQ) sols
                     .&&. (branchOf dh (U.fromList q) === Just (solBranch (head hit)))
 
@@ -202,6 +208,13 @@ spec = do
       forM_ allBranches $ \b -> length (selectBranch b sols) `shouldBe` 1
       fmap solBranch (nearestInBranch (Branch ShoulderLeft ElbowDown WristFlip) (U.fromList q) sols)
         `shouldBe` Just (Branch ShoulderLeft ElbowDown WristFlip)
+
+  describe "labels on the controller's terms" $
+    it "an ABB arm at home (q5 > 0) is RUN, cfx 0; with q5 < 0, RUF, cfx 1" $
+      forM_ (map fixtureByName ["IRB 120", "IRB 140", "IRB 1600", "IRB 6700"]) $ \f -> do
+        let dh = fixtureDh f
+        fmap branchText (branchOf dh (U.fromList [0, 0, 0, 0, 0.3, 0])) `shouldBe` Just "RUN"
+        fmap branchCfx (branchOf dh (U.fromList [0, 0, 0, 0, -0.3, 0])) `shouldBe` Just 1
 
   describe "wrapped variants" $
     forM_ (map fixtureByName ["UR5", "IRB 140", "KR5 arc"]) $ \f -> it (fxName f ++ ": every q + 2πk within the limits, and no other") $ do

@@ -108,15 +108,18 @@ solveWith :: Solver -> Pose -> Either IkFailure [Solution]
 solveWith s@Solver{..} target = do
   principal <- solvePrincipal s target
   let lo = sdLower solverDh; hi = sdUpper solverDh
+      twoPi = 2 * pi
       variants j x =
         let l = lo U.! j; h = hi U.! j
-            cands = [x + 2 * pi * fromIntegral k | k <- [-3 .. 3 :: Int]]
-        in [min h (max l y) | y <- cands, y >= l - 1e-12, y <= h + 1e-12]
+            k0 = ceiling ((l - 1e-12 - x) / twoPi) :: Int
+            k1 = floor ((h + 1e-12 - x) / twoPi) :: Int
+        in [min h (max l (x + twoPi * fromIntegral k)) | k <- [k0 .. k1]]
       expand sol =
         let q = solQ sol
-            go j | j >= 6 = [[]]
-                 | otherwise = [x : rest | x <- variants j (q U.! j), rest <- go (j + 1)]
-        in [sol { solQ = U.fromListN 6 qs } | qs <- go 0]
+        in case map (\j -> variants j (q U.! j)) [0 .. 5] of
+             [[a], [b], [c], [d], [e], [f]] -> [sol { solQ = U.fromListN 6 [a, b, c, d, e, f] }]
+             vs -> [ sol { solQ = U.fromListN 6 [a, b, c, d, e, f] }
+                   | [v0, v1, v2, v3, v4, v5] <- [vs], a <- v0, b <- v1, c <- v2, d <- v3, e <- v4, f <- v5 ]
       out = concatMap expand principal
   if null out
     then let miss sol = [(dist j (solQ sol U.! j), j) | j <- [0 .. 5]]
