@@ -109,17 +109,21 @@ solveWith s@Solver{..} target = do
   principal <- solvePrincipal s target
   let lo = sdLower solverDh; hi = sdUpper solverDh
       twoPi = 2 * pi
-      variants j x =
+      -- joint j's variants x + 2πk within [l, h]: k from k0 to k1
+      kRange j x =
         let l = lo U.! j; h = hi U.! j
-            k0 = ceiling ((l - 1e-12 - x) / twoPi) :: Int
-            k1 = floor ((h + 1e-12 - x) / twoPi) :: Int
-        in [min h (max l (x + twoPi * fromIntegral k)) | k <- [k0 .. k1]]
+        in (ceiling ((l - 1e-12 - x) / twoPi) :: Int, floor ((h + 1e-12 - x) / twoPi) :: Int)
       expand sol =
         let q = solQ sol
-        in case map (\j -> variants j (q U.! j)) [0 .. 5] of
-             [[a], [b], [c], [d], [e], [f]] -> [sol { solQ = U.fromListN 6 [a, b, c, d, e, f] }]
-             vs -> [ sol { solQ = U.fromListN 6 [a, b, c, d, e, f] }
-                   | [v0, v1, v2, v3, v4, v5] <- [vs], a <- v0, b <- v1, c <- v2, d <- v3, e <- v4, f <- v5 ]
+            ranges = U.generate 6 (\j -> kRange j (q U.! j))
+            counts = U.map (\(k0, k1) -> max 0 (k1 - k0 + 1)) ranges
+            total = U.product counts
+            strides = U.prescanr' (*) 1 counts
+            value i j =
+              let (k0, _) = ranges U.! j
+                  k = k0 + (i `quot` (strides U.! j)) `rem` (counts U.! j)
+              in min (hi U.! j) (max (lo U.! j) (q U.! j + twoPi * fromIntegral k))
+        in [sol { solQ = U.generate 6 (value i) } | i <- [0 .. total - 1]]
       out = concatMap expand principal
   if null out
     then let miss sol = [(dist j (solQ sol U.! j), j) | j <- [0 .. 5]]

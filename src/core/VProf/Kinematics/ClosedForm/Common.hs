@@ -60,9 +60,11 @@ dhRot th ca sa =
 -- | Into (−π, π].
 wrap :: Double -> Double
 wrap x
-  | x > pi || x <= -pi = let y = x - 2 * pi * fromIntegral (round (x / (2 * pi)) :: Int)
-                         in if y <= -pi then y + 2 * pi else if y > pi then y - 2 * pi else y
+  | x > pi = if x < 7 * pi then wrap (x - 2 * pi) else far
+  | x <= -pi = if x > -7 * pi then wrap (x + 2 * pi) else far
   | otherwise = x
+  where far = let y = x - 2 * pi * fromIntegral (round (x / (2 * pi)) :: Int)
+              in if y <= -pi then y + 2 * pi else if y > pi then y - 2 * pi else y
 {-# INLINE wrap #-}
 
 -- | θ1 from the wrist point p (frame 0) and the constant height dz of the wrist point

@@ -68,7 +68,7 @@ arm Consts{..} t01inv tgt t1 t5 t6 sh w sing =
                let t3 = g'
                    ux = cA2 + cA3 * cos t3
                    uy = cA3 * sin t3
-                   t2 = atan2 wy wx - atan2 uy ux
+                   t2 = atan2 (ux * wy - uy * wx) (ux * wx + uy * wy)
                    el = elbowLabel cSa1 cA2 cA3 g'
                in Raw t1 t2 t3 (t234 - t2 - t3) t5 t6 (Branch sh el w) (sing ++ [ElbowStretched | coinc])
          in Right (if coinc then [one g] else [one g, one (-g)])

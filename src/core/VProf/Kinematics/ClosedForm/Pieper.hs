@@ -34,15 +34,18 @@ pieperRaw c@Consts{..} (Pose rp tp) =
                     Right (g, coinc) ->
                       let gs = if coinc then [g] else [g, -g]
                           sing0 = [ShoulderSingular | shSing] ++ [ElbowStretched | coinc]
-                      in Right (concatMap (perElbow t1 sh sing0 wx wy) gs)
-             perElbow t1 sh sing0 wx wy g =
+                          r01 = Rot (V3 c1 (-s1 * cCa1) (s1 * cSa1)) (V3 s1 (c1 * cCa1) (-c1 * cSa1)) (V3 0 cSa1 cCa1)
+                      in Right (concatMap (perElbow t1 r01 sh sing0 wx wy) gs)
+             perElbow t1 r01 sh sing0 wx wy g =
                let t3 = psi + g
                    c3 = cos t3; s3 = sin t3
                    ux = cA2 + cA3 * c3 + bb * s3
                    uy = cA3 * s3 - bb * c3
-                   t2 = atan2 wy wx - atan2 uy ux
+                   -- the angle from u to w in one atan2
+                   t2 = atan2 (ux * wy - uy * wx) (ux * wx + uy * wy)
                    el = elbowLabel cSa1 cA2 rr g
-                   r03 = rotMul (rotMul (dhRot t1 cCa1 cSa1) (dhRot t2 cCa2 cSa2)) (dhRot t3 cCa3 cSa3)
+                   -- α2 = 0: Rz(θ2)·Rz(θ3) = Rz(θ2 + θ3)
+                   r03 = rotMul r01 (dhRot (t2 + t3) cCa3 cSa3)
                    m = rotMul (rotT r03) rp
                in wristAngles c m (\t4 t5 t6 w sing -> Raw t1 t2 t3 t4 t5 t6 (Branch sh el w) (sing0 ++ sing))
              results = map perShoulder shoulders
@@ -57,10 +60,15 @@ wristAngles Consts{..} m k =
       s4g = signum cSa4; s5g = signum cSa5
       c5 = -s4g * s5g * m22
       s5a = sqrt (m02 * m02 + m12 * m12)
-      theta6 t4 t5 =
-        let n = rotMul (rotT (rotMul (dhRot t4 cCa4 cSa4) (dhRot t5 cCa5 cSa5))) m
-            Rot (V3 n00 _ _) (V3 n10 _ _) _ = n
-        in atan2 n10 n00
+      Rot _ _ (V3 m20 m21 _) = m
+      -- well conditioned (sin θ5 > 1e-3): M's third row is (σ4 s5 c6, −σ4 s5 s6, ·);
+      -- otherwise θ6 from N = (Rz(θ4)Rx(α4)Rz(θ5)Rx(α5))ᵀ·M = Rz(θ6), consistent with θ4
+      theta6 t4 t5
+        | s5a > 1e-3 = let sg = s4g * signum (sin t5) in atan2 (-sg * m21) (sg * m20)
+        | otherwise =
+            let n = rotMul (rotT (rotMul (dhRot t4 cCa4 cSa4) (dhRot t5 cCa5 cSa5))) m
+                Rot (V3 n00 _ _) (V3 n10 _ _) _ = n
+            in atan2 n10 n00
   in if s5a < tolSing
        then let t4 = cO4; t5 = atan2 0 c5
             in [k t4 t5 (theta6 t4 t5) WristNoFlip [WristSingular]]
