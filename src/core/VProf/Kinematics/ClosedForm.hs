@@ -27,6 +27,7 @@ import Control.DeepSeq (NFData (..))
 import Data.List (minimumBy, sortOn)
 import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
+import qualified Data.Vector.Unboxed.Mutable as MU
 import VProf.Kinematics.ClosedForm.Common
 import VProf.Kinematics.ClosedForm.Parallel
 import VProf.Kinematics.ClosedForm.Pieper
@@ -94,13 +95,20 @@ solvePrincipal Solver{..} target
             SphericalWrist -> pieperRaw solverConsts t'
             ThreeParallel -> parallelRaw solverConsts t'
           toSol (Raw t1 t2 t3 t4 t5 t6 br sing) =
-            Solution (U.fromListN 6 [wrap (t1 - cO1), wrap (t2 - cO2), wrap (t3 - cO3), wrap (t4 - cO4), wrap (t5 - cO5), wrap (t6 - cO6)]) br sing
+            let !q = U.create $ do
+                  v <- MU.unsafeNew 6
+                  MU.unsafeWrite v 0 (wrap (t1 - cO1)); MU.unsafeWrite v 1 (wrap (t2 - cO2))
+                  MU.unsafeWrite v 2 (wrap (t3 - cO3)); MU.unsafeWrite v 3 (wrap (t4 - cO4))
+                  MU.unsafeWrite v 4 (wrap (t5 - cO5)); MU.unsafeWrite v 5 (wrap (t6 - cO6))
+                  pure v
+            in Solution q br sing
       in case raws of
            Left e -> Left (OutOfReach "the wrist point is outside the arm's reach" e)
            Right rs -> Right (map toSol rs)
 
 badPose :: Pose -> Bool
-badPose p = any (\x -> isNaN x || isInfinite x) (poseToRowMajor p)
+badPose (Pose (Rot a b c) t) = bad a || bad b || bad c || bad t
+  where bad (V3 x y z) = let s = x + y + z in isNaN s || isInfinite s
 
 -- | 'solvePrincipal', then every combination of each joint's variants q + 2πk within the
 -- limits (a value within 1e-12 rad outside a limit is put on it).

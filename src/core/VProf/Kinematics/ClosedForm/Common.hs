@@ -8,7 +8,7 @@ module VProf.Kinematics.ClosedForm.Common
   ( Consts (..), mkConsts
   , Raw (..)
   , shoulderAngles, elbowAngle, elbowLabel
-  , dhRot, wrap
+  , dhRot, dhLinkCS, wrap
   , tolReach, tolSing
   ) where
 
@@ -36,7 +36,8 @@ mkConsts SixAxisDh{..} =
             (inversePose sdBase) (inversePose sdTool) lastInv
 
 -- | A solution in DH angles θ1..θ6 (not yet q, not yet wrapped), with its label.
-data Raw = Raw !Double !Double !Double !Double !Double !Double !Branch ![Singularity]
+data Raw = Raw {-# UNPACK #-} !Double {-# UNPACK #-} !Double {-# UNPACK #-} !Double
+               {-# UNPACK #-} !Double {-# UNPACK #-} !Double {-# UNPACK #-} !Double !Branch ![Singularity]
 
 -- | Reach tolerance (m): a target this far outside the reach is clamped onto it.
 tolReach :: Double
@@ -56,6 +57,12 @@ dhRot th ca sa =
   let c = cos th; s = sin th
   in Rot (V3 c (-s * ca) (s * sa)) (V3 s (c * ca) (-c * sa)) (V3 0 sa ca)
 {-# INLINE dhRot #-}
+
+-- | A DH link from cos θ and sin θ (no trigonometry): Rz(θ)·Dz(d)·Dx(a)·Rx(α).
+dhLinkCS :: Double -> Double -> Double -> Double -> Double -> Double -> Pose
+dhLinkCS c s d a ca sa =
+  Pose (Rot (V3 c (-s * ca) (s * sa)) (V3 s (c * ca) (-c * sa)) (V3 0 sa ca)) (V3 (a * c) (a * s) d)
+{-# INLINE dhLinkCS #-}
 
 -- | Into (−π, π].
 wrap :: Double -> Double

@@ -21,26 +21,27 @@ parallelRaw c@Consts{..} tgt@(Pose rp tp) =
        Left e -> Left e
        Right shoulders ->
          let perShoulder (t1, sh, shSing) =
-               let c1 = cos t1; s1 = sin t1
-                   z1 = V3 (s1 * cSa1) (-c1 * cSa1) cCa1
-                   c5 = -s4g * s5g * dot zt z1
-                   s5a = norm3 (cross zt z1)
+               let !c1 = cos t1; !s1 = sin t1
+                   !z1 = V3 (s1 * cSa1) (-c1 * cSa1) cCa1
+                   !c5 = -s4g * s5g * dot zt z1
+                   !s5a = norm3 (cross zt z1)
                    V3 vx vy _ = rotApply (rotT rp) z1
                    sing0 = [ShoulderSingular | shSing]
-                   t01inv = inversePose (dhLink t1 cD1 cA1 cCa1 cSa1)
-                   withWrist t5 t6 w sing = arm c t01inv tgt t1 t5 t6 sh w (sing0 ++ sing)
+                   !t01inv = inversePose (dhLinkCS c1 s1 cD1 cA1 cCa1 cSa1)
+                   -- θ5 = atan2(y5, x5), θ6 = atan2(y6, x6): their links from the normalised pairs
+                   withWrist x5 y5 x6 y6 w sing =
+                     let !n5 = sqrt (x5 * x5 + y5 * y5); !n6 = sqrt (x6 * x6 + y6 * y6)
+                     in arm c t01inv tgt t1 (atan2 y5 x5) (x5 / n5) (y5 / n5) (atan2 y6 x6) (x6 / n6) (y6 / n6)
+                            sh w (sing0 ++ sing)
                in if s5a < tolSing
                     then
-                      let t5 = atan2 0 c5
-                          tries = [withWrist t5 (cO6 + fromIntegral k * pi / 8) WristNoFlip [WristSingular] | k <- [0 .. 15 :: Int]]
+                      let tries = [ withWrist c5 0 (cos t6) (sin t6) WristNoFlip [WristSingular]
+                                  | k <- [0 .. 15 :: Int], let t6 = cO6 + fromIntegral k * pi / 8 ]
                       in case [s | Right s <- tries] of
                            (s : _) -> Right s
                            [] -> head tries
                     else
-                      let one sg w =
-                            let t5 = atan2 (sg * s5a) c5
-                                t6 = atan2 (-s4g * sg * vy) (s4g * sg * vx)
-                            in withWrist t5 t6 w []
+                      let one sg w = withWrist c5 (sg * s5a) (s4g * sg * vx) (-s4g * sg * vy) w []
                           rs = [one 1 WristNoFlip, one (-1) WristFlip]
                       in case [s | Right s <- rs] of
                            [] -> head rs
@@ -49,26 +50,27 @@ parallelRaw c@Consts{..} tgt@(Pose rp tp) =
              sols = concat [s | Right s <- results]
          in if null sols then Left (minimum [e | Left e <- results]) else Right sols
 
--- | The planar part for given θ1, θ5, θ6: T14 = T01⁻¹·T'·(T45·Rz(θ6)Dz(d6))⁻¹ =
--- Rz(θ234)Rx(α4) with origin (a2 c2 + a3 c23 + a4 c234, …, d2 + d3 + d4).
-arm :: Consts -> Pose -> Pose -> Double -> Double -> Double -> Shoulder -> Wrist -> [Singularity]
-    -> Either Double [Raw]
-arm Consts{..} t01inv tgt t1 t5 t6 sh w sing =
-  let t46 = composePose (dhLink t5 cD5 cA5 cCa5 cSa5) (dhLink t6 cD6 0 1 0)
-      t14 = composePose t01inv (composePose tgt (inversePose t46))
+-- | The planar part for given θ1, θ5, θ6 (each with its cosine and sine):
+-- T14 = T01⁻¹·T'·(T45·Rz(θ6)Dz(d6))⁻¹ = Rz(θ234)Rx(α4) with origin
+-- (a2 c2 + a3 c23 + a4 c234, …, d2 + d3 + d4).
+arm :: Consts -> Pose -> Pose -> Double -> Double -> Double -> Double -> Double -> Double -> Double
+    -> Shoulder -> Wrist -> [Singularity] -> Either Double [Raw]
+arm Consts{..} t01inv tgt t1 t5 c5 s5 t6 c6 s6 sh w sing =
+  let !t46 = composePose (dhLinkCS c5 s5 cD5 cA5 cCa5 cSa5) (dhLinkCS c6 s6 cD6 0 1 0)
+      !t14 = composePose t01inv (composePose tgt (inversePose t46))
       Pose (Rot (V3 r00 _ _) (V3 r10 _ _) _) (V3 px py _) = t14
-      t234 = atan2 r10 r00
-      wx = px - cA4 * cos t234
-      wy = py - cA4 * sin t234
-      r = sqrt (wx * wx + wy * wy)
+      !t234 = atan2 r10 r00
+      !n234 = sqrt (r00 * r00 + r10 * r10)
+      !wx = px - cA4 * r00 / n234
+      !wy = py - cA4 * r10 / n234
+      !r = sqrt (wx * wx + wy * wy)
   in case elbowAngle cA2 cA3 r of
        Left e -> Left e
        Right (g, coinc) ->
          let one g' =
-               let t3 = g'
-                   ux = cA2 + cA3 * cos t3
-                   uy = cA3 * sin t3
-                   t2 = atan2 (ux * wy - uy * wx) (ux * wx + uy * wy)
-                   el = elbowLabel cSa1 cA2 cA3 g'
-               in Raw t1 t2 t3 (t234 - t2 - t3) t5 t6 (Branch sh el w) (sing ++ [ElbowStretched | coinc])
+               let !ux = cA2 + cA3 * cos g'
+                   !uy = cA3 * sin g'
+                   !t2 = atan2 (ux * wy - uy * wx) (ux * wx + uy * wy)
+                   !el = elbowLabel cSa1 cA2 cA3 g'
+               in Raw t1 t2 g' (t234 - t2 - g') t5 t6 (Branch sh el w) (sing ++ [ElbowStretched | coinc])
          in Right (if coinc then [one g] else [one g, one (-g)])

@@ -23,12 +23,12 @@ pieperRaw c@Consts{..} (Pose rp tp) =
        Left e -> Left e
        Right shoulders ->
          let perShoulder (t1, sh, shSing) =
-               let c1 = cos t1; s1 = sin t1
-                   qx = c1 * px + s1 * py
-                   qy = -s1 * px + c1 * py
-                   wx = qx - cA1
-                   wy = cCa1 * qy + cSa1 * (pz - cD1)
-                   r = sqrt (wx * wx + wy * wy)
+               let !c1 = cos t1; !s1 = sin t1
+                   !qx = c1 * px + s1 * py
+                   !qy = -s1 * px + c1 * py
+                   !wx = qx - cA1
+                   !wy = cCa1 * qy + cSa1 * (pz - cD1)
+                   !r = sqrt (wx * wx + wy * wy)
                in case elbowAngle cA2 rr r of
                     Left e -> Left e
                     Right (g, coinc) ->
@@ -37,16 +37,16 @@ pieperRaw c@Consts{..} (Pose rp tp) =
                           r01 = Rot (V3 c1 (-s1 * cCa1) (s1 * cSa1)) (V3 s1 (c1 * cCa1) (-c1 * cSa1)) (V3 0 cSa1 cCa1)
                       in Right (concatMap (perElbow t1 r01 sh sing0 wx wy) gs)
              perElbow t1 r01 sh sing0 wx wy g =
-               let t3 = psi + g
-                   c3 = cos t3; s3 = sin t3
-                   ux = cA2 + cA3 * c3 + bb * s3
-                   uy = cA3 * s3 - bb * c3
+               let !t3 = psi + g
+                   !c3 = cos t3; !s3 = sin t3
+                   !ux = cA2 + cA3 * c3 + bb * s3
+                   !uy = cA3 * s3 - bb * c3
                    -- the angle from u to w in one atan2
-                   t2 = atan2 (ux * wy - uy * wx) (ux * wx + uy * wy)
-                   el = elbowLabel cSa1 cA2 rr g
+                   !t2 = atan2 (ux * wy - uy * wx) (ux * wx + uy * wy)
+                   !el = elbowLabel cSa1 cA2 rr g
                    -- α2 = 0: Rz(θ2)·Rz(θ3) = Rz(θ2 + θ3)
-                   r03 = rotMul r01 (dhRot (t2 + t3) cCa3 cSa3)
-                   m = rotMul (rotT r03) rp
+                   !r03 = rotMul r01 (dhRot (t2 + t3) cCa3 cSa3)
+                   !m = rotMul (rotT r03) rp
                in wristAngles c m (\t4 t5 t6 w sing -> Raw t1 t2 t3 t4 t5 t6 (Branch sh el w) (sing0 ++ sing))
              results = map perShoulder shoulders
              sols = concat [s | Right s <- results]
@@ -58,8 +58,8 @@ wristAngles :: Consts -> Rot -> (Double -> Double -> Double -> Wrist -> [Singula
 wristAngles Consts{..} m k =
   let Rot (V3 _ _ m02) (V3 _ _ m12) (V3 _ _ m22) = m
       s4g = signum cSa4; s5g = signum cSa5
-      c5 = -s4g * s5g * m22
-      s5a = sqrt (m02 * m02 + m12 * m12)
+      !c5 = -s4g * s5g * m22
+      !s5a = sqrt (m02 * m02 + m12 * m12)
       Rot _ _ (V3 m20 m21 _) = m
       -- well conditioned (sin θ5 > 1e-3): M's third row is (σ4 s5 c6, −σ4 s5 s6, ·);
       -- otherwise θ6 from N = (Rz(θ4)Rx(α4)Rz(θ5)Rx(α5))ᵀ·M = Rz(θ6), consistent with θ4
@@ -72,9 +72,9 @@ wristAngles Consts{..} m k =
   in if s5a < tolSing
        then let t4 = cO4; t5 = atan2 0 c5
             in [k t4 t5 (theta6 t4 t5) WristNoFlip [WristSingular]]
-       else let t4 = atan2 (s5g * m12) (s5g * m02)
-                t5 = atan2 s5a c5
-                t4' = t4 + pi; t5' = -t5
+       else let !t4 = atan2 (s5g * m12) (s5g * m02)
+                !t5 = atan2 s5a c5
+                !t4' = t4 + pi; !t5' = -t5
             in [ k t4 t5 (theta6 t4 t5) WristNoFlip []
                , k t4' t5' (theta6 t4' t5') WristFlip [] ]
 {-# INLINE wristAngles #-}
