@@ -4,7 +4,10 @@
 -- among the solutions). Criterion's time divided by 1000 is the time per pose.
 -- 'solvePrincipal' gives each distinct solution once; 'solveWith' adds the limits and
 -- every ±2π variant within them (64 per solution on a UR5 with ±360° joints).
-module ClosedFormBench (closedFormBenchmarks, benchRobots) where
+--
+-- > ghc -O2 -main-is ClosedFormBench.closedFormMain -isrc/core -ibench -outputdir /tmp/cf-build-o2 -o /tmp/cf-bench bench/ClosedFormBench.hs
+-- > /tmp/cf-bench
+module ClosedFormBench (closedFormBenchmarks, closedFormMain, benchRobots) where
 
 import Control.DeepSeq (force)
 import Criterion.Main
@@ -43,6 +46,10 @@ checked solver ps = [ if ok then p else error ("closed form misses a pose: " ++ 
                     , let ok = case solveWith solver p of
                                  Right sols -> any (\s -> U.maximum (U.map abs (U.zipWith (-) (solQ s) q)) < 1e-6) sols
                                  Left _ -> False ]
+
+-- | Stand-alone: criterion on 'closedFormBenchmarks'.
+closedFormMain :: IO ()
+closedFormMain = defaultMain closedFormBenchmarks
 
 closedFormBenchmarks :: [Benchmark]
 closedFormBenchmarks =
