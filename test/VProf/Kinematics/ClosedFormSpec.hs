@@ -300,6 +300,28 @@ spec = do
         any (\s -> angleDist (U.toList (solQ s)) q < 1e-6) sols `shouldBe` True
         forM_ sols $ \s -> poseError (fkFix f (U.toList (solQ s))) target `shouldSatisfy` (< 1e-9)
 
+  describe "arbitrary poses (random rotation, position within ±1.5 reach): never NaN" $
+    forM_ fixtures $ \f -> it (fxName f ++ ": every answer reproduces its pose, or says by how much it is out of reach") $ do
+      let dh = fixtureDh f
+          Right solver = prepare dh
+          reach = sum (map abs (fxA f)) + sum (map abs (fxD f))
+          genPose = do
+            let unit = choose (-1, 1); coord = choose (-1.5 * reach, 1.5 * reach)
+            (w, x, y, z) <- (,,,) <$> unit <*> unit <*> unit <*> unit
+            (px, py, pz) <- (,,) <$> coord <*> coord <*> coord
+            let n = sqrt (w * w + x * x + y * y + z * z) `max` 1e-9
+                (a, b, c, d) = (w / n, x / n, y / n, z / n)
+            pure [ [1 - 2 * (c * c + d * d), 2 * (b * c - a * d), 2 * (b * d + a * c), px]
+                 , [2 * (b * c + a * d), 1 - 2 * (b * b + d * d), 2 * (c * d - a * b), py]
+                 , [2 * (b * d - a * c), 2 * (c * d + a * b), 1 - 2 * (b * b + c * c), pz]
+                 , [0, 0, 0, 1] ]
+      property $ withMaxSuccess 2000 $ forAll genPose $ \target ->
+        case solvePrincipal solver (matToPose target) of
+          Left (OutOfReach _ d) -> counterexample (show d) (d > 0 && d < 3 * reach)
+          Left e -> counterexample (show e) False
+          Right sols -> conjoin [ counterexample (show (solQ s)) (poseError (fkFix f (U.toList (solQ s))) target < 1e-9)
+                                | s <- sols ]
+
   describe "failures say why" $ do
     it "a pose out of reach gives OutOfReach with the distance, never NaN" $
       forM_ fixtures $ \f -> do
