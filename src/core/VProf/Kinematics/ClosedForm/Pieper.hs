@@ -63,18 +63,19 @@ wristAngles Consts{..} m k =
       Rot _ _ (V3 m20 m21 _) = m
       -- well conditioned (sin θ5 > 1e-3): M's third row is (σ4 s5 c6, −σ4 s5 s6, ·);
       -- otherwise θ6 from N = (Rz(θ4)Rx(α4)Rz(θ5)Rx(α5))ᵀ·M = Rz(θ6), consistent with θ4
-      theta6 t4 t5
-        | s5a > 1e-3 = let sg = s4g * signum (sin t5) in atan2 (-sg * m21) (sg * m20)
+      -- sgn5 is the sign of sin θ5 on the branch
+      theta6 sgn5 t4 t5
+        | s5a > 1e-3 = let sg = s4g * sgn5 in atan2 (-sg * m21) (sg * m20)
         | otherwise =
             let n = rotMul (rotT (rotMul (dhRot t4 cCa4 cSa4) (dhRot t5 cCa5 cSa5))) m
                 Rot (V3 n00 _ _) (V3 n10 _ _) _ = n
             in atan2 n10 n00
   in if s5a < tolSing
        then let t4 = cO4; t5 = atan2 0 c5
-            in [k t4 t5 (theta6 t4 t5) WristNoFlip [WristSingular]]
+            in [k t4 t5 (theta6 1 t4 t5) WristNoFlip [WristSingular]]
        else let !t4 = atan2 (s5g * m12) (s5g * m02)
                 !t5 = atan2 s5a c5
                 !t4' = t4 + pi; !t5' = -t5
-            in [ k t4 t5 (theta6 t4 t5) WristNoFlip []
-               , k t4' t5' (theta6 t4' t5') WristFlip [] ]
+            in [ k t4 t5 (theta6 1 t4 t5) WristNoFlip []
+               , k t4' t5' (theta6 (-1) t4' t5') WristFlip [] ]
 {-# INLINE wristAngles #-}
