@@ -21,6 +21,7 @@ import Graphics.Rendering.Chart
 import Graphics.Rendering.Chart.Backend.Cairo
 
 import CompressBench (compressBenchmarks)
+import ClosedFormBench (closedFormBenchmarks)
 import KinematicsBench (kinematicsBenchmarks)
 import Routes
 import VProf.Profile.Generate
@@ -61,7 +62,7 @@ main = do
       , bgroup "scaling" [ bench (show (round len :: Int) ++ "m-" ++ show nz ++ "limits")
                                   (nf (resIterations . generatePure) (syntheticRoute len nz))
                          | (len, nz) <- series ]
-      ] ++ compression ++ kinematicsBenchmarks
+      ] ++ compression ++ kinematicsBenchmarks ++ closedFormBenchmarks
 
 -- | Wall-clock scaling series (best of 5 runs): route length and number of limits.
 scaling :: IO ()

@@ -17,7 +17,7 @@ import Text.Read (readMaybe)
 
 import Support.DhOracle
 import Support.NumericIk
-import Support.Reference
+import Support.DhReference
 import Support.Robots
 import VProf.Kinematics.ClosedForm
 

@@ -42,12 +42,32 @@ spec = do
                      .&&. not (null sols)
                      .&&. (map solSeedDistance sols == foldr insertSorted [] (map solSeedDistance sols))
 
+  describe "six-axis closed forms through the general model" $ do
+    let sixAxis = [ "ur3", "ur5", "ur10", "ur5e", "ur10e", "abb-irb120", "abb-irb140", "abb-irb1600-6-1.2"
+                  , "abb-irb6700-200-2.60", "puma560", "kuka-kr5-arc" ]
+    forM_ sixAxis $ \name -> do
+      it (name ++ ": uses the closed form") $
+        case kinMethod (lib name) of
+          ClosedFormSixAxis _ -> pure ()
+          _ -> expectationFailure "another solver chosen"
+      it (name ++ ": the original q is among the solutions, each labelled, exact and within limits") $ do
+        let k = lib name
+            ch = kinChain k
+        property $ withMaxSuccess 300 $ forAllQ ch $ \q ->
+          case solveIk defaultIkOptions k (forward ch q) Nothing of
+            Left f -> counterexample (describeFailure f) False
+            Right sols ->
+              counterexample (show (map (U.toList . solJoints) sols)) $
+                any (\s -> U.maximum (U.map abs (U.zipWith (-) (solJoints s) q)) < 1e-7) sols
+                  && all (\s -> solPositionError s < 1e-9 && solRotationError s < 1e-9 && withinLimits 1e-9 ch (solJoints s)
+                                 && maybe False ((== 3) . length) (solBranch s)) sols
+
   describe "Dobot closed form" $ do
     forM_ ["dobot-magician-lite", "dobot-magician"] $ \name -> do
       it (name ++ ": uses the closed form") $
         case kinMethod (lib name) of
           ClosedFormDobot _ -> pure ()
-          NumericLM -> expectationFailure "numeric solver chosen"
+          _ -> expectationFailure "another solver chosen"
       it (name ++ ": the original q is among the solutions, and every solution is exact") $ do
         let k = lib name
             ch = kinChain k

@@ -2,8 +2,9 @@
 -- solution found within the joint limits, sorted by distance to the seed, or a failure saying why.
 --
 -- 'prepare' picks the solver once per robot: the Dobot closed form when the model is the Dobot
--- linkage ('VProf.Kinematics.Ik.Dobot'), otherwise the numerical solver
--- ('VProf.Kinematics.Ik.Numeric'). Invariant: requests are checked first (finite target, rigid
+-- linkage ('VProf.Kinematics.Ik.Dobot'), the six-axis closed forms when the DH table has a
+-- spherical wrist or three parallel axes ('VProf.Kinematics.Ik.SixAxis'), otherwise the
+-- numerical solver ('VProf.Kinematics.Ik.Numeric'). Invariant: requests are checked first (finite target, rigid
 -- rotation, seed of the right length, finite): a bad request gets 'InvalidRequest', never an
 -- exception or a NaN.
 module VProf.Kinematics.Ik
@@ -25,10 +26,12 @@ import VProf.Kinematics.Ik.Dobot
 import VProf.Kinematics.Ik.Numeric
 import VProf.Kinematics.Ik.Types
 import VProf.Kinematics.Model
+import qualified VProf.Kinematics.ClosedForm as CF
+import VProf.Kinematics.Ik.SixAxis
 import VProf.Kinematics.Transform
 import VProf.Validation (finite)
 
-data Method = ClosedFormDobot DobotGeometry | NumericLM
+data Method = ClosedFormDobot DobotGeometry | ClosedFormSixAxis CF.Solver | NumericLM
 
 -- | A robot ready for IK: its compiled chain and the solver chosen for it.
 data Kinematics = Kinematics {kinChain :: Chain, kinMethod :: Method}
@@ -41,6 +44,7 @@ prepareChain ch = Kinematics ch method
   where
     method = case robotClosedForm (chainRobot ch) of
       Just DobotLinkage | Right g <- dobotGeometry (chainRobot ch) -> ClosedFormDobot g
+      _ | Just solver <- sixAxisSolver ch -> ClosedFormSixAxis solver
       _ -> NumericLM
 
 
@@ -66,6 +70,7 @@ solveIk :: IkOptions -> Kinematics -> Tf -> Maybe (U.Vector Double) -> Either Ik
 solveIk opts (Kinematics ch m) target seed = case checkRequest ch target seed of
   [] -> case m of
     ClosedFormDobot g -> solveDobot opts ch g target seed
+    ClosedFormSixAxis solver -> solveSixAxis opts ch solver target seed
     NumericLM -> solveNumeric opts ch target seed
   errs -> Left (InvalidRequest errs)
 
@@ -74,6 +79,7 @@ solveIkIO :: Double -> IkOptions -> Kinematics -> Tf -> Maybe (U.Vector Double) 
 solveIkIO budget opts (Kinematics ch m) target seed = case checkRequest ch target seed of
   [] -> case m of
     ClosedFormDobot g -> pure (solveDobot opts ch g target seed)
+    ClosedFormSixAxis solver -> pure (solveSixAxis opts ch solver target seed)
     NumericLM -> solveNumericIO budget opts ch target seed
   errs -> pure (Left (InvalidRequest errs))
 

@@ -3,7 +3,7 @@
 --
 -- > vprof robots [NAME] [--format table|json]
 -- > vprof fk ROBOT Q... [--deg] [--tip LINK] [--format table|json]
--- > vprof ik ROBOT --pose X Y Z QW QX QY QZ [--seed Q...] [--all] [--deg] [--tip LINK] [--format table|json]
+-- > vprof ik ROBOT --pose X Y Z QW QX QY QZ [--seed Q...] [--all] [--branch RUN] [--deg] [--tip LINK] [--format table|json]
 --
 -- ROBOT is a library name (@vprof robots@ lists them) or a robot file (@.yaml@, @.json@)
 -- or a URDF (@.urdf@, with @--tip@ naming the last link; the base is the URDF's root).
@@ -169,7 +169,7 @@ runFk o = do
 
 data IkOpts = IkOpts
   { ikRobotName :: String, ikPose :: [Double], ikSeedQ :: Maybe [Double], ikAll :: Bool
-  , ikDeg :: Bool, ikTip :: Maybe String, ikFormat :: Format, ikBudget :: Double }
+  , ikDeg :: Bool, ikTip :: Maybe String, ikFormat :: Format, ikBudget :: Double, ikBranchWanted :: Maybe String }
 
 ikCommand :: Parser (IO ExitCode)
 ikCommand = runIk <$> (IkOpts
@@ -180,7 +180,9 @@ ikCommand = runIk <$> (IkOpts
   <*> switch (long "all" <> help "search for every solution (the numerical solver keeps restarting), not only the nearest")
   <*> switch (long "deg" <> help "joint values in and out in degrees")
   <*> tipOption <*> formatOption
-  <*> option auto (long "time-budget" <> metavar "SECONDS" <> value 1 <> showDefault <> help "wall-clock budget of the numerical solver"))
+  <*> option auto (long "time-budget" <> metavar "SECONDS" <> value 1 <> showDefault <> help "wall-clock budget of the numerical solver")
+  <*> optional (option (eitherReader branch) (long "branch" <> metavar "RUN|LDF|..."
+        <> help "six-axis closed forms: only this branch (shoulder R/L, elbow U/D, wrist N/F)")))
   where
     numbers k s = case mapM readD (words (map (\c -> if c == ',' then ' ' else c) s)) of
       Just xs | k == 0 || length xs == k -> Right xs
@@ -188,6 +190,10 @@ ikCommand = runIk <$> (IkOpts
     readD w = case reads w of
       [(d, "")] -> Just (d :: Double)
       _ -> Nothing
+    branch b = let u = map toUpper' b in
+      if length u == 3 && head u `elem` ("RL" :: String) && u !! 1 `elem` ("UD" :: String) && u !! 2 `elem` ("NF" :: String)
+        then Right u else Left ("--branch: " ++ show b ++ " is not a branch label (R or L, U or D, N or F: e.g. RUN)")
+    toUpper' c = if c >= 'a' && c <= 'z' then toEnum (fromEnum c - 32) else c
 
 runIk :: IkOpts -> IO ExitCode
 runIk o = do
@@ -210,19 +216,20 @@ runIk o = do
                   Json -> BLC.putStrLn (A.encode (A.object [ "error" A..= describeFailure f ]))
                   Table -> hPutStrLn stderr ("vprof ik: " ++ describeFailure f)
                 pure (ExitFailure 1)
-              Right sols -> do
-                let shown = if ikAll o then sols else take 1 sols
+              Right sols0 -> do
+                let sols = maybe sols0 (\b -> filter ((== Just b) . solBranch) sols0) (ikBranchWanted o)
+                    shown = if ikAll o then sols else take 1 sols
                 case ikFormat o of
                   Json -> BLC.putStrLn $ A.encode $ A.object
-                    [ "solutions" A..= [ A.object [ "q" A..= jointsTo (ikDeg o) r (solJoints s)
+                    [ "solutions" A..= [ A.object [ "q" A..= jointsTo (ikDeg o) r (solJoints s), "branch" A..= solBranch s
                                                   , "position_error" A..= solPositionError s
                                                   , "rotation_error" A..= solRotationError s ]
                                        | s <- shown ] ]
                   Table -> do
                     putStrLn (show (length sols) ++ " solution(s) within the joint limits, nearest the seed first"
                               ++ (if ikDeg o then " (deg)" else " (rad, m)"))
-                    mapM_ (\s -> putStrLn ("  " ++ unwords (map (num 6) (jointsTo (ikDeg o) r (solJoints s)))
+                    mapM_ (\s -> putStrLn ("  " ++ maybe "" (++ "  ") (solBranch s) ++ unwords (map (num 6) (jointsTo (ikDeg o) r (solJoints s)))
                                            ++ "   error " ++ showFFloat (Just 1) (solPositionError s) "" ++ " m, "
                                            ++ showFFloat (Just 1) (solRotationError s) "" ++ " rad")) shown
-                pure ExitSuccess
+                pure (if null sols then ExitFailure 1 else ExitSuccess)
       _ -> failWith "--pose: expected 7 numbers"

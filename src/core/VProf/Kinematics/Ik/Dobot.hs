@@ -130,7 +130,7 @@ solveDobot IkOptions{..} ch DobotGeometry{..} target seedM
            [] -> base
            _ -> snd (minimum [(abs (o - seed U.! j), o) | o <- opts])
     within =
-      [ IkSolution q pe re (seedDistance q seed)
+      [ IkSolution q pe re (seedDistance q seed) Nothing
       | q <- candidates
       , withinLimits ikLimitTolerance ch q
       , let (pe, re) = residual (forward ch q) target

@@ -262,7 +262,7 @@ finish opts ch target seed as =
   where
     taken = if ikAllSolutions opts then as else takeUntil attConverged as
     found =
-      [ IkSolution q pe re (seedDistance q seed)
+      [ IkSolution q pe re (seedDistance q seed) Nothing
       | Attempt q _ _ True _ <- taken
       , withinLimits (ikLimitTolerance opts) ch q
       , let (pe, re) = residual (forward ch q) target

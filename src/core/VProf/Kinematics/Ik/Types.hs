@@ -42,11 +42,12 @@ data IkSolution = IkSolution
   , solPositionError :: Double    -- ^ m, by forward kinematics
   , solRotationError :: Double    -- ^ rad, by forward kinematics
   , solSeedDistance :: Double     -- ^ Euclidean distance to the seed (or to mid-limits)
+  , solBranch :: Maybe String     -- ^ the closed form's branch label (shoulder, elbow, wrist: "RUN" …), if any
   }
   deriving (Eq, Show)
 
 instance NFData IkSolution where
-  rnf (IkSolution q a b c) = q `seq` a `seq` b `seq` c `seq` ()
+  rnf (IkSolution q a b c l) = q `seq` a `seq` b `seq` c `seq` rnf l
 
 data IkFailure
   = BeyondReach {failDistance :: Double, failReach :: Double}
@@ -61,6 +62,8 @@ data IkFailure
   | Singular String
   | NotConverged {failPositionResidual :: Double, failRotationResidual :: Double}
     -- ^ the best residual found within the budget (m, rad)
+  | Unreachable String Double
+    -- ^ what the closed form cannot reach, and by how much (m)
   | InvalidRequest [String]
   deriving (Eq, Show)
 
@@ -76,6 +79,7 @@ describeFailure = \f -> case f of
   OrientationUnreachable t -> "the tool stays level: the target is tilted by " ++ show (t * 180 / pi) ++ " deg"
   Singular why -> "singular: " ++ why
   NotConverged p r -> "not converged: best residual " ++ show p ++ " m, " ++ show r ++ " rad"
+  Unreachable what d -> "beyond reach: " ++ what ++ " (" ++ mm d ++ " too far)"
   InvalidRequest es -> "invalid request: " ++ intercalate "; " es
   where
     mm x = show (fromIntegral (round (x * 1e6) :: Integer) / 1000 :: Double) ++ " mm"
