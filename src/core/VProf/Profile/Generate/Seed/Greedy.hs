@@ -65,6 +65,12 @@ choose e st@(St v _ s) =
        then maybe fallback (\stP -> maybe (bisectFrom stP) id (try hi)) (try probe)
        else maybe (maybe fallback bisectFrom (try probe)) id (try hi)
 
+-- | A velocity this low near the terminal is rest: the braking ends with a step to
+-- exactly zero (or, if that step is not allowed, here), instead of creeping on towards a
+-- standstill it may approach for ever. It is a tenth of the checker's slack at zero.
+restVelocity :: Double
+restVelocity = 1e-10
+
 -- | The forward pass toward a standstill on the terminal point, from a state: the states
 -- visited after it, in order, until it has come to rest within the landing tolerance
 -- of the terminal. Stops after @limit@ steps.
@@ -78,6 +84,9 @@ forward e landTol limit = go 0
       | otherwise = let st' = choose e st in st' : go (n + 1) st'
     finishBraking st n
       | atRest e st || n >= limit = []
+      | stV st <= restVelocity =
+          let st' = St 0 (negate (stV st) / dtE e) (stS st + stV st * dtE e / 2)
+          in [ st' | stepOk e st st' ]
       | otherwise = let st' = stepTo e st (brakeAcc e st) in st' : finishBraking st' (n + 1)
 
 -- | The greedy pass from a state: the states after it, up to the first for which @done@
