@@ -22,14 +22,17 @@ spec = describe "vprof robots / fk / ik" $ do
   it "lists the library and shows a robot" $ do
     run robotsCommand [] `shouldReturn` ExitSuccess
     run robotsCommand ["ur5", "--format", "json"] `shouldReturn` ExitSuccess
-  it "forward kinematics: 0 for good joint values (negative ones too), 2 for a wrong count or an unknown robot" $ do
+  it "forward kinematics: 0 for good joint values (negative ones too), 2 for a wrong count, NaN or an unknown robot" $ do
     run fkCommand ["ur5", "0", "-90", "90", "0", "90", "0", "--deg"] `shouldReturn` ExitSuccess
     run fkCommand ["ur5", "0", "1"] `shouldReturn` ExitFailure 2
     run fkCommand ["no-such-robot", "0"] `shouldReturn` ExitFailure 2
-    run fkCommand ["ur5", "0", "0", "0", "0", "0", "NaN"] `shouldReturn` ExitFailure 99
-  it "inverse kinematics: 0 for a reachable pose, 1 beyond reach, 2 for a quaternion that is not a unit" $ do
+    run fkCommand ["ur5", "0", "0", "0", "0", "0", "NaN"] `shouldReturn` ExitFailure 2
+  it "inverse kinematics: 0 for a reachable pose, 1 beyond reach or tilted, 2 for a quaternion that is not a unit" $ do
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0"] `shouldReturn` ExitSuccess
-    run ikCommand ["dobot-magician-lite", "--pose", "0.2 0.05 0.1 1 0 0 0", "--all"] `shouldReturn` ExitSuccess
+    -- the Dobot's flange points down (a half turn about y): a level target is reachable,
+    -- the upright orientation is a tilt of 180 degrees
+    run ikCommand ["dobot-magician-lite", "--pose", "0.2 0.05 0.1 0 0 1 0", "--all"] `shouldReturn` ExitSuccess
+    run ikCommand ["dobot-magician-lite", "--pose", "0.2 0.05 0.1 1 0 0 0"] `shouldReturn` ExitFailure 1
     run ikCommand ["ur5", "--pose", "3 0 0 1 0 0 0"] `shouldReturn` ExitFailure 1
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 1 1 0 0"] `shouldReturn` ExitFailure 2
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3"] `shouldReturn` ExitFailure 99
