@@ -61,4 +61,4 @@ closedFormBenchmarks =
       , env (pure (force (map fst (poses dh)))) $ \qs ->
           bench "forward kinematics (reference)" $ nf (map (poseToRowMajor . forwardPose dh)) qs
       ]
-  | (name, dh) <- benchRobots, let Right solver = prepare dh ]
+  | (name, dh) <- benchRobots, let Right solver = solverFor dh ]

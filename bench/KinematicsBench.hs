@@ -22,7 +22,7 @@ import VProf.Kinematics.Ik.Numeric (SplitMix (..), nextDouble)
 import VProf.Kinematics.Library
 
 lib :: String -> Kinematics
-lib n = either error prepare (lookupRobot n)
+lib n = either error kinematicsFor (lookupRobot n)
 
 -- | n random joint vectors uniform within the limits and their FK targets.
 protocolTargets :: Chain -> Int -> Word64 -> [(U.Vector Double, Tf)]

@@ -20,7 +20,7 @@ main = do
       printf "%-22s %8s %9s %9s %9s %9s %9s %12s %12s\n" "robot" "solves" "success%" "mean us" "median" "p99" "cpu us" "worst pos m" "worst rot"
       forM_ keys $ \key -> do
         let Right r = lookupRobot key
-        p <- tracIkProtocol (prepare r) (read n) 20261201
+        p <- tracIkProtocol (kinematicsFor r) (read n) 20261201
         printf "%-22s %8d %9.3f %9.1f %9.1f %9.1f %9.1f %12.2e %12.2e\n" key (prSolves p)
           (100 * fromIntegral (prSuccesses p) / fromIntegral (prSolves p) :: Double)
           (prMeanUs p) (prMedianUs p) (prP99Us p) (prMeanCpuUs p) (prWorstPosition p) (prWorstRotation p)

@@ -92,6 +92,6 @@ compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
           tolOk = maybe True (\e -> mGeometricMax m <= e + 1e-12) tolM
       in Compressed (fromPathA pa) m tolOk (totalCost pr (sWeights s) pa) (show stop))
   where
-    pr = prepare rec
+    pr = prepareRecording rec
     tolM = fmap (/~ metre) (sTolerance s)
-    n = U.length (prT pr)
+    n = U.length (rcT pr)

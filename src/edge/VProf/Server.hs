@@ -111,7 +111,7 @@ resolveWorkers cfg
 
 ----------------------------------------------------------------------------- environment
 
-data Env = Env
+data ServerEnv = ServerEnv
   { envCfg      :: ServerConfig
   , envHandler  :: Handler
   , envSem      :: QSem
@@ -119,7 +119,7 @@ data Env = Env
   , envDraining :: TVar Bool
   }
 
-newEnv :: ServerConfig -> Handler -> IO Env
+newEnv :: ServerConfig -> Handler -> IO ServerEnv
 newEnv cfg h = do
   n <- resolveWorkers cfg
   sem <- newQSem n
@@ -128,7 +128,7 @@ newEnv cfg h = do
   let logger line
         | cfgQuiet cfg = pure ()
         | otherwise = withMVar lock $ \_ -> T.hPutStrLn stderr line >> hFlush stderr
-  pure (Env cfg h sem logger draining)
+  pure (ServerEnv cfg h sem logger draining)
 
 ----------------------------------------------------------------------------- logging
 
@@ -183,7 +183,7 @@ outcomeOf r
 -- | Answer one frame body: decode, classify, run the handler under the semaphore and the
 -- hard timeout, encode. Never throws (save asynchronous exceptions). Returns the encoded
 -- response body (without length prefix).
-processFrame :: Env -> B.ByteString -> Int -> IO B.ByteString
+processFrame :: ServerEnv -> B.ByteString -> Int -> IO B.ByteString
 processFrame env body bytesIn = do
   t0 <- getMonotonicTime
   decoded <- safeDecode body
@@ -229,7 +229,7 @@ encodeOrInternal rid resp = do
 -- | Run the handler in a worker thread holding a semaphore slot; answer INTERNAL on an
 -- exception or when the hard timeout passes (the worker is then killed in the background
 -- and gives its slot back only when it has really stopped).
-guarded :: Env -> Word64 -> Incoming -> IO ResponseMsg
+guarded :: ServerEnv -> Word64 -> Incoming -> IO ResponseMsg
 guarded env rid inc = do
   result <- newEmptyMVar
   tid <- mask_ $ do
@@ -260,7 +260,7 @@ data Wake = Drain | Idle | Ready Bool
 
 -- | Serve one connection (or stdin/stdout) until end of input, idle timeout, a broken
 -- frame, or a drain.
-connectionLoop :: Env -> Double -> Source -> (B.ByteString -> IO ()) -> IO ()
+connectionLoop :: ServerEnv -> Double -> Source -> (B.ByteString -> IO ()) -> IO ()
 connectionLoop env idleS src send = loop
   where
     cfg = envCfg env
@@ -310,7 +310,7 @@ data Server = Server
   { srvPort    :: PortNumber
   , srvSocket  :: Socket
   , srvAccept  :: Async ()
-  , srvEnv     :: Env
+  , srvEnv     :: ServerEnv
   , srvActive  :: TVar Int
   }
 
@@ -341,7 +341,7 @@ startServer cfg handler = do
   acc <- async acceptLoop
   pure (Server port sock acc env active)
 
-serveConn :: Env -> Socket -> IO ()
+serveConn :: ServerEnv -> Socket -> IO ()
 serveConn env conn = do
   setSocketOption conn NoDelay 1
   src <- newSource (NSB.recv conn 65536)

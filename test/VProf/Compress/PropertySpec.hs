@@ -34,7 +34,7 @@ sampleTruth (Truth ts ps qs) noise = do
       qv = pfromList qs :: Qs
       n = floor ((last ts - head ts) / 0.05) + 1 :: Int
       st = [ head ts + 0.05 * fromIntegral i | i <- [0 .. n - 1] ]
-      clean = [ interpolate tv pv qv t | t <- st ]
+      clean = [ polylineAt tv pv qv t | t <- st ]
   noisy <- case noise of
     Nothing -> pure clean
     Just (ap, ao) -> mapM (\(p, q) -> do
@@ -49,7 +49,7 @@ cleanOf tr = case sampleTruthClean tr of r -> r
           let tv = U.fromList ts; pv = pfromList ps :: V3s; qv = pfromList qs :: Qs
               n = floor ((last ts - head ts) / 0.05) + 1 :: Int
               st = [ head ts + 0.05 * fromIntegral i | i <- [0 .. n - 1] ]
-              clean = [ interpolate tv pv qv t | t <- st ]
+              clean = [ polylineAt tv pv qv t | t <- st ]
           in either error id (recordingFromArrays (U.fromList st) (pfromList (map fst clean)) (pfromList (map snd clean)))
 
 fitK :: Weights -> Int -> Recording -> Compressed
@@ -57,7 +57,7 @@ fitK w k rec = either (error . show) id (compress defaultSettings { sWeights = w
 
 -- | Metrics of a path against the noise-free samples of the truth.
 againstTruth :: Truth -> Compressed -> Metrics
-againstTruth tr o = computeMetrics (prepare (cleanOf tr)) (toPathA (oPath o))
+againstTruth tr o = computeMetrics (prepareRecording (cleanOf tr)) (toPathA (oPath o))
 
 spec :: Spec
 spec = describe "recovery of a known K-waypoint path" $ do

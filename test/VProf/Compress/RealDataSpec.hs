@@ -98,7 +98,7 @@ spec = do
     it "gives no orientation spike: error within +-1 s of the flip below 20 deg, waypoints there turn no faster than the sensor" $ do
       rec@(Recording tr) <- loadTum "V101_gt.txt"
       let out = run MethodThesis (threePercent rec) rec
-          pr = prepare rec
+          pr = prepareRecording rec
           pa = toPathA (oPath out)
           (_, eo, _) = pointErrors pr pa
           ts = tTime tr

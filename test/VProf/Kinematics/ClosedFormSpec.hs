@@ -83,7 +83,7 @@ sameSolution fam n s =
 countsAgree :: Fixture -> Mat4 -> Expectation
 countsAgree f target = do
   let dh = fixtureDh f
-      Right solver = prepare dh
+      Right solver = solverFor dh
       fam = solverFamily solver
   case solvePrincipal solver (matToPose target) of
     Left e -> expectationFailure ("closed form failed: " ++ show e)
@@ -144,7 +144,7 @@ spec = do
       r <- loadReference name
       let dh = refDh r
       classify dh `shouldSatisfy` isJust
-      let Right solver = prepare dh
+      let Right solver = solverFor dh
       forM_ (refCases r) $ \c -> do
         poseError (poseToMat (forwardPose dh (U.fromList (caseQ c)))) (rowsToMatrix (caseT c)) `shouldSatisfy` (< 1e-9)
         case solvePrincipal solver (matToPose (rowsToMatrix (caseT c))) of
@@ -171,7 +171,7 @@ spec = do
     forM_ fixtures $ \f -> it (fxName f ++ ": q among the solutions, every solution reproduces the pose to 1e-10 and lies within limits") $ do
       let dh = fixtureDh f
           rows = fixtureRows f
-          Right solver = prepare dh
+          Right solver = solverFor dh
       property $ withMaxSuccess recoveryCount $ forAll (genQ dh) $ \q ->
         let target = fkFix f q
         in case (solveWith solver (matToPose target), solvePrincipal solver (matToPose target)) of
@@ -198,7 +198,7 @@ spec = do
         parseBranch ("cfx" ++ show (branchCfx b)) `shouldBe` Just b
     forM_ fixtures $ \f -> it (fxName f ++ ": eight distinct labels at a regular pose, each equal to branchOf, selectBranch picks one") $ do
       let dh = fixtureDh f
-          Right solver = prepare dh
+          Right solver = solverFor dh
           eight = [(q, sols) | k <- [1 .. 60], let q = pick dh k
                              , Right sols <- [solvePrincipal solver (matToPose (fkFix f q))], length sols == 8]
       eight `shouldSatisfy` (not . null)
@@ -219,7 +219,7 @@ spec = do
   describe "wrapped variants" $
     forM_ (map fixtureByName ["UR5", "IRB 140", "KR5 arc"]) $ \f -> it (fxName f ++ ": every q + 2πk within the limits, and no other") $ do
       let dh = fixtureDh f
-          Right solver = prepare dh
+          Right solver = solverFor dh
       forM_ [1 .. 20] $ \k -> do
         let target = matToPose (fkFix f (pick dh k))
             Right principal = solvePrincipal solver target
@@ -246,7 +246,7 @@ spec = do
         countsAgree f (fkFix f (take 4 (pick dh 5) ++ [1e-3, 0.7]))
       it (fxName f ++ ": wrist point 1 mm from its closest approach to axis 1") $ do
         let targets = [t | k <- [20 .. 40], let t = nearAxisTarget fam f 1e-3 (pick dh k)
-                         , Right (_ : _) <- [solvePrincipal (either (error . show) id (prepare dh)) (matToPose t)]]
+                         , Right (_ : _) <- [solvePrincipal (either (error . show) id (solverFor dh)) (matToPose t)]]
         length targets `shouldSatisfy` (> 0)
         countsAgree f (head targets)
       it (fxName f ++ ": IKFast grid (every joint in 0, ±π/2, π), 6 samples") $
@@ -254,7 +254,7 @@ spec = do
           let grid = [0, pi / 2, -pi / 2, pi]
               q = [grid !! ((k * 3 + j * (k + 1) + j * j) `mod` 4) | j <- [0 .. 5]]
               target = fkFix f q
-              Right solver = prepare dh
+              Right solver = solverFor dh
           case solvePrincipal solver (matToPose target) of
             Right sols -> any (\s -> sameSolution fam q s) sols `shouldBe` True
             Left e -> expectationFailure (show e)
@@ -264,7 +264,7 @@ spec = do
     it "wrist singular (q5 = 0): q4 = 0 kept on the spherical wrist, q6 = 0 on UR; pose reproduced" $
       forM_ fixtures $ \f -> do
         let dh = fixtureDh f
-            Right solver = prepare dh
+            Right solver = solverFor dh
             q = take 4 (pick dh 7) ++ [0, 0.3]
             target = fkFix f q
             Right sols = solvePrincipal solver (matToPose target)
@@ -277,7 +277,7 @@ spec = do
     it "wrist centre on axis 1 (IRB 120): q1 = 0 and q1 = π, pose reproduced" $ do
       let f = fixtureByName "IRB 120"
           dh = fixtureDh f
-          Right solver = prepare dh
+          Right solver = solverFor dh
           target = nearAxisTarget SphericalWrist f 0 [0, 0.2, -0.3, 0.4, 0.9, -0.5]
           Right sols = solvePrincipal solver (matToPose target)
           -- the wrist centre, tool point − d6·z (d6 = 0.072 m), lies on axis 1
@@ -292,7 +292,7 @@ spec = do
       forM_ [("UR5", [0.3, -1.0, 0, 0.5, 0.8, 0.2]), ("IRB 140", [0.3, 0.2, atan2 0.380 0 - pi, 0.5, 0.8, 0.2])] $ \(n, q) -> do
         let f = fixtureByName n
             dh = fixtureDh f
-            Right solver = prepare dh
+            Right solver = solverFor dh
             target = fkFix f q
             Right sols = solvePrincipal solver (matToPose target)
             stretched = [s | s <- sols, ElbowStretched `elem` solSingular s]
@@ -303,7 +303,7 @@ spec = do
   describe "arbitrary poses (random rotation, position within ±1.5 reach): never NaN" $
     forM_ fixtures $ \f -> it (fxName f ++ ": every answer reproduces its pose, or says by how much it is out of reach") $ do
       let dh = fixtureDh f
-          Right solver = prepare dh
+          Right solver = solverFor dh
           reach = sum (map abs (fxA f)) + sum (map abs (fxD f))
           genPose = do
             let unit = choose (-1, 1); coord = choose (-1.5 * reach, 1.5 * reach)

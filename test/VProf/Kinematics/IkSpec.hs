@@ -17,7 +17,7 @@ deg :: Double -> Double
 deg = (* (pi / 180))
 
 lib :: String -> Kinematics
-lib n = either error prepare (lookupRobot n)
+lib n = either error kinematicsFor (lookupRobot n)
 
 spec :: Spec
 spec = do

@@ -91,9 +91,9 @@ data FitResult = FitResult
 
 -- | K waypoints at the sample times that split the recording into K−1 equal groups.
 initialPath :: Prepared -> Int -> PathA
-initialPath pr k0 = PathA (pbackpermute (prT pr) idx) (pbackpermute (prP pr) idx) (pbackpermute (prQ pr) idx)
+initialPath pr k0 = PathA (pbackpermute (rcT pr) idx) (pbackpermute (rcP pr) idx) (pbackpermute (rcQ pr) idx)
   where
-    n = U.length (prT pr)
+    n = U.length (rcT pr)
     k = max 2 (min n k0)
     idx = U.generate k (\j -> round (fromIntegral j * fromIntegral (n - 1) / fromIntegral (k - 1) :: Double))
 
@@ -149,7 +149,7 @@ solvePositions pr (Weights wp _ wv) pa@(PathA ts ps qs)
       Right ps' -> PathA ts ps' qs
       Left _ -> pa
   where
-    st = prT pr
+    st = rcT pr
     n = U.length st
     k = U.length ts
     seg = segmentIndices ts st
@@ -163,16 +163,16 @@ solvePositions pr (Weights wp _ wv) pa@(PathA ts ps qs)
       bs <- newBand k band
       forM_ [0 .. n - 1] $ \i -> do
         let a = alpha i
-        addObs2 bs wp (seg U.! i) (1 - a) a (pindex (prP pr) i)
+        addObs2 bs wp (seg U.! i) (1 - a) a (pindex (rcP pr) i)
       when (wv > 0) $ forM_ [0 .. n - 2] $ \i -> do
-        let d = prDt pr U.! i
+        let d = rcDt pr U.! i
             j0 = seg U.! i; a0 = alpha i
             j1 = seg U.! (i + 1); a1 = alpha (i + 1)
         addObs bs wv [(j1, (1 - a1) / d), (j1 + 1, a1 / d), (j0, negate (1 - a0) / d), (j0 + 1, negate a0 / d)]
-               (pindex (prV pr) i)
+               (pindex (rcV pr) i)
       forM_ [0 .. k - 1] $ \j -> addObs bs lam [(j, 1)] (pindex ps j)
-      pinValue bs 0 (phead (prP pr))
-      pinValue bs (k - 1) (plast (prP pr))
+      pinValue bs 0 (phead (rcP pr))
+      pinValue bs (k - 1) (plast (rcP pr))
       solveBand bs
 
 -- | Gauss–Newton steps for the orientations: the error of sample i is the rotation vector
@@ -182,10 +182,10 @@ solvePositions pr (Weights wp _ wv) pa@(PathA ts ps qs)
 -- With orientation weight 0 the waypoints take the recording's orientation at their time.
 solveOrientations :: Prepared -> Weights -> PathA -> PathA
 solveOrientations pr (Weights _ wo _) pa@(PathA ts ps qs)
-  | wo == 0 = PathA ts ps (pgenerate (U.length ts) (\j -> snd (interpolate (prT pr) (prP pr) (prQ pr) (ts U.! j))))
+  | wo == 0 = PathA ts ps (pgenerate (U.length ts) (\j -> snd (polylineAt (rcT pr) (rcP pr) (rcQ pr) (ts U.! j))))
   | otherwise = iter (1 :: Int) pa
   where
-    st = prT pr
+    st = rcT pr
     n = U.length st
     k = U.length ts
     oriCost x = rangeCost pr (Weights 0 1 0) (pathInterp x) 0 (n - 1)
@@ -202,8 +202,8 @@ solveOrientations pr (Weights _ wo _) pa@(PathA ts ps qs)
             forM_ [0 .. n - 1] $ \i -> do
               let j = seg U.! i
                   a = alpha i
-                  qh = snd (tableAt tbl j (pindex (prT pr) i))
-                  e = qlog (qmul (pindex (prQ pr) i) (qconj qh))
+                  qh = snd (tableAt tbl j (pindex (rcT pr) i))
+                  e = qlog (qmul (pindex (rcQ pr) i) (qconj qh))
               addObs2 bs 1 j (1 - a) a e
             forM_ [0 .. k - 1] $ \j -> addObs bs (1e-9 * fromIntegral n / fromIntegral k) [(j, 1)] (P3 0 0 0)
             pinValue bs 0 (P3 0 0 0)
@@ -218,7 +218,7 @@ solveOrientations pr (Weights _ wo _) pa@(PathA ts ps qs)
            Right ds -> case tryStep ds of
              Just x' -> iter (m - 1) (pinQ x')
              Nothing -> x
-    pinQ (PathA t p q) = PathA t p (pupdate q [(0, phead (prQ pr)), (k - 1, plast (prQ pr))])
+    pinQ (PathA t p q) = PathA t p (pupdate q [(0, phead (rcQ pr)), (k - 1, plast (rcQ pr))])
     _unused = qs
 
 normQ :: Q4 -> Q4
@@ -241,7 +241,7 @@ updateTimes pr w frac which pa0@(PathA ts0 _ _)
               (i0, i1) = samplesIn pr lo hi
               pA = pindex ps (j - 1); pC = pindex ps (j + 1)
               qA = pindex qs (j - 1); qC = pindex qs (j + 1)
-              costAt tau pj qj = twoSegmentCost pr w (interpolate ts ps qs) lo tau hi pA pj pC qA qj qC i0 i1
+              costAt tau pj qj = twoSegmentCost pr w (polylineAt ts ps qs) lo tau hi pA pj pC qA qj qC i0 i1
               -- best position and orientation of waypoint j for a time tau
               fitAt tau = fitMiddle pr w lo tau hi pA (pindex ps j) pC qA (pindex qs j) qC i0 i1
               f tau = let (pj, qj) = fitAt tau in costAt tau pj qj
@@ -271,15 +271,15 @@ fitMiddle pr (Weights wp wo _) ta tb tc pA pB pC qA qB qC i0 i1 = go i0 (P3 0 0 
               qB' = if wo > 0 && accCq > 1e-12 then qnormalize (qmul (qexp (accQ ^/ accCq)) qB) else qB
           in (pB', qB')
       | otherwise =
-          let t = U.unsafeIndex (prT pr) i
-              pi' = pindex (prP pr) i
+          let t = U.unsafeIndex (rcT pr) i
+              pi' = pindex (rcP pr) i
               !first = t <= tb
               !c = if first then max 0 (min 1 ((t - ta) / (tb - ta)))
                            else 1 - max 0 (min 1 ((t - tb) / (tc - tb)))
               !base = if first then (1 - c) *^ pA else (1 - c) *^ pC
               !e | wo <= 0 = P3 0 0 0
-                | first = qlog (qmul (pindex (prQ pr) i) (qconj (snd (segPose s1 t))))
-                | otherwise = qlog (qmul (pindex (prQ pr) i) (qconj (snd (segPose s2 t))))
+                | first = qlog (qmul (pindex (rcQ pr) i) (qconj (snd (segPose s1 t))))
+                | otherwise = qlog (qmul (pindex (rcQ pr) i) (qconj (snd (segPose s2 t))))
           in go (i + 1) (accP ^+^ c *^ (pi' ^-^ base)) (accC + c * c) (accQ ^+^ c *^ e) (accCq + c * c)
 
 golden :: (Double -> Double) -> Double -> Double -> Int -> Double
@@ -326,17 +326,17 @@ insertionGains pr w pa@(PathA ts ps qs) = [ (g, j, i) | j <- [0 .. k - 2], Just 
     candidate j =
       let t0 = ts U.! j; t1 = ts U.! (j + 1)
           (i0, i1) = samplesIn pr t0 t1
-          inner = [ i | i <- [i0 .. i1], prT pr U.! i > t0, prT pr U.! i < t1 ]
-          errAt i = let (ph, qh) = interpolateAt ts ps qs j (prT pr U.! i)
-                        a = qangle (pindex (prQ pr) i) qh
-                    in wPosition w * quadrance (pindex (prP pr) i ^-^ ph) + wOrientation w * a * a
+          inner = [ i | i <- [i0 .. i1], rcT pr U.! i > t0, rcT pr U.! i < t1 ]
+          errAt i = let (ph, qh) = interpolateAt ts ps qs j (rcT pr U.! i)
+                        a = qangle (pindex (rcQ pr) i) qh
+                    in wPosition w * quadrance (pindex (rcP pr) i ^-^ ph) + wOrientation w * a * a
       in case inner of
            [] -> Nothing
            _ -> let i = snd (maximum [ (errAt x, x) | x <- inner ])
                     before = rangeCostFrom pr sums i0 i1
-                    ti = prT pr U.! i
-                    f t | t < ti = lin t0 ti (pindex ps j) (pindex (prP pr) i) (pindex qs j) (pindex (prQ pr) i) t
-                        | otherwise = lin ti t1 (pindex (prP pr) i) (pindex ps (j + 1)) (pindex (prQ pr) i) (pindex qs (j + 1)) t
+                    ti = rcT pr U.! i
+                    f t | t < ti = lin t0 ti (pindex ps j) (pindex (rcP pr) i) (pindex qs j) (pindex (rcQ pr) i) t
+                        | otherwise = lin ti t1 (pindex (rcP pr) i) (pindex ps (j + 1)) (pindex (rcQ pr) i) (pindex qs (j + 1)) t
                     g t | t < t0 || t > t1 = tableInterp tbl t
                         | otherwise = f t
                     after = rangeCost pr w g i0 i1
@@ -350,7 +350,7 @@ insertSamples :: Prepared -> [Int] -> PathA -> PathA
 insertSamples pr idx (PathA ts ps qs) =
   PathA (U.fromList (map fst3 merged)) (pfromList (map snd3 merged)) (pfromList (map thd3 merged))
   where
-    newPts = [ (prT pr U.! i, pindex (prP pr) i, pindex (prQ pr) i) | i <- idx ]
+    newPts = [ (rcT pr U.! i, pindex (rcP pr) i, pindex (rcQ pr) i) | i <- idx ]
     old = zip3 (U.toList ts) (ptoList ps) (ptoList qs)
     merged = mergeOn fst3 old (sortBy (comparing fst3) newPts)
     fst3 (a, _, _) = a
@@ -442,7 +442,7 @@ swapPass pr w perPass maxTries pa0 = go maxTries pa0 (totalCost pr w pa0)
                (Nothing, _) -> pa
                (Just (pa', c'), left) -> go left pa' c'
     exchange pa@(PathA ts _ _) j i =
-      let ti = prT pr U.! i
+      let ti = rcT pr U.! i
           near = [ts U.! (j - 1), ts U.! (j + 1), ti]
           moved = insertSamples pr [i] (removeWaypoints (IS.singleton j) pa)
           ts' = paT moved
@@ -461,7 +461,7 @@ finalPolish :: FitConfig -> Prepared -> PathA -> PathA
 finalPolish cfg pr = updatePathUntil pr w TimesAll 1e-6 rounds . swapPass pr w (fcSwapTries cfg) (fcSwapBudget cfg)
   where
     w = fcWeights cfg
-    rounds = min (fcMaxRounds cfg) (max 3 (10000 `div` U.length (prT pr)))
+    rounds = min (fcMaxRounds cfg) (max 3 (10000 `div` U.length (rcT pr)))
 
 maxPositionError :: Prepared -> PathA -> Double
 maxPositionError pr pa = let (ep, _, _) = pointErrors pr pa in U.maximum ep
@@ -470,12 +470,12 @@ maxPositionError pr pa = let (ep, _, _) = pointErrors pr pa in U.maximum ep
 -- neither a margin nor a tolerance is given.
 fitThesis :: FitConfig -> Prepared -> FitResult
 fitThesis cfg pr
-  | target >= n = let pa = PathA (prT pr) (prP pr) (prQ pr); c = totalCost pr w pa
+  | target >= n = let pa = PathA (rcT pr) (rcP pr) (rcQ pr); c = totalCost pr w pa
                   in FitResult pa c c n ReachedPoints (tolOk pa) [(n, c)]
   | otherwise = shrinkLoop grown cg [(U.length (paT grown), cg)] False
   where
     w = fcWeights cfg
-    n = U.length (prT pr)
+    n = U.length (rcT pr)
     target = case (fcPoints cfg, fcMargin cfg, fcTolerance cfg) of
       (Just p, _, _) -> max 2 p
       (Nothing, Nothing, Nothing) -> max 2 (round (0.03 * fromIntegral n :: Double))

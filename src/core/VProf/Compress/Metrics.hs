@@ -47,7 +47,7 @@ instance NFData Metrics
 
 -- | Distance of every sample to the nearest segment of the polyline, regardless of time.
 geometricDistances :: Prepared -> PathA -> U.Vector Double
-geometricDistances pr (PathA _ ps _) = U.generate (plength (prP pr)) (dist . pindex (prP pr))
+geometricDistances pr (PathA _ ps _) = U.generate (plength (rcP pr)) (dist . pindex (rcP pr))
   where
     k = plength ps
     dist x = U.foldl' (\m j -> min m (pointSegmentDistance (pindex ps j) (pindex ps (j + 1)) x))
@@ -59,15 +59,15 @@ computeMetrics pr pa@(PathA _ ps qs) = Metrics
   , mOrientationSse = sse eo, mOrientationRmse = rms eo, mOrientationMean = mean eo, mOrientationMax = mx eo
   , mVelocitySse = sse ev, mVelocityRmse = rms ev, mVelocityMean = mean ev, mVelocityMax = mx ev
   , mGeometricRmse = rms eg, mGeometricMean = mean eg, mGeometricMax = mx eg
-  , mLengthRatio = ratio (len ps) (len (prP pr))
-  , mOrientationRatio = ratio (rot qs) (rot (prQ pr))
+  , mLengthRatio = ratio (len ps) (len (rcP pr))
+  , mOrientationRatio = ratio (rot qs) (rot (rcQ pr))
   , mPoints = k, mSamples = n
   , mReduction = 1 - fromIntegral k / fromIntegral n
   }
   where
     (ep, eo, ev) = pointErrors pr pa
     eg = geometricDistances pr pa
-    n = U.length (prT pr)
+    n = U.length (rcT pr)
     k = plength ps
     sse v = U.sum (U.map (\x -> x * x) v)
     rms v = if U.null v then 0 else sqrt (sse v / fromIntegral (U.length v))

@@ -10,7 +10,7 @@
 -- over the same interval (constant within a segment, as in @finnFeilHast2.m@).
 module VProf.Compress.Objective
   ( Prepared (..)
-  , prepare
+  , prepareRecording
   , PathA (..)
   , toPathA
   , fromPathA
@@ -39,16 +39,16 @@ import VProf.Geometry.Vec
 
 -- | A recording made ready for fitting: quaternions sign-aligned, interval velocities.
 data Prepared = Prepared
-  { prT  :: !(U.Vector Double)
-  , prP  :: !V3s
-  , prQ  :: !Qs
-  , prV  :: !V3s                      -- ^ length N−1
-  , prDt :: !(U.Vector Double)        -- ^ length N−1
-  , prInvDt :: !(U.Vector Double)     -- ^ 1 / dt
+  { rcT  :: !(U.Vector Double)
+  , rcP  :: !V3s
+  , rcQ  :: !Qs
+  , rcV  :: !V3s                      -- ^ length N−1
+  , rcDt :: !(U.Vector Double)        -- ^ length N−1
+  , rcInvDt :: !(U.Vector Double)     -- ^ 1 / dt
   }
 
-prepare :: Recording -> Prepared
-prepare (Recording (Track t p q)) = Prepared t p (alignHemisphere q) v dt (U.map (1 /) dt)
+prepareRecording :: Recording -> Prepared
+prepareRecording (Recording (Track t p q)) = Prepared t p (alignHemisphere q) v dt (U.map (1 /) dt)
   where
     n = U.length t
     dt = U.generate (n - 1) (\i -> t U.! (i + 1) - t U.! i)
@@ -77,7 +77,7 @@ pathInterp (PathA t p q) = tableInterp (mkSegTable t p q)
 samplesIn :: Prepared -> Double -> Double -> (Int, Int)
 samplesIn pr lo hi = (lowerBound lo, upperBound hi - 1)
   where
-    ts = prT pr
+    ts = rcT pr
     n = U.length ts
     -- first index with t >= x
     lowerBound x = go 0 n where
@@ -95,24 +95,24 @@ rangeCost pr (Weights wp wo wv) f i0 i1
   | i1 < i0 = 0
   | otherwise = go j0 (P3 0 0 0) 0
   where
-    n = U.length (prT pr)
+    n = U.length (rcT pr)
     j0 = max 0 (i0 - 1)
     j1 = min (n - 1) (i1 + 1)
     go !i !prev !s
       | i > j1 = s
       | otherwise =
-          let (!ph, !qh) = f (U.unsafeIndex (prT pr) i)
+          let (!ph, !qh) = f (U.unsafeIndex (rcT pr) i)
               poseTerm
                 | i < i0 || i > i1 = 0
                 | otherwise =
-                    let ep = quadrance (pindex (prP pr) i ^-^ ph)
-                        eo = if wo == 0 then 0 else let a = qangle (pindex (prQ pr) i) qh in a * a
+                    let ep = quadrance (pindex (rcP pr) i ^-^ ph)
+                        eo = if wo == 0 then 0 else let a = qangle (pindex (rcQ pr) i) qh in a * a
                     in wp * ep + wo * eo
               velTerm
                 | wv == 0 || i == j0 = 0
                 | otherwise =
-                    let vh = U.unsafeIndex (prInvDt pr) (i - 1) *^ (ph ^-^ prev)
-                    in wv * quadrance (pindex (prV pr) (i - 1) ^-^ vh)
+                    let vh = U.unsafeIndex (rcInvDt pr) (i - 1) *^ (ph ^-^ prev)
+                    in wv * quadrance (pindex (rcV pr) (i - 1) ^-^ vh)
           in go (i + 1) ph (s + poseTerm + velTerm)
 {-# INLINE rangeCost #-}
 
@@ -123,19 +123,19 @@ data RangeSums = RangeSums !(U.Vector Double) !(U.Vector Double)
 rangeSums :: Prepared -> Weights -> PathA -> RangeSums
 rangeSums pr (Weights wp wo wv) pa = RangeSums (U.scanl (+) 0 pose) (U.scanl (+) 0 vel)
   where
-    n = U.length (prT pr)
+    n = U.length (rcT pr)
     f = pathInterp pa
-    hatsL = [ f (U.unsafeIndex (prT pr) i) | i <- [0 .. n - 1] ]
+    hatsL = [ f (U.unsafeIndex (rcT pr) i) | i <- [0 .. n - 1] ]
     hp = pfromList (map fst hatsL) :: V3s
     hq = pfromList (map snd hatsL) :: Qs
     pose = U.generate n $ \i ->
-      let ep = quadrance (pindex (prP pr) i ^-^ pindex hp i)
-          eo = if wo == 0 then 0 else let a = qangle (pindex (prQ pr) i) (pindex hq i) in a * a
+      let ep = quadrance (pindex (rcP pr) i ^-^ pindex hp i)
+          eo = if wo == 0 then 0 else let a = qangle (pindex (rcQ pr) i) (pindex hq i) in a * a
       in wp * ep + wo * eo
     vel = U.generate (n - 1) $ \i ->
       if wv == 0 then 0
-      else let vh = U.unsafeIndex (prInvDt pr) i *^ (pindex hp (i + 1) ^-^ pindex hp i)
-           in wv * quadrance (pindex (prV pr) i ^-^ vh)
+      else let vh = U.unsafeIndex (rcInvDt pr) i *^ (pindex hp (i + 1) ^-^ pindex hp i)
+           in wv * quadrance (pindex (rcV pr) i ^-^ vh)
 
 -- | 'rangeCost' of the path the sums were made from.
 rangeCostFrom :: Prepared -> RangeSums -> Int -> Int -> Double
@@ -143,30 +143,30 @@ rangeCostFrom pr (RangeSums ps vs) i0 i1
   | i1 < i0 = 0
   | otherwise = (ps U.! (i1 + 1) - ps U.! i0) + (vs U.! j1 - vs U.! j0)
   where
-    n = U.length (prT pr)
+    n = U.length (rcT pr)
     j0 = max 0 (i0 - 1)
     j1 = min (n - 1) (i1 + 1)
 
 -- | The whole objective E of a path.
 totalCost :: Prepared -> Weights -> PathA -> Double
-totalCost pr w pa = rangeCost pr w (pathInterp pa) 0 (U.length (prT pr) - 1)
+totalCost pr w pa = rangeCost pr w (pathInterp pa) 0 (U.length (rcT pr) - 1)
 
 -- | Per-sample time-synchronous errors: (position error m, orientation error rad), and
 -- per-interval velocity error (m/s, length N−1).
 pointErrors :: Prepared -> PathA -> (U.Vector Double, U.Vector Double, U.Vector Double)
 pointErrors pr (PathA t p q) = (ep, eo, ev)
   where
-    seg = segmentIndices t (prT pr)
-    n = U.length (prT pr)
+    seg = segmentIndices t (rcT pr)
+    n = U.length (rcT pr)
     tbl = mkSegTable t p q
-    hatsL = [ tableAt tbl (U.unsafeIndex seg i) (U.unsafeIndex (prT pr) i) | i <- [0 .. n - 1] ]
+    hatsL = [ tableAt tbl (U.unsafeIndex seg i) (U.unsafeIndex (rcT pr) i) | i <- [0 .. n - 1] ]
     hatsP = pfromList (map fst hatsL) :: V3s
     hatsQ = pfromList (map snd hatsL) :: Qs
-    ep = U.generate n (\i -> sqrt (quadrance (pindex (prP pr) i ^-^ pindex hatsP i)))
-    eo = U.generate n (\i -> qangle (pindex (prQ pr) i) (pindex hatsQ i))
+    ep = U.generate n (\i -> sqrt (quadrance (pindex (rcP pr) i ^-^ pindex hatsP i)))
+    eo = U.generate n (\i -> qangle (pindex (rcQ pr) i) (pindex hatsQ i))
     ev = U.generate (n - 1) $ \i ->
-      let vh = (pindex hatsP (i + 1) ^-^ pindex hatsP i) ^/ (prDt pr U.! i)
-      in sqrt (quadrance (pindex (prV pr) i ^-^ vh))
+      let vh = (pindex hatsP (i + 1) ^-^ pindex hatsP i) ^/ (rcDt pr U.! i)
+      in sqrt (quadrance (pindex (rcV pr) i ^-^ vh))
 
 -- | A segment prepared for fast repeated interpolation (slerp constants computed once).
 data Seg = Seg !Double !Double !(P3) !(P3) !(Q4) !(Q4) !Double !Double

@@ -50,8 +50,8 @@ rdpIndices ps stop
       RdpEpsilon e -> d <= e
 
 rdpPath :: Prepared -> RdpStop -> PathA
-rdpPath pr stop = PathA (pick (prT pr)) (pick (prP pr)) (pick (prQ pr))
+rdpPath pr stop = PathA (pick (rcT pr)) (pick (rcP pr)) (pick (rcQ pr))
   where
-    idx = U.fromList (rdpIndices (prP pr) stop)
+    idx = U.fromList (rdpIndices (rcP pr) stop)
     pick :: Packed v e => v -> v
     pick v = pbackpermute v idx

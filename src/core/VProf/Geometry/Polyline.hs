@@ -6,7 +6,7 @@
 module VProf.Geometry.Polyline
   ( segmentIndex
   , segmentIndices
-  , interpolate
+  , polylineAt
   , interpolateAt
   , pointSegmentDistance
   , SegTable
@@ -57,12 +57,12 @@ interpolateAt ts ps qs j t =
 {-# INLINE interpolateAt #-}
 
 -- | Pose of a path at time t (clamped to its time span).
-interpolate :: U.Vector Double -> V3s -> Qs -> Double -> (P3, Q4)
-interpolate ts ps qs t = interpolateAt ts ps qs (segmentIndex ts t) t
-{-# INLINE interpolate #-}
+polylineAt :: U.Vector Double -> V3s -> Qs -> Double -> (P3, Q4)
+polylineAt ts ps qs t = interpolateAt ts ps qs (segmentIndex ts t) t
+{-# INLINE polylineAt #-}
 
 -- | A path with its per-segment slerp constants computed once (sign-aligned end
--- quaternion, angle, 1/sin angle), for passes that interpolate at every sample.
+-- quaternion, angle, 1/sin angle), for passes that polylineAt at every sample.
 data SegTable = SegTable !(U.Vector Double) !V3s !Qs !Qs !(U.Vector Double) !(U.Vector Double) !(U.Vector Double)
 
 mkSegTable :: U.Vector Double -> V3s -> Qs -> SegTable

@@ -10,7 +10,7 @@ module VProf.Kinematics.ClosedForm
   ( -- * Families
     Family (..), classify, classifyWhy
     -- * Solving
-  , Solver, solverFamily, solverDh, prepare, solveWith, solveAll, solvePrincipal
+  , Solver, solverFamily, solverDh, solverFor, solveWith, solveAll, solvePrincipal
     -- * Branches
   , Branch (..), Shoulder (..), Elbow (..), Wrist (..)
   , branchText, branchCfx, parseBranch, allBranches
@@ -73,15 +73,15 @@ data Solver = Solver
 
 instance NFData Solver where rnf (Solver f d _) = rnf f `seq` rnf d
 
-prepare :: SixAxisDh -> Either IkFailure Solver
-prepare dh = case classifyWhy dh of
+solverFor :: SixAxisDh -> Either IkFailure Solver
+solverFor dh = case classifyWhy dh of
   Left why -> Left (UnknownFamily why)
   Right fam -> Right (Solver fam dh (mkConsts dh))
 
 -- | Every solution within the joint limits (each joint's 2π variants that fit included),
 -- or why there is none.
 solveAll :: SixAxisDh -> Pose -> Either IkFailure [Solution]
-solveAll dh target = prepare dh >>= \s -> solveWith s target
+solveAll dh target = solverFor dh >>= \s -> solveWith s target
 
 -- | The principal solutions: each q in (−π, π], joint limits not applied; one per branch
 -- (fewer where branches coincide at a singularity).

@@ -1,7 +1,7 @@
 -- | Inverse kinematics, one API for every robot: a target pose and an optional seed give every
 -- solution found within the joint limits, sorted by distance to the seed, or a failure saying why.
 --
--- 'prepare' picks the solver once per robot: the Dobot closed form when the model is the Dobot
+-- 'kinematicsFor' picks the solver once per robot: the Dobot closed form when the model is the Dobot
 -- linkage ('VProf.Kinematics.Ik.Dobot'), the six-axis closed forms when the DH table has a
 -- spherical wrist or three parallel axes ('VProf.Kinematics.Ik.SixAxis'), otherwise the
 -- numerical solver ('VProf.Kinematics.Ik.Numeric'). Invariant: requests are checked first (finite target, rigid
@@ -10,7 +10,7 @@
 module VProf.Kinematics.Ik
   ( Kinematics (..)
   , Method (..)
-  , prepare
+  , kinematicsFor
   , prepareChain
   , solveIk
   , solveIkIO
@@ -36,8 +36,8 @@ data Method = ClosedFormDobot DobotGeometry | ClosedFormSixAxis CF.Solver | Nume
 -- | A robot ready for IK: its compiled chain and the solver chosen for it.
 data Kinematics = Kinematics {kinChain :: Chain, kinMethod :: Method}
 
-prepare :: Robot -> Kinematics
-prepare = prepareChain . compile
+kinematicsFor :: Robot -> Kinematics
+kinematicsFor = prepareChain . compile
 
 prepareChain :: Chain -> Kinematics
 prepareChain ch = Kinematics ch method

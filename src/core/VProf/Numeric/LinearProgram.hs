@@ -260,8 +260,8 @@ pow2Inv x
   | x > 0 = scaleFloat (negate (exponent x)) 1
   | otherwise = 1
 
-prepare :: Lp -> Either String Prob
-prepare Lp{..} = do
+standardForm :: Lp -> Either String Prob
+standardForm Lp{..} = do
   let n = lpCols
       m = length lpRows
   check (n >= 0) "negative column count"
@@ -913,7 +913,7 @@ rayOk Lp{..} d0 =
 -- | Solves the LP; deterministic, terminates (see the module header for the
 -- algorithm and for what each answer guarantees).
 solve :: Lp -> LpResult
-solve lp = case prepare lp of
+solve lp = case standardForm lp of
   Left msg -> Undecided msg
   Right pr -> go pr maxRefactor (50 * (pM pr + pN pr) + 100) (pA pr) (initialBasis pr)
   where

@@ -50,7 +50,7 @@ iterations pb = case pbAlgorithm pb of
     -- the thesis mode's start and run-in fail where the request may be infeasible: the
     -- default generator's analysis says whether it is (and why)
     Left tf -> Left (case seed pb of
-                       Left f@(Infeasible _ _) -> seedFailure f
+                       Left f@(Unattainable _ _) -> seedFailure f
                        _ -> NotConverged ("thesis mode: " ++ seedMessage tf))
     Right stages -> Right [ Snapshot (stgVel st) (stgPasses st) (stgChanged st) (stgDone st) | st <- stages ]
   where
@@ -59,10 +59,10 @@ iterations pb = case pbAlgorithm pb of
           done = changed == 0
       in Snapshot v' i changed done : if done then [] else go (i + 1) v'
     seedFailure = \case
-      Infeasible f m -> InfeasibleRequest f m
+      Unattainable f m -> InfeasibleRequest f m
       LandingFailed m -> NotConverged ("seed: " ++ m)
     seedMessage = \case
-      Infeasible _ m -> m
+      Unattainable _ m -> m
       LandingFailed m -> m
 
 -- | The verdict on the last snapshot.

@@ -27,7 +27,7 @@ import VProf.Compress.Format.Csv
 import VProf.Compress.Format.Log
 import VProf.Compress.Format.Rapid
 import VProf.Compress.Format.Tum
-import VProf.Compress.Objective (prepare, toPathA)
+import VProf.Compress.Objective (prepareRecording, toPathA)
 import VProf.Plot.Compress
 import VProf.Compress.Format.Report
 
@@ -184,7 +184,7 @@ runCompress o = do
             Just f -> BL.writeFile f (render f)
             Nothing -> when (not (coReport o || coReportJson o) && coPlot o == Nothing) $ BL.putStr (render "")
           case coPlot o of
-            Just f -> plotCompression f (takeFileName (coInput o) ++ ", " ++ show k ++ " points") (prepare rec) (toPathA (oPath out))
+            Just f -> plotCompression f (takeFileName (coInput o) ++ ", " ++ show k ++ " points") (prepareRecording rec) (toPathA (oPath out))
             Nothing -> pure ()
           if oToleranceMet out
             then pure ExitSuccess

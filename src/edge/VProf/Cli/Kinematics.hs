@@ -208,7 +208,7 @@ runIk o = do
             let target = fromQuat (V3 x y z) (Quat w qx' qy' qz')
                 seed = jointsFrom (ikDeg o) r <$> ikSeedQ o
                 opts = defaultIkOptions { ikAllSolutions = ikAll o }
-            res <- solveIkIO (ikBudget o) opts (prepare r) target seed
+            res <- solveIkIO (ikBudget o) opts (kinematicsFor r) target seed
             case res of
               Left (InvalidRequest es) -> failWith (intercalate "; " es)
               Left f -> do

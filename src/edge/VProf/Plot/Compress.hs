@@ -27,17 +27,17 @@ plotCompression file title pr pa = void (renderableToFile opts file (gridToRende
   where
     fmt = if map toLower (takeExtension file) == ".svg" then SVG else PNG
     opts = FileOptions (900, 1000) fmt
-    t0 = U.head (prT pr)
-    rt = map (subtract t0) (U.toList (prT pr))
+    t0 = U.head (rcT pr)
+    rt = map (subtract t0) (U.toList (rcT pr))
     wt = map (subtract t0) (U.toList (paT pa))
     comps (P3 x y z) = [x, y, z]
-    rawP = map comps (ptoList (prP pr))
+    rawP = map comps (ptoList (rcP pr))
     fitP = map comps (ptoList (paP pa))
-    q0 = phead (prQ pr)
+    q0 = phead (rcQ pr)
     rotv q = let P3 x y z = qlog (qmul (qconj q0) q) in map (* (180 / pi)) [x, y, z]
-    rawO = map rotv (ptoList (prQ pr))
+    rawO = map rotv (ptoList (rcQ pr))
     fitO = map rotv (ptoList (paQ pa))
-    rawV = [ norm (pindex (prV pr) i) | i <- [0 .. plength (prV pr) - 1] ]
+    rawV = [ norm (pindex (rcV pr) i) | i <- [0 .. plength (rcV pr) - 1] ]
     fitV = concat [ [(a, v), (b, v)] | j <- [0 .. U.length (paT pa) - 2]
                   , let a = wt !! j; b = wt !! (j + 1)
                         v = distance (pindex (paP pa) (j + 1)) (pindex (paP pa) j) / (b - a) ]

@@ -27,7 +27,7 @@ sixAxisSolver ch = do
   base <- CF.poseFromRowMajor (toRows4 (robotBase r))
   tool <- CF.poseFromRowMajor (toRows4 (robotTool r))
   if length joints == 6 && length rows == 6 && all ((== Revolute) . jointKind) joints
-    then either (const Nothing) Just (CF.prepare dh { CF.sdBase = base, CF.sdTool = tool })
+    then either (const Nothing) Just (CF.solverFor dh { CF.sdBase = base, CF.sdTool = tool })
     else Nothing
   where
     row (i, Link _ (Just Revolute) (DhStandard th d a al) (Drive o [(j, 1)]) _) | j == i = Just (a, al, d, th + o)

@@ -9,7 +9,7 @@
 -- the failures are worded in "VProf.Profile.Generate.Seed.Explain". The method is
 -- described in docs/profile-generator.md.
 --
--- Invariant: a seed is legal for its problem (the checker's rules); an 'Infeasible'
+-- Invariant: a seed is legal for its problem (the checker's rules); an 'Unattainable'
 -- failure is a claim about the request, a 'LandingFailed' one only about the generator.
 module VProf.Profile.Generate.Seed
   ( seed
@@ -42,8 +42,8 @@ seed = seedWithin leadInDepth
 -- lead-in on the problem; when the end state is, the lead-in on its mirror, reversed.
 seedWithin :: Int -> Problem -> Either SeedFailure (U.Vector Double)
 seedWithin depth pb = case seedFrom pb of
-  Left f@(Infeasible "start_velocity" _) | depth > 0, startStuck moving pb -> either (Left . maybe f id) Right (leadIn seedWithin depth pb)
-  Left f@(Infeasible "end_velocity" _) | depth > 0, startStuck True (mirror pb) -> case leadIn seedWithin depth (mirror pb) of
+  Left f@(Unattainable "start_velocity" _) | depth > 0, startStuck moving pb -> either (Left . maybe f id) Right (leadIn seedWithin depth pb)
+  Left f@(Unattainable "end_velocity" _) | depth > 0, startStuck True (mirror pb) -> case leadIn seedWithin depth (mirror pb) of
     Right vs -> Right (U.reverse vs)
     Left (Just (LandingFailed m)) -> Left (LandingFailed ("seen from the end, backwards in time: " ++ m))
     Left _ -> Left f
@@ -65,7 +65,7 @@ seedFrom pb = do
       -- creeps, so it lands within the tolerance
       let term = Term (pbLength pb) 0
           landTol = pbTol pb / 2
-      e0 <- either (Left . startInfeasible pb (Env pb term True)) Right (policyFor pb term st0)
+      e0 <- either (Left . startInfeasible pb (SeedEnv pb term True)) Right (policyFor pb term st0)
       let middle = forward e0 landTol passStepCap st0
           sEnd = if null middle then 0 else stS (last middle)
           aRest = if null middle then pbA0 pb else stA (last middle)
@@ -86,7 +86,7 @@ restFrom pb
       Left bad -> Left (startInfeasible pb e bad)
       Right () -> Right (U.fromList (pbV0 pb : map stV (take maxSamples (braking st0))))
   where
-    e = Env pb (Term (pbLength pb) 0) True
+    e = SeedEnv pb (Term (pbLength pb) 0) True
     st0 = St (pbV0 pb) (pbA0 pb) 0
     braking st
       | atRest e st = []

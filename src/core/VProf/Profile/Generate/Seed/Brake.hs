@@ -16,7 +16,7 @@ module VProf.Profile.Generate.Seed.Brake
   ( -- * States and steps
     St (..)
   , Term (..)
-  , Env (..)
+  , SeedEnv (..)
   , dtE
   , stepTo
   , stepOk
@@ -53,7 +53,7 @@ data St = St { stV :: !Double, stA :: !Double, stS :: !Double }
 data Term = Term { tP :: !Double, tV :: !Double }
 
 -- | What a pass works under: the problem, its terminal, and which brake policy.
-data Env = Env
+data SeedEnv = SeedEnv
   { ePb :: !Problem
   , eTerm :: !Term
   , eHard :: !Bool   -- ^ brake to standstill (through every limit) rather than to each limit
@@ -109,13 +109,13 @@ stopDistanceSteps, distanceToSteps :: Int
 stopDistanceSteps = 10000000
 distanceToSteps = 4000000
 
-dtE :: Env -> Double
+dtE :: SeedEnv -> Double
 dtE = pbDt . ePb
 
 -- | Apply acceleration a' for one step. A velocity that would dip below zero by rounding
 -- is set to zero and the acceleration recomputed from it, so that v, a and s stay exact
 -- to each other.
-stepTo :: Env -> St -> Double -> St
+stepTo :: SeedEnv -> St -> Double -> St
 stepTo e (St v _ s) a' =
   let dt = dtE e
       v1 = v + a' * dt
@@ -125,7 +125,7 @@ stepTo e (St v _ s) a' =
 {-# INLINE stepTo #-}
 
 -- | Is the step from one state to the next within the speed limits and the terminal rule?
-stepOk :: Env -> St -> St -> Bool
+stepOk :: SeedEnv -> St -> St -> Bool
 stepOk e st@(St v _ s) (St v' a' s') =
   v' >= 0
     && a' >= lo - roundingSlack && a' <= hi + roundingSlack
@@ -141,7 +141,7 @@ stepOk e st@(St v _ s) (St v' a' s') =
 {-# INLINE stepOk #-}
 
 -- | The accelerations reachable in one step from a state.
-accRange :: Env -> St -> (Double, Double)
+accRange :: SeedEnv -> St -> (Double, Double)
 accRange e (St _ a _) =
   let pb = ePb e
   in reachableAcc (dtE e) (pbAMin pb) (pbAMax pb) (pbJMin pb) (pbJMax pb) a
@@ -157,7 +157,7 @@ reachableAcc dt aLo aHi jLo jHi a = (max aLo (a + jLo * dt), min aHi (a + jHi * 
 
 -- | How much velocity is lost while the acceleration is brought back from x (< 0) to 0
 -- as fast as the jerk allows (the steps after x, not x itself).
-rampDrop :: Env -> Double -> Double
+rampDrop :: SeedEnv -> Double -> Double
 rampDrop e x
   | x >= 0 = 0
   | otherwise =
@@ -169,12 +169,12 @@ rampDrop e x
 
 -- | The brake policy: the next acceleration of the hardest braking that still ends at
 -- rest without going below zero.
-brakeAcc :: Env -> St -> Double
+brakeAcc :: SeedEnv -> St -> Double
 brakeAcc e st = brakeAccTo e st (brakeTarget e st)
 {-# INLINE brakeAcc #-}
 
 -- | The brake policy toward a given target velocity.
-brakeAccTo :: Env -> St -> Double -> Double
+brakeAccTo :: SeedEnv -> St -> Double -> Double
 brakeAccTo e st@(St v _ _) tau
   | v <= 0 || w <= 0 = hold
   | not (ok hi) = hold
@@ -210,13 +210,13 @@ brakeAccTo e st@(St v _ _) tau
 -- reach (speed limits, and the terminal velocity once the terminal is in reach), so that
 -- it arrives at a lower limit at that limit with the acceleration back at zero instead of
 -- braking through it.
-brakeTarget :: Env -> St -> Double
+brakeTarget :: SeedEnv -> St -> Double
 brakeTarget e st@(St _ _ s) =
   let (d, _) = brakeBound e st
   in targetFrom e (s + d) (minLimitOn (ePb e) s (s + d))
 
 -- | The brake target given the end of the braking reach and the lowest limit up to it.
-targetFrom :: Env -> Double -> Double -> Double
+targetFrom :: SeedEnv -> Double -> Double -> Double
 targetFrom e reachEnd zoneMin
   | eHard e = 0
   | reachEnd >= tP (eTerm e) = min zoneMin (max 0 (tV (eTerm e)))
@@ -225,13 +225,13 @@ targetFrom e reachEnd zoneMin
 
 -- | Standing still for good is possible from this state: at rest, and the acceleration
 -- can return to zero within one jerk step.
-atRest :: Env -> St -> Bool
+atRest :: SeedEnv -> St -> Bool
 atRest e (St v a _) = v == 0 && a >= negate (pbJMax (ePb e) * dtE e) && a <= negate (pbJMin (ePb e) * dtE e)
 {-# INLINE atRest #-}
 
 -- | An upper bound on the distance the brake policy needs from a state, and on the
 -- highest velocity it reaches on the way.
-brakeBound :: Env -> St -> (Double, Double)
+brakeBound :: SeedEnv -> St -> (Double, Double)
 brakeBound e (St v a _) =
   let pb = ePb e; dt = dtE e
       ap = max 0 a
@@ -266,7 +266,7 @@ brakeNeed pb v a l =
 -- | A fast sufficient test for states that cruise or accelerate: every lower limit within
 -- reach (and the terminal) is further away than the continuous braking distance plus a
 -- margin of 'quickMarginSteps' steps at the peak velocity.
-quickNeed :: Env -> St -> Bool
+quickNeed :: SeedEnv -> St -> Bool
 quickNeed e st@(St v a s)
   | a < 0 || eHard e = False
   | otherwise =
@@ -291,7 +291,7 @@ quickNeed e st@(St v a s)
 
 -- | The oracle: can the robot brake from this state without breaking anything?
 -- On failure, the state at which the braking first breaks a rule.
-brakeCheck :: Env -> St -> Either (St, St) ()
+brakeCheck :: SeedEnv -> St -> Either (St, St) ()
 brakeCheck e st0
   | quickNeed e st0 = Right ()
   | otherwise = go st0 (0 :: Int)
@@ -313,16 +313,16 @@ brakeCheck e st0
              else let st' = stepTo e st (brakeAccTo e st tau)
                   in if stepOk e st st' then go st' (n + 1) else Left (st, st')
 
-safe :: Env -> St -> Bool
+safe :: SeedEnv -> St -> Bool
 safe e st = either (const False) (const True) (brakeCheck e st)
 
 -- | The gentle brake policy (down to each limit, arriving with zero acceleration) gives
 -- the better profiles; when it cannot save the start state, the hardest one (braking
 -- through the limits toward standstill) may still; when that fails too, the state at
 -- which the hardest braking breaks a rule.
-policyFor :: Problem -> Term -> St -> Either (St, St) Env
+policyFor :: Problem -> Term -> St -> Either (St, St) SeedEnv
 policyFor q term st0 =
-  let gentle = Env q term False
+  let gentle = SeedEnv q term False
       hard = gentle { eHard = True }
   in case (brakeCheck gentle st0, brakeCheck hard st0) of
        (Right (), _) -> Right gentle
@@ -333,7 +333,7 @@ policyFor q term st0 =
 brakeStopDistance :: Problem -> Double -> Double -> Double
 brakeStopDistance pb v a = go (St v a 0) (0 :: Int)
   where
-    e = Env pb (Term (1 / 0) (1 / 0)) True
+    e = SeedEnv pb (Term (1 / 0) (1 / 0)) True
     go st n
       | atRest e st || n > stopDistanceSteps = stS st
       | otherwise = go (stepTo e st (brakeAcc e st)) (n + 1)
@@ -343,7 +343,7 @@ brakeStopDistance pb v a = go (St v a 0) (0 :: Int)
 brakeDistanceTo :: Problem -> St -> Double -> Double
 brakeDistanceTo q st0 v = go st0 (0 :: Int)
   where
-    e = Env q (Term (1 / 0) (1 / 0)) False
+    e = SeedEnv q (Term (1 / 0) (1 / 0)) False
     go st n
       | stV st <= v && stA st >= 0 = stS st - stS st0
       | n > distanceToSteps = 1 / 0

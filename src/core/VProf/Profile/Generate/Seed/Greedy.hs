@@ -34,7 +34,7 @@ terminalSnap :: Double
 terminalSnap = 1e-11
 
 -- | One step of the forward pass: the largest safe acceleration.
-choose :: Env -> St -> St
+choose :: SeedEnv -> St -> St
 choose e st@(St v _ s) =
   let dt = dtE e
       pb = ePb e
@@ -74,7 +74,7 @@ restVelocity = 1e-10
 -- | The forward pass toward a standstill on the terminal point, from a state: the states
 -- visited after it, in order, until it has come to rest within the landing tolerance
 -- of the terminal. Stops after @limit@ steps.
-forward :: Env -> Double -> Int -> St -> [St]
+forward :: SeedEnv -> Double -> Int -> St -> [St]
 forward e landTol limit = go 0
   where
     p = tP (eTerm e)
@@ -91,7 +91,7 @@ forward e landTol limit = go 0
 
 -- | The greedy pass from a state: the states after it, up to the first for which @done@
 -- holds, at most @n@.
-passFrom :: Env -> Int -> (St -> Bool) -> St -> [St]
+passFrom :: SeedEnv -> Int -> (St -> Bool) -> St -> [St]
 passFrom e n done = go n
   where
     go k st

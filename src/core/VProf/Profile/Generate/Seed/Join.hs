@@ -54,8 +54,8 @@ data MeetContext = MeetContext
   , mcMirror   :: !Problem
   , mcStart    :: !St
   , mcEnd      :: !St                -- ^ the end state, as the start of the mirror
-  , mcFEnv     :: !Env
-  , mcBEnv     :: !Env
+  , mcFEnv     :: !SeedEnv
+  , mcBEnv     :: !SeedEnv
   , mcFAll     :: [St]               -- ^ the forward pass, from the start state on
   , mcBAll     :: [St]               -- ^ the backward pass (on the mirror), from the end state on
   , mcFS       :: U.Vector Double    -- ^ the forward pass's positions
@@ -118,8 +118,8 @@ meetContext pb = do
       fTerm = forwardTerm pb
       bTerm = backwardTerm pb
   if sinksBelowZero rv then Left (endAccFailure pb) else Right ()
-  fEnv <- either (Left . startInfeasible pb (Env pb fTerm True)) Right (policyFor pb fTerm st0)
-  bEnv <- either (Left . endInfeasible pb (Env rv bTerm True)) Right (policyFor rv bTerm rt0)
+  fEnv <- either (Left . startInfeasible pb (SeedEnv pb fTerm True)) Right (policyFor pb fTerm st0)
+  bEnv <- either (Left . endInfeasible pb (SeedEnv rv bTerm True)) Right (policyFor rv bTerm rt0)
   let fAll = st0 : passFrom fEnv passStepCap (\st -> stS st >= len) st0
       bAll = rt0 : passFrom bEnv passStepCap (\st -> stS st >= len) rt0
       fS = U.fromList (map stS fAll)
@@ -127,7 +127,7 @@ meetContext pb = do
       bX = U.fromList (reverse (map ((len -) . stS) bAll))
       bW = U.fromList (reverse (map stV bAll))
       -- the lower envelope at the forward pass's samples up to the route end
-      h = U.generate (U.length (U.takeWhile (<= len) fS)) (\k -> min (fV U.! k) (interpolate bX bW (fS U.! k)))
+      h = U.generate (U.length (U.takeWhile (<= len) fS)) (\k -> min (fV U.! k) (lerpAt bX bW (fS U.! k)))
       kStar = U.maxIndex h
   pure MeetContext
     { mcPb = pb, mcMirror = rv, mcStart = st0, mcEnd = rt0, mcFEnv = fEnv, mcBEnv = bEnv
@@ -140,8 +140,8 @@ forwardTerm pb = Term (pbLength pb + pbTol pb) (pbVEnd pb)
 backwardTerm pb = Term (pbLength pb + pbTol pb) (pbV0 pb)
 
 -- | Linear interpolation of ys over ascending xs, clamped at both ends.
-interpolate :: U.Vector Double -> U.Vector Double -> Double -> Double
-interpolate xs ys x
+lerpAt :: U.Vector Double -> U.Vector Double -> Double -> Double
+lerpAt xs ys x
   | n == 0 = 0
   | x <= U.head xs = U.head ys
   | x >= U.last xs = U.last ys
@@ -192,7 +192,7 @@ cappedOn c base rv fFree bFree v alpha beta = do
 -- | A capped pass follows the uncapped one for as long as the cap lies beyond the reach
 -- of every brake test it makes (twice the braking reach, plus a metre): it resumes from
 -- there rather than from the start.
-resume :: Env -> Env -> [St] -> Double -> St -> (St -> Bool) -> [St]
+resume :: SeedEnv -> SeedEnv -> [St] -> Double -> St -> (St -> Bool) -> [St]
 resume e0 e1 free cut start stop =
   let shared = if eHard e0 /= eHard e1 then []
                else takeWhile (\st -> let (d, _) = brakeBound e0 st in stS st + resumeReaches * d + resumeMarginM < cut) free

@@ -58,20 +58,20 @@ leadIn seedRest depth pb = case [ r | Right r <- tries ] of
           Right vs | legalVelocities pb (U.cons (pbV0 pb) vs) -> Right (U.cons (pbV0 pb) vs)
                    | otherwise -> Left Nothing
           -- the first step did not get the start out of trouble
-          Left (Infeasible f _) | f `elem` ["start_velocity", "start_acceleration"] -> Left Nothing
+          Left (Unattainable f _) | f `elem` ["start_velocity", "start_acceleration"] -> Left Nothing
           Left g -> Left (Just (s1, g))
       | i <- [0 .. leadInSteps]
       , let a = hi - (hi - lo) * fromIntegral i / fromIntegral leadInSteps
             st1@(St v1 _ s1) = stepTo e st0 a
       , stepOk e st0 st1, s1 < pbLength pb ]
-    e = Env pb (Term (pbLength pb + pbTol pb) (1 / 0)) True
+    e = SeedEnv pb (Term (pbLength pb + pbTol pb) (1 / 0)) True
     st0 = St (pbV0 pb) (pbA0 pb) 0
     (lo, hi) = accRange e st0
     -- the rest's own claim is about the shortened problem after one chosen first step,
     -- not a proof for this one: reported as the generator's failure
     unclaimed (s1, g) = LandingFailed ("braking from the start breaks a rule, and after a legal first step (to "
                                        ++ num s1 ++ " m) the rest fails: " ++ case g of
-                                         Infeasible _ m -> m
+                                         Unattainable _ m -> m
                                          LandingFailed m -> m)
 
 -- | The end state's own infeasibility, when it ends in motion: its acceleration cannot
@@ -80,7 +80,7 @@ endFailure :: Problem -> Maybe SeedFailure
 endFailure pb
   | pbVEnd pb <= 0 && pbAEnd pb == 0 = Nothing
   | sinksBelowZero rv = Just (endAccFailure pb)
-  | otherwise = either (Just . endInfeasible pb (Env rv bTerm True)) (const Nothing) (policyFor rv bTerm rt0)
+  | otherwise = either (Just . endInfeasible pb (SeedEnv rv bTerm True)) (const Nothing) (policyFor rv bTerm rt0)
   where
     rv = mirror pb
     rt0 = St (pbVEnd pb) (pbA0 rv) 0

@@ -34,7 +34,7 @@ meetWith tried pb = do
   case concatMap (`strategyJoins` c) tried of
     (p : _) -> Right p
     []
-      | Just why <- noProfileFits pb -> Left (Infeasible (if pbV0 pb > pbVEnd pb then "start_velocity" else "end_velocity") why)
+      | Just why <- noProfileFits pb -> Left (Unattainable (if pbV0 pb > pbVEnd pb then "start_velocity" else "end_velocity") why)
       | mcTop c <= 0 -> Left (LandingFailed ("the forward and the backward pass do not meet" ++ triedText ++ hint))
       | otherwise -> Left (LandingFailed ("no plateau below " ++ num (mcTop c) ++ " m/s joins the forward and the backward pass" ++ triedText ++ hint))
   where
