@@ -19,9 +19,10 @@ module VProf.Cli.Kinematics
 import qualified Data.Aeson as A
 import qualified Data.ByteString.Lazy.Char8 as BLC
 import Data.Char (toLower)
+import Data.Containers.ListUtils (nubOrd)
 import Data.List (intercalate)
 import qualified Data.Vector.Unboxed as U
-import Numeric (showFFloat)
+import Numeric (showEFloat, showFFloat)
 import Options.Applicative
 import System.Exit
 import System.FilePath (takeExtension)
@@ -225,11 +226,17 @@ runIk o = do
                                                   , "position_error" A..= solPositionError s
                                                   , "rotation_error" A..= solRotationError s ]
                                        | s <- shown ] ]
-                  Table -> do
-                    putStrLn (show (length sols) ++ " solution(s) within the joint limits, nearest the seed first"
-                              ++ (if ikDeg o then " (deg)" else " (rad, m)"))
+                  Table
+                    | null sols -> hPutStrLn stderr $ "vprof ik: no solution on branch "
+                        ++ maybe "" id (ikBranchWanted o) ++ "; the pose's solutions are on "
+                        ++ unwords (nubOrd [ b | Just b <- map solBranch sols0 ])
+                    | otherwise -> do
+                    putStrLn $ show (length sols) ++ " solution(s) within the joint limits"
+                      ++ (if ikAll o || length sols == 1 then ", nearest the seed first"
+                          else "; the nearest the seed (--all lists them)")
+                      ++ (if ikDeg o then " (deg)" else " (rad, m)")
                     mapM_ (\s -> putStrLn ("  " ++ maybe "" (++ "  ") (solBranch s) ++ unwords (map (num 6) (jointsTo (ikDeg o) r (solJoints s)))
-                                           ++ "   error " ++ showFFloat (Just 1) (solPositionError s) "" ++ " m, "
-                                           ++ showFFloat (Just 1) (solRotationError s) "" ++ " rad")) shown
+                                           ++ "   error " ++ showEFloat (Just 1) (solPositionError s) "" ++ " m, "
+                                           ++ showEFloat (Just 1) (solRotationError s) "" ++ " rad")) shown
                 pure (if null sols then ExitFailure 1 else ExitSuccess)
       _ -> failWith "--pose: expected 7 numbers"
