@@ -98,7 +98,7 @@ fromDoc UrdfOptions{..} doc
       rs -> Left ["cannot choose the base link: " ++ show (length rs) ++ " root links (" ++ unwords rs ++ "); name one"]
     pickLeaf = case [l | l <- allLinks, l `notElem` parents] of
       [l] -> Right l
-      ls -> Left ["cannot choose the tip link: " ++ show (length ls) ++ " leaf links (" ++ unwords ls ++ "); name one with the tip option"]
+      ls -> Left ["cannot choose the tip link: " ++ show (length ls) ++ " leaf links (" ++ unwords ls ++ "); choose one with --tip LINK"]
     pathTo base tip = walk tip [] (0 :: Int)
       where
         walk l acc k
