@@ -177,10 +177,17 @@ spec = do
           and [seedDistance (solJoints a) (solJoints b) > 1e-4 | (i, a) <- zip [0 :: Int ..] sols, (j, b) <- zip [0 ..] sols, i < j] `shouldBe` True
 
   describe "numerical IK failures" $ do
-    it "UR5: a target 2 m away is beyond reach" $ do
+    it "Panda (numerical): a target 2 m away is beyond reach" $ do
+      let k = lib "franka-panda"
+      case solveIk defaultIkOptions k (trans 2 0 0.5) Nothing of
+        -- the bound is the chain's total length from the shoulder: above the data sheet's 0.855 m
+        Left (BeyondReach d r) -> (d > r, r > 0.8 && r < 1.6) `shouldBe` (True, True)
+        other -> expectationFailure (show other)
+    it "UR5 (closed form): a target 2 m away is unreachable, by how far" $ do
       let k = lib "ur5"
       case solveIk defaultIkOptions k (trans 2 0 0.5) Nothing of
-        Left (BeyondReach d r) -> (d > r, r < 1.2) `shouldBe` (True, True)
+        -- the wrist point lies 2 m out less the last links; the arm reaches about 0.85 m
+        Left (Unreachable _ d) -> d `shouldSatisfy` (\x -> x > 0.9 && x < 1.3)
         other -> expectationFailure (show other)
     it "Cobra 600: a pose needing the quill 0.3 m down (limit 0.21 m) names J3 and 0.09 m" $ do
       let k = lib "adept-cobra600"
