@@ -8,6 +8,7 @@ import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 
 import VProf.Compress
+import VProf.Compress.Clean
 import Support.Recordings
 import VProf.Service.Compress (serveCompress)
 import VProf.Wire.Compress
@@ -52,14 +53,36 @@ spec = describe "serveCompress" $ do
     getField (errField err) `shouldBe` Just (T.pack "margin")
     fmap (T.isInfixOf (T.pack "0.5")) (getField (errMessage err)) `shouldBe` Just True
     getField (cpPath rsp) `shouldBe` Nothing
-  it "names recording.time when times do not increase" $ do
-    let poses = PosesMsg (putField [1, 1]) (putField [0, 0]) (putField [0, 0]) (putField [0, 0])
+  it "names recording.time and the sample when times go backwards" $ do
+    let poses = PosesMsg (putField [2, 1]) (putField [0, 0]) (putField [0, 0]) (putField [0, 0])
                          (putField [1, 1]) (putField [0, 0]) (putField [0, 0]) (putField [0, 0])
         req = CompressRequestMsg (putField Nothing) (putField (Just poses)) (putField Nothing) (putField Nothing)
                 (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
     rsp <- serveCompress req
     let Just err = getField (cpError rsp)
+    getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
     getField (errField err) `shouldBe` Just (T.pack "recording.time")
+    fmap (T.isInfixOf (T.pack "sample 1")) (getField (errMessage err)) `shouldBe` Just True
+  it "cleans a recording sent over the wire as a file is: a duplicated time with another pose is merged" $ do
+    Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let poses = trackToPoses tr
+        dupWith f k xs = take (k + 1) xs ++ [f (xs !! k)] ++ drop (k + 1) xs
+        dupAt = dupWith id
+        req = (request tr 60) { crqRecording = putField (Just poses
+                 { posTime = putField (dupAt 700 (getField (posTime poses)))
+                 , posX = putField (dupWith (+ 0.01) 700 (getField (posX poses))) -- the copy 1 cm away
+                 , posY = putField (dupAt 700 (getField (posY poses))), posZ = putField (dupAt 700 (getField (posZ poses)))
+                 , posQw = putField (dupAt 700 (getField (posQw poses))), posQx = putField (dupAt 700 (getField (posQx poses)))
+                 , posQy = putField (dupAt 700 (getField (posQy poses))), posQz = putField (dupAt 700 (getField (posQz poses))) }) }
+    case requestToDomainW req of
+      Left e -> expectationFailure (show e)
+      Right (Recording tr', _, ws) -> do
+        trackLength tr' `shouldBe` 3000
+        map warningCount ws `shouldSatisfy` (1 `elem`)
+        any (\w -> case w of DuplicateTimes _ 1 1 [(_, [700, 701])] -> True; _ -> False) ws `shouldBe` True
+    rsp <- serveCompress req
+    getField (cpError rsp) `shouldBe` Nothing
+    fmap (getField . cmSamples) (getField (cpMetrics rsp)) `shouldBe` Just (Just 3000)
   it "names the missing recording" $ do
     let req = CompressRequestMsg (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
                 (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)

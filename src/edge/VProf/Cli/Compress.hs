@@ -152,10 +152,12 @@ runCompress o = do
       Right samples -> case cleanSamples fileLocator (coClean o) samples of
         Left errs -> failInput (file ++ ": " ++ intercalate "; " (map renderFieldError errs))
         Right cl -> do
-          mapM_ (\w -> hPutStrLn stderr ("vprof compress: warning: " ++ file ++ ": " ++ renderCleanWarning fileLocator w))
+          mapM_ (\w -> hPutStrLn stderr ("vprof compress: " ++ label w ++ ": " ++ file ++ ": " ++ renderCleanWarning fileLocator w))
                 (clWarnings cl)
           go (clWarnings cl) (Recording (clTrack cl))
   where
+    -- sign flips change no orientation (q and -q are the same): a note, not a warning
+    label = \case SignFlips {} -> "note"; _ -> "warning"
     failInput msg = hPutStrLn stderr ("vprof compress: " ++ msg) >> pure (ExitFailure 2)
     guessIn f = case map toLower (takeExtension f) of
       ".log" -> InLog
@@ -200,7 +202,7 @@ runCompress o = do
             putStrLn ("vprof compress " ++ coInput o ++ ": " ++ show (mSamples (oMetrics out)) ++ " samples -> "
                       ++ show k ++ " points (" ++ name (coMethod o) ++ ", weights " ++ intercalate "," (map show [wp, wo, wv])
                       ++ ", stop: " ++ oStop out ++ ")")
-            mapM_ (\w -> putStrLn ("warning: " ++ renderCleanWarning fileLocator w)) warns
+            mapM_ (\w -> putStrLn (label w ++ ": " ++ renderCleanWarning fileLocator w)) warns
             putStr (renderReport (wp, wo, wv) cols)
           when (coReportJson o) $
             BL.putStrLn (A.encode (withWarnings (warningsJson fileLocator warns) (reportJson (sWeights settings) cols)))
