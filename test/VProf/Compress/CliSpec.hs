@@ -8,7 +8,7 @@ import GHC.IO.Handle (hDuplicate, hDuplicateTo)
 import Options.Applicative
 import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
-import System.IO (IOMode (..), hClose, hFlush, openFile, stderr)
+import System.IO (Handle, IOMode (..), hClose, hFlush, openFile, stderr, stdout)
 import System.IO.Temp (withSystemTempDirectory)
 import Test.Hspec
 import qualified Data.Vector.Unboxed as U
@@ -21,11 +21,15 @@ import VProf.Compress.Types
 
 -- | Run an action with stderr going to a file; what it wrote there.
 captureStderr :: FilePath -> IO a -> IO (a, String)
-captureStderr f act = do
-  old <- hDuplicate stderr
+captureStderr = captureHandle stderr
+
+-- | Run an action with a handle going to a file; what it wrote there.
+captureHandle :: Handle -> FilePath -> IO a -> IO (a, String)
+captureHandle hd f act = do
+  old <- hDuplicate hd
   h <- openFile f WriteMode
-  hDuplicateTo h stderr
-  r <- act `finally` (hFlush stderr >> hDuplicateTo old stderr >> hClose h)
+  hDuplicateTo h hd
+  r <- act `finally` (hFlush hd >> hDuplicateTo old hd >> hClose h)
   txt <- B.unpack <$> B.readFile f
   pure (r, txt)
 
@@ -96,6 +100,10 @@ spec = describe "vprof compress" $ do
         err `shouldSatisfy` ("1 sample merged" `isInfixOf`)
         Right tr <- parseTum <$> B.readFile out
         trackLength tr `shouldBe` 25
+        (code', js) <- captureHandle stdout (dir </> "stdout.txt") (runCli [f, "--points", "25", "--report-json"])
+        code' `shouldBe` ExitSuccess
+        js `shouldSatisfy` ("\"warnings\":[" `isInfixOf`)
+        js `shouldSatisfy` ("\"kind\":\"duplicate_times\"" `isInfixOf`)
     it "with --duplicates drop also exits 0 and says it dropped" $
       withSystemTempDirectory "vprof-cli" $ \dir -> do
         src <- B.readFile =<< dataFile "freiburg1_xyz-groundtruth.txt"
