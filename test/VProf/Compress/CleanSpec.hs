@@ -158,13 +158,15 @@ spec = describe "VProf.Compress.Clean" $ do
       renderFieldError (last es) `shouldSatisfy` ("and 14 more" `isInfixOf`)
 
   describe "quaternion sign flips" $
-    it "are aligned (the cleaned track is continuous and equals the unflipped one), one flip counted per negated sample" $
+    it "are aligned (the cleaned track is continuous and equals the unflipped one), every negated sample and every sign change counted" $
       property $ forAll genBase $ \ss -> forAll (choose (1, 10)) $ \k ->
         forAll (genIndices k 1 (length ss - 1) 1) $ \idx ->
           let flipped = [ if i `elem` idx then s { smRot = qneg (smRot s) } else s | (i, s) <- zip [0 :: Int ..] ss ]
           in case clean defaultCleanOptions flipped of
                Left e -> counterexample (show e) False
                Right c -> continuous (clTrack c) .&&. countOf isFlip c === length (nub idx)
+                          .&&. [ ch | SignFlips _ ch _ <- clWarnings c ]
+                               === [ length [ i | i <- [1 .. length ss - 1], (i `elem` idx) /= ((i - 1) `elem` idx) ] ]
                           .&&. conjoin [ counterexample (show (a, b)) (abs (qdot a b - 1) < 1e-12)
                                        | (a, b) <- zip (ptoList (tRot (clTrack c))) (map smRot ss) ]
                           .&&. trackLength (clTrack c) === length ss

@@ -82,8 +82,9 @@ data CleanWarning
   | DuplicateTimes !Duplicates !Int !Int [(Double, [Int])]
     -- ^ merged or dropped; samples removed (merged into another or dropped); times that
     -- had more than one sample; (time, where) of the first few
-  | SignFlips !Int [Int]
-    -- ^ quaternions negated to keep the track continuous; where, first few
+  | SignFlips !Int !Int [Int]
+    -- ^ quaternions negated to keep the track continuous; sign changes in the input
+    -- (consecutive samples with a negative dot product); where they are, first few
   | OutliersRejected !Double !Int [(Double, Int)]
     -- ^ factor k; samples removed; (time, where) of the first few
   | Gaps !Double !Double !Int (Double, Double, Int) [(Double, Int)]
@@ -123,7 +124,7 @@ warningCount :: CleanWarning -> Int
 warningCount = \case
   NonUnitQuaternions n _ -> n
   DuplicateTimes _ n _ _ -> n
-  SignFlips n _ -> n
+  SignFlips n _ _ -> n
   OutliersRejected _ n _ -> n
   Gaps _ _ n _ _ -> n
 
@@ -142,6 +143,7 @@ cleanSamples loc opts raw
           groups = groupTimes normed
           merged = map (collapse (cleanDuplicates opts)) groups
           (aligned, flips) = alignSigns merged
+          changes = [ smLoc b | (a, b) <- zip merged (drop 1 merged), qdot (smRot a) (smRot b) < 0 ]
           (kept, outliers) = case cleanRejectOutliers opts of
             Just k -> rejectOutliers k aligned
             Nothing -> (aligned, [])
@@ -151,7 +153,7 @@ cleanSamples loc opts raw
             [ [ NonUnitQuaternions (length nonUnit) (take firstFew nonUnit) | not (null nonUnit) ]
             , [ DuplicateTimes (cleanDuplicates opts) nDup (length dupGroups)
                   (take firstFew [ (smTime (head g), map smLoc g) | g <- dupGroups ]) | nDup > 0 ]
-            , [ SignFlips (length flips) (take firstFew flips) | not (null flips) ]
+            , [ SignFlips (length flips) (length changes) (take firstFew changes) | not (null flips) ]
             , case cleanRejectOutliers opts of
                 Just k | not (null outliers) ->
                   [OutliersRejected k (length outliers) (take firstFew [ (smTime s, smLoc s) | s <- outliers ])]
@@ -296,9 +298,9 @@ renderCleanWarning loc = \case
     ++ (case act of MergeDuplicates -> "merged into the first of the same time (poses averaged)"
                     DropDuplicates -> "dropped (the first of each time kept)")
     ++ " (" ++ list [ "t = " ++ showNumber t ++ " s at " ++ joinWith ", " (map (lcAt loc) ls) | (t, ls) <- xs ] g ++ ")"
-  SignFlips n xs ->
-    show n ++ " quaternion sign flip" ++ plural n ++ " (q and -q are the same orientation) aligned ("
-    ++ list (map (lcAt loc) xs) n ++ ")"
+  SignFlips n c xs ->
+    show c ++ " quaternion sign change" ++ plural c ++ " (q and -q are the same orientation) at "
+    ++ list (map (lcAt loc) xs) c ++ "; " ++ show n ++ " quaternion" ++ plural n ++ " negated to keep the track continuous"
   OutliersRejected k n xs ->
     show n ++ " outlier" ++ plural n ++ " rejected (position spike above " ++ showNumber k ++ " times the local step) ("
     ++ list [ "t = " ++ showNumber t ++ " s at " ++ lcAt loc l | (t, l) <- xs ] n ++ ")"
