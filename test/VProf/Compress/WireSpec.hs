@@ -3,6 +3,7 @@
 module VProf.Compress.WireSpec (spec) where
 
 import Data.ProtocolBuffers (getField, putField)
+import Data.List (isInfixOf)
 import qualified Data.Text as T
 import qualified Data.Vector.Unboxed as U
 import Test.Hspec
@@ -13,6 +14,7 @@ import Support.Recordings
 import VProf.Service.Compress (serveCompress)
 import VProf.Wire.Compress
 import VProf.Wire.Messages
+import VProf.Wire.Validate (MsgType (..), validateWire)
 
 request :: Track -> Word -> CompressRequestMsg
 request tr pts = CompressRequestMsg
@@ -44,6 +46,8 @@ spec = describe "serveCompress" $ do
     fmap (> 0) (getField (cpComputeTime rsp)) `shouldBe` Just True
     head (getField (posTime path)) `shouldBe` U.head (tTime tr)
     decodeBare (encodeBare rsp) `shouldBe` Right rsp
+    -- a clean recording (but for one gap) has no other warning
+    map T.unpack (getField (cpWarnings rsp)) `shouldSatisfy` all ("1 gap" `isInfixOf`)
   it "answers a bad request with INVALID_ARGUMENT naming the field and the value" $ do
     Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
     let req = (request tr 60) { crqMargin = putField (Just 0.5) }
@@ -83,6 +87,10 @@ spec = describe "serveCompress" $ do
     rsp <- serveCompress req
     getField (cpError rsp) `shouldBe` Nothing
     fmap (getField . cmSamples) (getField (cpMetrics rsp)) `shouldBe` Just (Just 3000)
+    -- the response's warnings (field 6) say so, naming the samples by index
+    map T.unpack (getField (cpWarnings rsp)) `shouldSatisfy` any ("at sample 700, sample 701" `isInfixOf`)
+    decodeBare (encodeBare rsp) `shouldBe` Right rsp
+    validateWire TCompressedPath (encodeBare rsp) `shouldBe` Right ()
   it "names the missing recording" $ do
     let req = CompressRequestMsg (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
                 (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)

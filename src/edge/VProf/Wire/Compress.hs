@@ -120,13 +120,15 @@ metricsToMsg m = CompressMetricsMsg
   }
   where d x = putField (nonDefault x)
 
-outcomeToMsg :: Word64 -> Double -> Compressed -> CompressedPathMsg
-outcomeToMsg rid secs o = CompressedPathMsg
+-- | A compressed path as the response, with the warnings of cleaning its recording.
+outcomeToMsg :: Word64 -> Double -> [String] -> Compressed -> CompressedPathMsg
+outcomeToMsg rid secs warns o = CompressedPathMsg
   { cpRequestId = putField (nonDefault rid)
   , cpPath = putField (Just (trackToPoses (pathTrack (oPath o))))
   , cpMetrics = putField (Just (metricsToMsg (oMetrics o)))
   , cpComputeTime = putField (nonDefault secs)
   , cpError = putField errTol
+  , cpWarnings = putField (map T.pack warns)
   }
   where
     errTol | oToleranceMet o = Nothing
@@ -149,4 +151,5 @@ errorResponse rid secs code field msg = CompressedPathMsg
   , cpMetrics = putField Nothing
   , cpComputeTime = putField (nonDefault secs)
   , cpError = putField (Just (mkError code field msg))
+  , cpWarnings = putField []
   }
