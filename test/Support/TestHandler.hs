@@ -55,6 +55,7 @@ testAnswer rid = \case
     { cpRequestId = putField (getField (crqRequestId c))
     , cpPath = putField Nothing, cpMetrics = putField Nothing, cpComputeTime = putField Nothing
     , cpError = putField (Just (mkError ErrUnsupported "compress" "the test handler does not compress"))
+    , cpWarnings = putField []
     }
 
 -- | An envelope with the given bodies set.

@@ -1,10 +1,14 @@
 -- | The compress subcommand end to end: files in, files out, exit codes.
 module VProf.Compress.CliSpec (spec) where
 
+import Control.Exception (finally)
 import qualified Data.ByteString.Char8 as B
+import Data.List (isInfixOf)
+import GHC.IO.Handle (hDuplicate, hDuplicateTo)
 import Options.Applicative
 import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
+import System.IO (Handle, IOMode (..), hClose, hFlush, openFile, stderr, stdout)
 import System.IO.Temp (withSystemTempDirectory)
 import Test.Hspec
 import qualified Data.Vector.Unboxed as U
@@ -14,6 +18,24 @@ import VProf.Compress.Format.Rapid (parseRapid)
 import VProf.Compress.Format.Tum (parseTum)
 import Support.Recordings
 import VProf.Compress.Types
+
+-- | Run an action with stderr going to a file; what it wrote there.
+captureStderr :: FilePath -> IO a -> IO (a, String)
+captureStderr = captureHandle stderr
+
+-- | Run an action with a handle going to a file; what it wrote there.
+captureHandle :: Handle -> FilePath -> IO a -> IO (a, String)
+captureHandle hd f act = do
+  old <- hDuplicate hd
+  h <- openFile f WriteMode
+  hDuplicateTo h hd
+  r <- act `finally` (hFlush hd >> hDuplicateTo old hd >> hClose h)
+  txt <- B.unpack <$> B.readFile f
+  pure (r, txt)
+
+-- | The data lines of a TUM file with their line numbers (from 1).
+numbered :: B.ByteString -> [(Int, B.ByteString)]
+numbered src = [ (i, l) | (i, l) <- zip [1 ..] (B.lines src), not (B.null l), B.head l /= '#' ]
 
 runCli :: [String] -> IO ExitCode
 runCli args = case execParserPure defaultPrefs (info compressCommand mempty) args of
@@ -57,3 +79,79 @@ spec = describe "vprof compress" $ do
     rec <- dataFile "freiburg1_xyz-groundtruth.txt"
     runCli ["/nonexistent/recording.txt"] `shouldReturn` ExitFailure 2
     runCli [rec, "--points", "5000"] `shouldReturn` ExitFailure 2
+
+  describe "real recordings" $ do
+    it "merges a duplicated timestamp with a different pose (as TUM freiburg2_desk has), exits 0 and warns with the time and lines" $
+      withSystemTempDirectory "vprof-cli" $ \dir -> do
+        src <- B.readFile =<< dataFile "freiburg1_xyz-groundtruth.txt"
+        let ls = B.lines src
+            (i, l) = numbered src !! 500
+            (t : x : rest) = B.words l
+            x' = maybe x (\(v, _) -> B.pack (show (fromIntegral v / 1e4 + 0.0123 :: Double))) (B.readInt (B.filter (/= '.') x))
+            dupLine = B.unwords (t : x' : rest)
+            dup = B.unlines (take i ls ++ [dupLine] ++ drop i ls)
+            f = dir </> "dup.txt"
+            out = dir </> "path.txt"
+        B.writeFile f dup
+        (code, err) <- captureStderr (dir </> "stderr.txt") (runCli [f, "--points", "25", "-o", out])
+        code `shouldBe` ExitSuccess
+        err `shouldSatisfy` ("1 time with more than one sample" `isInfixOf`)
+        err `shouldSatisfy` (("t = " ++ B.unpack t ++ " s at line " ++ show i ++ ", line " ++ show (i + 1)) `isInfixOf`)
+        err `shouldSatisfy` ("1 sample merged" `isInfixOf`)
+        Right tr <- parseTum <$> B.readFile out
+        trackLength tr `shouldBe` 25
+        (code', js) <- captureHandle stdout (dir </> "stdout.txt") (runCli [f, "--points", "25", "--report-json"])
+        code' `shouldBe` ExitSuccess
+        js `shouldSatisfy` ("\"warnings\":[" `isInfixOf`)
+        js `shouldSatisfy` ("\"kind\":\"duplicate_times\"" `isInfixOf`)
+    it "with --duplicates drop also exits 0 and says it dropped" $
+      withSystemTempDirectory "vprof-cli" $ \dir -> do
+        src <- B.readFile =<< dataFile "freiburg1_xyz-groundtruth.txt"
+        let ls = B.lines src
+            (i, l) = numbered src !! 10
+            f = dir </> "dup.txt"
+        B.writeFile f (B.unlines (take i ls ++ [l] ++ drop i ls))
+        (code, err) <- captureStderr (dir </> "stderr.txt") (runCli [f, "--points", "25", "--duplicates", "drop", "-o", dir </> "p.txt"])
+        code `shouldBe` ExitSuccess
+        err `shouldSatisfy` ("1 sample dropped" `isInfixOf`)
+    it "refuses an unsorted recording with exit 2, naming the line and the time" $
+      withSystemTempDirectory "vprof-cli" $ \dir -> do
+        src <- B.readFile =<< dataFile "freiburg1_xyz-groundtruth.txt"
+        let ls = B.lines src
+            (i, _) = numbered src !! 200
+            -- lines i and i+1 swapped: line i+1 holds the earlier sample
+            swapped = take (i - 1) ls ++ [ls !! i, ls !! (i - 1)] ++ drop (i + 1) ls
+            t = head (B.words (ls !! (i - 1)))
+            f = dir </> "unsorted.txt"
+        B.writeFile f (B.unlines swapped)
+        (code, err) <- captureStderr (dir </> "stderr.txt") (runCli [f, "--points", "25"])
+        code `shouldBe` ExitFailure 2
+        err `shouldSatisfy` (("at line " ++ show (i + 1) ++ ":") `isInfixOf`)
+        err `shouldSatisfy` (B.unpack t `isInfixOf`)
+    it "accepts CRLF line ends, comments, blank lines and extra whitespace" $
+      withSystemTempDirectory "vprof-cli" $ \dir -> do
+        let f = dir </> "crlf.txt"
+        B.writeFile f (B.pack "# a comment\r\n\r\n 1.0\t0 0 0  0 0 0 1 \r\n2.0 1 0 0 0 0 0 1\r\n# end\r\n3.0 2 1 0 0 0 0 1\r\n")
+        runCli [f, "--points", "3", "-o", dir </> "p.txt"] `shouldReturn` ExitSuccess
+    it "refuses an empty file and a single sample with exit 2" $
+      withSystemTempDirectory "vprof-cli" $ \dir -> do
+        let e = dir </> "empty.txt"
+            one = dir </> "one.txt"
+        B.writeFile e (B.pack "# only a comment\n")
+        B.writeFile one (B.pack "1 0 0 0 0 0 0 1\n")
+        (code, err) <- captureStderr (dir </> "stderr.txt") (runCli [e])
+        code `shouldBe` ExitFailure 2
+        err `shouldSatisfy` ("has no samples" `isInfixOf`)
+        runCli [one] `shouldReturn` ExitFailure 2
+    it "--reject-outliers removes a spike injected into the real recording and says where" $
+      withSystemTempDirectory "vprof-cli" $ \dir -> do
+        src <- B.readFile =<< dataFile "freiburg1_xyz-groundtruth.txt"
+        let ls = B.lines src
+            (i, l) = numbered src !! 1500
+            (t : _ : rest) = B.words l
+            f = dir </> "spike.txt"
+        B.writeFile f (B.unlines (take (i - 1) ls ++ [B.unwords (t : B.pack "9.0" : rest)] ++ drop i ls))
+        (code, err) <- captureStderr (dir </> "stderr.txt") (runCli [f, "--points", "25", "--reject-outliers", "-o", dir </> "p.txt"])
+        code `shouldBe` ExitSuccess
+        err `shouldSatisfy` (("1 outlier rejected") `isInfixOf`)
+        err `shouldSatisfy` (("at line " ++ show i ++ ")") `isInfixOf`)

@@ -9,6 +9,7 @@ import Test.Hspec
 import Test.QuickCheck
 
 import VProf.Compress
+import VProf.Compress.Clean (Sample (..))
 import VProf.Compress.Format.Log
 import VProf.Compress.Format.Rapid
 import VProf.Compress.Format.Tum
@@ -54,7 +55,21 @@ spec = do
     it "rejects times that do not increase, naming the sample" $ do
       let Left e = parseTum (B.pack "1 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n")
       e `shouldSatisfy` ("sample 1" `isInfixOf`)
+    it "reads samples as written with their line numbers: CRLF, comments, blank lines, tabs; duplicates and order left to the cleaning" $ do
+      let Right ss = readTum (B.pack "# header\r\n\r\n2.0\t1 2 3 0 0 0 1\r\n  1.0  4 5 6   0 0 0 1 \r\n1.0 4 5 6 0 0 0 1\r\n")
+      map smLoc ss `shouldBe` [3, 4, 5]
+      map smTime ss `shouldBe` [2, 1, 1]
+      map smPos ss `shouldBe` [P3 1 2 3, P3 4 5 6, P3 4 5 6]
+      map smRot ss `shouldBe` replicate 3 (Q4 1 0 0 0)
+    it "names the line of a nan or inf field" $
+      mapM_ (\v -> case readTum (B.pack ("1 0 0 0 0 0 0 1\n2 0 " ++ v ++ " 0 0 0 0 1\n")) of
+                     Left e -> e `shouldSatisfy` ("line 2, column 3" `isInfixOf`)
+                     Right _ -> expectationFailure v) ["nan", "NaN", "inf", "-Infinity"]
   describe "Polhemus log (thesis figure 33)" $ do
+    it "reads samples with their line numbers (CRLF accepted)" $ do
+      let Right ss = readLog (B.pack "# c\r\n1000, 1, 2, 3, 1, 0, 0, 0\r\n1000, 1, 2, 3, 1, 0, 0, 0, 7\r\n")
+      map smLoc ss `shouldBe` [2, 3]
+      map smTime ss `shouldBe` [1, 1]
     it "reads time (ms), position (mm) and quaternion w x y z, ignoring further columns" $ do
       let src = B.pack "1540012, 719.734558105469, -97.2053146362305, -480.808166503906, -0.610407650470734, 0.124314948916435, -0.749075055122375, 0.225465580821037, 0, 0\n\
                        \1540062, 720.0, -97.0, -480.0, -0.61, 0.124, -0.749, 0.225, 0, 0\n"

@@ -3,15 +3,18 @@
 module VProf.Compress.WireSpec (spec) where
 
 import Data.ProtocolBuffers (getField, putField)
+import Data.List (isInfixOf)
 import qualified Data.Text as T
 import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 
 import VProf.Compress
+import VProf.Compress.Clean
 import Support.Recordings
 import VProf.Service.Compress (serveCompress)
 import VProf.Wire.Compress
 import VProf.Wire.Messages
+import VProf.Wire.Validate (MsgType (..), validateWire)
 
 request :: Track -> Word -> CompressRequestMsg
 request tr pts = CompressRequestMsg
@@ -43,6 +46,8 @@ spec = describe "serveCompress" $ do
     fmap (> 0) (getField (cpComputeTime rsp)) `shouldBe` Just True
     head (getField (posTime path)) `shouldBe` U.head (tTime tr)
     decodeBare (encodeBare rsp) `shouldBe` Right rsp
+    -- a clean recording (but for one gap) has no other warning
+    map T.unpack (getField (cpWarnings rsp)) `shouldSatisfy` all ("1 gap" `isInfixOf`)
   it "answers a bad request with INVALID_ARGUMENT naming the field and the value" $ do
     Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
     let req = (request tr 60) { crqMargin = putField (Just 0.5) }
@@ -52,14 +57,40 @@ spec = describe "serveCompress" $ do
     getField (errField err) `shouldBe` Just (T.pack "margin")
     fmap (T.isInfixOf (T.pack "0.5")) (getField (errMessage err)) `shouldBe` Just True
     getField (cpPath rsp) `shouldBe` Nothing
-  it "names recording.time when times do not increase" $ do
-    let poses = PosesMsg (putField [1, 1]) (putField [0, 0]) (putField [0, 0]) (putField [0, 0])
+  it "names recording.time and the sample when times go backwards" $ do
+    let poses = PosesMsg (putField [2, 1]) (putField [0, 0]) (putField [0, 0]) (putField [0, 0])
                          (putField [1, 1]) (putField [0, 0]) (putField [0, 0]) (putField [0, 0])
         req = CompressRequestMsg (putField Nothing) (putField (Just poses)) (putField Nothing) (putField Nothing)
                 (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
     rsp <- serveCompress req
     let Just err = getField (cpError rsp)
+    getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
     getField (errField err) `shouldBe` Just (T.pack "recording.time")
+    fmap (T.isInfixOf (T.pack "sample 1")) (getField (errMessage err)) `shouldBe` Just True
+  it "cleans a recording sent over the wire as a file is: a duplicated time with another pose is merged" $ do
+    Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let poses = trackToPoses tr
+        dupWith f k xs = take (k + 1) xs ++ [f (xs !! k)] ++ drop (k + 1) xs
+        dupAt = dupWith id
+        req = (request tr 60) { crqRecording = putField (Just poses
+                 { posTime = putField (dupAt 700 (getField (posTime poses)))
+                 , posX = putField (dupWith (+ 0.01) 700 (getField (posX poses))) -- the copy 1 cm away
+                 , posY = putField (dupAt 700 (getField (posY poses))), posZ = putField (dupAt 700 (getField (posZ poses)))
+                 , posQw = putField (dupAt 700 (getField (posQw poses))), posQx = putField (dupAt 700 (getField (posQx poses)))
+                 , posQy = putField (dupAt 700 (getField (posQy poses))), posQz = putField (dupAt 700 (getField (posQz poses))) }) }
+    case requestToDomainW req of
+      Left e -> expectationFailure (show e)
+      Right (Recording tr', _, ws) -> do
+        trackLength tr' `shouldBe` 3000
+        map warningCount ws `shouldSatisfy` (1 `elem`)
+        any (\w -> case w of DuplicateTimes _ 1 1 [(_, [700, 701])] -> True; _ -> False) ws `shouldBe` True
+    rsp <- serveCompress req
+    getField (cpError rsp) `shouldBe` Nothing
+    fmap (getField . cmSamples) (getField (cpMetrics rsp)) `shouldBe` Just (Just 3000)
+    -- the response's warnings (field 6) say so, naming the samples by index
+    map T.unpack (getField (cpWarnings rsp)) `shouldSatisfy` any ("at sample 700, sample 701" `isInfixOf`)
+    decodeBare (encodeBare rsp) `shouldBe` Right rsp
+    validateWire TCompressedPath (encodeBare rsp) `shouldBe` Right ()
   it "names the missing recording" $ do
     let req = CompressRequestMsg (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
                 (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)

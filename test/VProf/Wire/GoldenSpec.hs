@@ -220,4 +220,4 @@ compressedPath :: Obj -> Parser CompressedPathMsg
 compressedPath o = CompressedPathMsg
   <$> (putField <$> u64 o "request_id") <*> (putField <$> msg poses o "path")
   <*> (putField <$> msg compressMetrics o "metrics") <*> (putField <$> dbl o "compute_time")
-  <*> (putField <$> msg errorMsg o "error")
+  <*> (putField <$> msg errorMsg o "error") <*> pure (putField [])

@@ -23,6 +23,7 @@ import Numeric.Units.Dimensional.Prelude (metre, milli, (*~))
 import Prelude
 
 import VProf.Compress
+import VProf.Compress.Clean
 import VProf.Compress.Format.Csv
 import VProf.Compress.Format.Log
 import VProf.Compress.Format.Rapid
@@ -47,13 +48,20 @@ data CompressOptions = CompressOptions
   , coReportJson   :: Bool
   , coPlot         :: Maybe FilePath
   , coRapid        :: RapidOptions
+  , coClean        :: CleanOptions
   }
 
 compressCommand :: Parser (IO ExitCode)
 compressCommand = runCompress <$> compressOptions
 
 compressOptions :: Parser CompressOptions
-compressOptions = CompressOptions
+compressOptions = rejectFlag <$> switch (long "reject-outliers" <> help "reject isolated position spikes (outlier factor 5 unless --outlier-factor is given); a warning says how many and where") <*> compressOptions'
+  where
+    rejectFlag on o = let c = coClean o in
+      if on && cleanRejectOutliers c == Nothing then o { coClean = c { cleanRejectOutliers = Just defaultOutlierFactor } } else o
+
+compressOptions' :: Parser CompressOptions
+compressOptions' = CompressOptions
   <$> strArgument (metavar "RECORDING" <> help "recorded motion: TUM text, Polhemus CSV log or RAPID .mod")
   <*> optional (option (eitherReader inFmt) (long "input-format" <> metavar "tum|log|mod"
         <> help "format of RECORDING (default: from the extension; .log and .csv are logs, .mod is RAPID, else TUM)"))
@@ -69,7 +77,22 @@ compressOptions = CompressOptions
   <*> switch (long "report-json" <> help "print the measures as JSON")
   <*> optional (strOption (long "plot" <> metavar "FILE.png|.svg" <> help "plot raw and fitted position, orientation and speed"))
   <*> rapidP
+  <*> cleanP
   where
+    cleanP = CleanOptions
+      <$> option (eitherReader dups) (long "duplicates" <> metavar "merge|drop" <> value MergeDuplicates
+            <> help "samples sharing a time: merge them into one (positions averaged, quaternions sign-aligned and averaged; default) or keep the first only; either way a warning says how many and where")
+      <*> optional (option (eitherReader posD) (long "outlier-factor" <> metavar "K"
+            <> help "reject isolated position spikes more than K times the local step (and the robust noise spread) away from their neighbours' line; --reject-outliers is K = 5; default: keep every sample"))
+      <*> option (eitherReader posD) (long "gap-factor" <> metavar "F" <> value (cleanGapFactor defaultCleanOptions) <> showDefault
+            <> help "warn about time steps longer than F times the median step")
+    dups s = case map toLower s of
+      "merge" -> Right MergeDuplicates
+      "drop" -> Right DropDuplicates
+      _ -> Left ("--duplicates " ++ s ++ ": expected merge or drop")
+    posD s = case readD s of
+      Just d | finite d && d > 0 -> Right d
+      _ -> Left (s ++ ": expected a finite number > 0")
     stopP = (StopPoints <$> option (eitherReader posInt) (long "points" <> metavar "K" <> help "waypoints wanted (default: 3 % of the samples)"))
         <|> (StopMargin <$> option auto (long "margin" <> metavar "M" <> help "stop removing points when the error passes M times the grown path's error"))
         <|> (StopTolerance <$> option auto (long "tolerance" <> metavar "MM" <> help "largest position error allowed, mm"))
@@ -126,17 +149,24 @@ runCompress o = do
     Left e -> failInput ("cannot read " ++ file ++ ": " ++ show (e :: IOException))
     Right bytes -> case parseWith fmt bytes of
       Left e -> failInput (file ++ ": " ++ e)
-      Right tr -> go (Recording tr)
+      Right samples -> case cleanSamples fileLocator (coClean o) samples of
+        Left errs -> failInput (file ++ ": " ++ intercalate "; " (map renderFieldError errs))
+        Right cl -> do
+          mapM_ (\w -> hPutStrLn stderr ("vprof compress: " ++ label w ++ ": " ++ file ++ ": " ++ renderCleanWarning fileLocator w))
+                (clWarnings cl)
+          go (clWarnings cl) (Recording (clTrack cl))
   where
+    -- sign flips change no orientation (q and -q are the same): a note, not a warning
+    label = \case SignFlips {} -> "note"; _ -> "warning"
     failInput msg = hPutStrLn stderr ("vprof compress: " ++ msg) >> pure (ExitFailure 2)
     guessIn f = case map toLower (takeExtension f) of
       ".log" -> InLog
       ".csv" -> InLog
       ".mod" -> InMod
       _ -> InTum
-    parseWith InTum = parseTum
-    parseWith InLog = parseLog
-    parseWith InMod = parseRapid
+    parseWith InTum = readTum
+    parseWith InLog = readLog
+    parseWith InMod = readRapid
     (wp, wo, wv) = coWeights o
     settings = Settings
       { sMethod = coMethod o
@@ -145,7 +175,7 @@ runCompress o = do
       , sMargin = case coStop o of Just (StopMargin m) -> Just m; _ -> Nothing
       , sTolerance = case coStop o of Just (StopTolerance t) -> Just (t *~ milli metre); _ -> Nothing
       }
-    go rec = do
+    go warns rec = do
       t0 <- getMonotonicTime
       res <- evaluate (compress settings rec)
       case res of
@@ -172,8 +202,10 @@ runCompress o = do
             putStrLn ("vprof compress " ++ coInput o ++ ": " ++ show (mSamples (oMetrics out)) ++ " samples -> "
                       ++ show k ++ " points (" ++ name (coMethod o) ++ ", weights " ++ intercalate "," (map show [wp, wo, wv])
                       ++ ", stop: " ++ oStop out ++ ")")
+            mapM_ (\w -> putStrLn (label w ++ ": " ++ renderCleanWarning fileLocator w)) warns
             putStr (renderReport (wp, wo, wv) cols)
-          when (coReportJson o) $ BL.putStrLn (A.encode (reportJson (sWeights settings) cols))
+          when (coReportJson o) $
+            BL.putStrLn (A.encode (withWarnings (warningsJson fileLocator warns) (reportJson (sWeights settings) cols)))
           let tr = pathTrack (oPath out)
               outFmt f = maybe (guessOut f) id (coOutputFormat o)
               render f = case outFmt f of

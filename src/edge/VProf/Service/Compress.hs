@@ -1,7 +1,7 @@
 -- | The daemon's path compression: one 'CompressRequestMsg' in, one 'CompressedPathMsg'
 -- out, never an exception. Validation problems come back as INVALID_ARGUMENT naming the
 -- field (all problems joined in the message), an unmet tolerance as INFEASIBLE with the
--- path, anything unexpected as INTERNAL; the compute time is measured on the monotonic
+-- path, anything unexpected as INTERNAL; what cleaning the recording changed goes into @warnings@; the compute time is measured on the monotonic
 -- clock.
 module VProf.Service.Compress
   ( serveCompress
@@ -14,6 +14,7 @@ import Data.ProtocolBuffers (getField)
 import GHC.Clock (getMonotonicTime)
 
 import VProf.Compress
+import VProf.Compress.Clean (renderCleanWarning)
 import VProf.Wire.Compress
 import VProf.Wire.Messages
 
@@ -30,13 +31,14 @@ serveCompress :: CompressRequestMsg -> IO CompressedPathMsg
 serveCompress req = do
   let rid = orDefault (getField (crqRequestId req))
   t0 <- getMonotonicTime
-  r <- try $ case requestToDomain req of
+  r <- try $ case requestToDomainW req of
     Left errs -> evaluate (Left errs)
-    Right (rec, s) -> case compress s rec of
+    Right (rec, s, ws) -> case compress s rec of
       Left errs -> evaluate (Left errs)
       Right o -> do
         o' <- evaluate (force (oMetrics o)) >> evaluate o
-        pure (Right o')
+        warns <- evaluate (force (map (renderCleanWarning wireLocator) ws))
+        pure (Right (warns, o'))
   t1 <- getMonotonicTime
   let secs = t1 - t0
   pure $ case r of
@@ -44,6 +46,6 @@ serveCompress req = do
     Right (Left errs@(e1 : _)) ->
       errorResponse rid secs ErrInvalidArgument (feField e1) (unwords' (map renderFieldError errs))
     Right (Left []) -> errorResponse rid secs ErrInternal "" "internal error: empty error list"
-    Right (Right o) -> outcomeToMsg rid secs o
+    Right (Right (warns, o)) -> outcomeToMsg rid secs warns o
   where
     unwords' = foldr1 (\a b -> a ++ "; " ++ b)

@@ -8,6 +8,8 @@
 -- (180/π)²·10⁻⁶ ≈ 3.28·10⁻³, velocity 10⁻⁶ (see 'thesisWeights').
 module VProf.Wire.Compress
   ( requestToDomain
+  , requestToDomainW
+  , wireLocator
   , posesToTrack
   , trackToPoses
   , metricsToMsg
@@ -23,18 +25,26 @@ import Numeric.Units.Dimensional.Prelude (metre, (*~))
 import Prelude
 
 import VProf.Compress
+import VProf.Compress.Clean
 import VProf.Geometry.Vec
 import VProf.Wire.Messages
 
 -- | Validate a request and turn it into a recording and settings. A field left at 0 takes
 -- its default; the settings are then checked by the core ('validateSettings'), whose
--- field names are the proto's.
+-- field names are the proto's. The recording is cleaned by the same rules as a file
+-- ("VProf.Compress.Clean", default options: duplicates merged, no outlier rejection).
 requestToDomain :: CompressRequestMsg -> Either [FieldError] (Recording, Settings)
-requestToDomain m = do
+requestToDomain = fmap (\(r, s, _) -> (r, s)) . requestToDomainW
+
+-- | 'requestToDomain' with what cleaning the recording changed (samples named by index,
+-- see 'wireLocator'). The response has no field for them yet.
+requestToDomainW :: CompressRequestMsg -> Either [FieldError] (Recording, Settings, [CleanWarning])
+requestToDomainW m = do
   poses <- maybe (Left [literalError "recording" "" "is missing: it must hold at least 2 poses"]) Right
                  (getField (crqRecording m))
-  tr <- either (\e -> Left [e]) Right (posesToTrack poses)
-  let n = U.length (tTime tr)
+  cl <- posesToTrack poses
+  let tr = clTrack cl
+      n = U.length (tTime tr)
       wpos = orDefault (getField (crqWeightPosition m))
       wori = orDefault (getField (crqWeightOrientation m))
       wvel = orDefault (getField (crqWeightVelocity m))
@@ -53,7 +63,7 @@ requestToDomain m = do
         , sMargin = if margin == 0 then Nothing else Just margin
         , sTolerance = if tol == 0 then Nothing else Just (tol *~ metre)
         }
-  validated [inUserTerms protoField (validateSettings n settings)] (Recording tr, settings)
+  validated [inUserTerms protoField (validateSettings n settings)] (Recording tr, settings, clWarnings cl)
   where
     protoField = \case
       "weights.position" -> Just (UserField "weight_position" "" 1)
@@ -61,8 +71,14 @@ requestToDomain m = do
       "weights.velocity" -> Just (UserField "weight_velocity" "" 1)
       _ -> Nothing
 
--- | Poses on the wire to a validated track; the error names the field.
-posesToTrack :: PosesMsg -> Either FieldError Track
+-- | How the wire names samples and fields: @recording.time@ and so on, samples by their
+-- index from 0.
+wireLocator :: Locator
+wireLocator = indexLocator "recording"
+
+-- | Poses on the wire to a cleaned track (default cleaning options); errors name the
+-- field and the sample index.
+posesToTrack :: PosesMsg -> Either [FieldError] Cleaned
 posesToTrack p = do
   let ts = getField (posTime p)
       cols = [ ("recording.x", getField (posX p)), ("recording.y", getField (posY p)), ("recording.z", getField (posZ p))
@@ -70,20 +86,12 @@ posesToTrack p = do
              , ("recording.qy", getField (posQy p)), ("recording.qz", getField (posQz p)) ]
       n = length ts
   case [ (f, length c) | (f, c) <- cols, length c /= n ] of
-    ((f, l) : _) -> Left (literalError f "" ("has " ++ show l ++ " values but recording.time has " ++ show n))
+    ((f, l) : _) -> Left [literalError f "" ("has " ++ show l ++ " values but recording.time has " ++ show n)]
     [] -> Right ()
   let [xs, ys, zs, qw, qx, qy, qz] = map snd cols
-      ps = pfromList (zipWith3 P3 xs ys zs)
-      qs = pfromList (zipWith4' Q4 qw qx qy qz)
-  case recordingFromArrays (U.fromList ts) ps qs of
-    Right (Recording tr) -> Right tr
-    Left e -> Left (literalError (fieldOf e) "" e)
+      samples = zipWith4' Sample [0 ..] ts (zipWith3 P3 xs ys zs) (zipWith4' Q4 qw qx qy qz)
+  cleanSamples wireLocator defaultCleanOptions samples
   where
-    fieldOf e
-      | "time" `T.isInfixOf` T.pack e = "recording.time"
-      | "position" `T.isInfixOf` T.pack e = "recording.x"
-      | "quaternion" `T.isInfixOf` T.pack e = "recording.qw"
-      | otherwise = "recording"
     zipWith4' f (a : as) (b : bs) (c : cs) (d : ds) = f a b c d : zipWith4' f as bs cs ds
     zipWith4' _ _ _ _ _ = []
 
@@ -112,13 +120,15 @@ metricsToMsg m = CompressMetricsMsg
   }
   where d x = putField (nonDefault x)
 
-outcomeToMsg :: Word64 -> Double -> Compressed -> CompressedPathMsg
-outcomeToMsg rid secs o = CompressedPathMsg
+-- | A compressed path as the response, with the warnings of cleaning its recording.
+outcomeToMsg :: Word64 -> Double -> [String] -> Compressed -> CompressedPathMsg
+outcomeToMsg rid secs warns o = CompressedPathMsg
   { cpRequestId = putField (nonDefault rid)
   , cpPath = putField (Just (trackToPoses (pathTrack (oPath o))))
   , cpMetrics = putField (Just (metricsToMsg (oMetrics o)))
   , cpComputeTime = putField (nonDefault secs)
   , cpError = putField errTol
+  , cpWarnings = putField (map T.pack warns)
   }
   where
     errTol | oToleranceMet o = Nothing
@@ -141,4 +151,5 @@ errorResponse rid secs code field msg = CompressedPathMsg
   , cpMetrics = putField Nothing
   , cpComputeTime = putField (nonDefault secs)
   , cpError = putField (Just (mkError code field msg))
+  , cpWarnings = putField []
   }

@@ -245,6 +245,7 @@ data CompressedPathMsg = CompressedPathMsg
   , cpMetrics     :: Optional 3 (Message CompressMetricsMsg)
   , cpComputeTime :: Optional 4 (Value Double)
   , cpError       :: Optional 5 (Message ErrorMsg)
+  , cpWarnings    :: Repeated 6 (Value Text)
   } deriving (Generic, Show, Eq)
 instance Encode CompressedPathMsg
 instance Decode CompressedPathMsg

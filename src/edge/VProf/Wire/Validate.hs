@@ -58,7 +58,7 @@ fields t n = case t of
     | n == 15 || n == 16 -> Just KVarint
     | n >= 1 && n <= 17 -> Just KF64
     | otherwise -> Nothing
-  TCompressedPath -> lookup n [(1, KVarint), (2, KMsg TPoses), (3, KMsg TCompressMetrics), (4, KF64), (5, KMsg TError)]
+  TCompressedPath -> lookup n [(1, KVarint), (2, KMsg TPoses), (3, KMsg TCompressMetrics), (4, KF64), (5, KMsg TError), (6, KStr)]
   TPing -> lookup n [(1, KStr)]
   TPong -> lookup n [(1, KStr), (2, KStr)]
 

@@ -3,12 +3,14 @@
 -- columns (ignored). Blank lines and lines starting with @#@ are skipped.
 module VProf.Compress.Format.Log
   ( parseLog
+  , readLog
   , logTimeScale
   ) where
 
 import qualified Data.ByteString.Char8 as B
 
 import VProf.Compress.Format.Common (dataLines, numberFields, trackFromRows)
+import VProf.Compress.Clean (Sample (..))
 import VProf.Compress.Types
 import VProf.Geometry.Vec
 
@@ -16,10 +18,14 @@ import VProf.Geometry.Vec
 logTimeScale :: Double
 logTimeScale = 1e-3
 
+-- | A strictly valid track (increasing times, no duplicates); real recordings go through
+-- 'readLog' and "VProf.Compress.Clean".
 parseLog :: B.ByteString -> Either String Track
-parseLog src = do
-  rows <- traverse row (dataLines (\c -> c == '|' || c == ' ') src)
-  trackFromRows "log" rows
+parseLog src = readLog src >>= trackFromRows "log" . map (\(Sample _ t p q) -> (t, p, q))
+
+-- | The samples of a log as written (SI units), each with its line number (from 1).
+readLog :: B.ByteString -> Either String [Sample]
+readLog src = traverse row (dataLines (\c -> c == '|' || c == ' ') src)
   where
     row (i, l) =
       let cols = map B.strip (B.split ',' l)
@@ -30,5 +36,5 @@ parseLog src = do
              vs <- numberFields "log" i (take 8 cols)
              case vs of
                [t, x, y, z, qw, qx, qy, qz] ->
-                 Right (t * logTimeScale, P3 (x * 1e-3) (y * 1e-3) (z * 1e-3), Q4 qw qx qy qz)
+                 Right (Sample i (t * logTimeScale) (P3 (x * 1e-3) (y * 1e-3) (z * 1e-3)) (Q4 qw qx qy qz))
                _ -> Left "impossible"

@@ -10,6 +10,7 @@ module VProf.Compress.Format.Rapid
   ( RapidOptions (..)
   , defaultRapidOptions
   , parseRapid
+  , readRapid
   , renderRapid
   ) where
 
@@ -21,6 +22,7 @@ import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
 
 import VProf.Compress.Format.Common (readDouble)
+import VProf.Compress.Clean (Sample (..))
 import VProf.Compress.Types
 import VProf.Geometry.Vec
 
@@ -82,19 +84,21 @@ lower = map toLower
 -- | Parse a module into a path (positions in m).
 parseRapid :: B.ByteString -> Either String Track
 parseRapid bs = do
+  ss <- readRapid bs
+  case recordingFromArrays (U.fromList (map smTime ss)) (pfromList (map smPos ss)) (pfromList (map smRot ss)) of
+    Left e -> Left ("RAPID: " ++ e ++ " (waypoint k is the k-th move, counting from 0)")
+    Right (Recording tr) -> Right tr
+
+-- | The waypoints of a module as samples, each with the line its move starts on.
+readRapid :: B.ByteString -> Either String [Sample]
+readRapid bs = do
   let (stmts, startT) = statements (B.unpack bs)
   targets <- M.fromList <$> traverse robtarget [ s | s@(_, x) <- stmts, "robtarget" `elem` words (lower (map sep x)) ]
   let moves = [ s | s@(_, x) <- stmts, isMove x ]
   if null moves then Left "RAPID: no MoveL/PaintL/MoveJ instruction found" else Right ()
   steps <- traverse (move targets) (zip [0 :: Int ..] moves)
   let times = scanl1 (+) (maybe 0 id startT : map fst (tail steps))
-      poses = map snd steps
-      ts = U.fromList times
-      ps = pfromList (map fst poses)
-      qs = pfromList (map snd poses)
-  case recordingFromArrays ts ps qs of
-    Left e -> Left ("RAPID: " ++ e ++ " (waypoint k is the k-th move, counting from 0)")
-    Right (Recording tr) -> Right tr
+  pure [ Sample ln t p q | ((ln, _), t, (_, (p, q))) <- zip3 moves times steps ]
   where
     sep c = if c == ':' || c == '=' then ' ' else c
     isMove x = case words x of

@@ -5,13 +5,17 @@ module VProf.Compress.Format.Report
   ( ReportColumn (..)
   , renderReport
   , reportJson
+  , warningsJson
+  , withWarnings
   , thesisObjective
   ) where
 
-import Data.Aeson (Value, camelTo2, defaultOptions, fieldLabelModifier, genericToJSON, object, (.=))
+import Data.Aeson (Value (Object), camelTo2, defaultOptions, fieldLabelModifier, genericToJSON, object, toJSON, (.=))
 import qualified Data.Aeson.Key as K
+import qualified Data.Aeson.KeyMap as KM
 import Numeric (showFFloat)
 
+import VProf.Compress.Clean
 import VProf.Compress.Metrics
 import VProf.Compress.Types
 
@@ -79,3 +83,23 @@ reportJson w cols = object
 -- | The measures as JSON, snake_case names of the fields without their prefix.
 metricsJson :: Metrics -> Value
 metricsJson = genericToJSON defaultOptions { fieldLabelModifier = camelTo2 '_' . drop 1 }
+
+-- | What cleaning the recording changed, as JSON: one object a warning with its kind,
+-- how many samples it is about, and the sentence the text report prints.
+warningsJson :: Locator -> [CleanWarning] -> Value
+warningsJson loc ws = toJSONList
+  [ object [ "kind" .= kind w, "count" .= warningCount w, "message" .= renderCleanWarning loc w ] | w <- ws ]
+  where
+    kind = \case
+      NonUnitQuaternions {} -> "non_unit_quaternions" :: String
+      DuplicateTimes {} -> "duplicate_times"
+      SignFlips {} -> "sign_flips"
+      OutliersRejected {} -> "outliers_rejected"
+      Gaps {} -> "gaps"
+    toJSONList = toJSON
+
+-- | A report with a @warnings@ member (always present, possibly empty).
+withWarnings :: Value -> Value -> Value
+withWarnings ws = \case
+  Object o -> Object (KM.insert (K.fromString "warnings") ws o)
+  v -> v

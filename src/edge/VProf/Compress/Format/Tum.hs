@@ -2,6 +2,7 @@
 -- quaternion with the scalar last); @#@ starts a comment line.
 module VProf.Compress.Format.Tum
   ( parseTum
+  , readTum
   , renderTum
   ) where
 
@@ -9,20 +10,27 @@ import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy as BL
 
 import VProf.Compress.Format.Common (dataLines, numberFields, renderPoseLines, trackFromRows)
+import VProf.Compress.Clean (Sample (..))
 import VProf.Compress.Types
 import VProf.Geometry.Vec
 
--- | Parse a TUM file; errors name the line number and the offending text.
+-- | Parse a TUM file into a strictly valid track (as 'VProf.Compress.Types.mkTrack'
+-- checks: increasing times, no duplicates); for reading back files vprof wrote. Real
+-- recordings go through 'readTum' and "VProf.Compress.Clean".
 parseTum :: B.ByteString -> Either String Track
-parseTum src = do
-  rows <- traverse row (dataLines (const False) src)
-  trackFromRows "TUM" rows
+parseTum src = readTum src >>= trackFromRows "TUM" . map (\(Sample _ t p q) -> (t, p, q))
+
+-- | The samples of a TUM file as written, each with its line number (from 1); blank
+-- lines, @#@ comments, CRLF line ends and any whitespace between fields are accepted.
+-- Errors name the line number and the offending text.
+readTum :: B.ByteString -> Either String [Sample]
+readTum src = traverse row (dataLines (const False) src)
   where
     row (i, l) = case B.words l of
       ws@[_, _, _, _, _, _, _, _] -> do
         vs <- numberFields "TUM" i ws
         case vs of
-          [t, x, y, z, qx, qy, qz, qw] -> pure (t, P3 x y z, Q4 qw qx qy qz)
+          [t, x, y, z, qx, qy, qz, qw] -> pure (Sample i t (P3 x y z) (Q4 qw qx qy qz))
           _ -> Left "impossible"
       ws -> Left ("TUM line " ++ show i ++ ": expected 8 numbers (timestamp tx ty tz qx qy qz qw), got "
                   ++ show (length ws) ++ ": " ++ show (B.unpack (B.take 80 l)))

@@ -1,0 +1,316 @@
+-- | Cleaning a real recording before compression: what motion capture delivers is not
+-- always a clean, strictly increasing series of unit quaternions. Pure; the formats only
+-- parse (into 'Sample's with the line or index they came from) and every interface runs
+-- the same rules:
+--
+-- * a time, position or quaternion component that is not a finite number, or a
+--   quaternion of norm below 1e-6: an error naming the sample;
+-- * a time before the previous one (unsorted input): an error naming the sample and both
+--   times; nothing is sorted behind the user's back;
+-- * a quaternion whose norm differs from 1 by more than 1e-3: normalised, with a warning
+--   (smaller deviations, such as four printed decimals, are normalised silently);
+-- * samples sharing a time: merged into one by default (positions averaged, quaternions
+--   sign-aligned to the first of the group, averaged and normalised) or, with
+--   'DropDuplicates', only the first kept; a warning says how many and where;
+-- * q and −q are the same orientation: the cleaned track is sign-aligned so that
+--   consecutive quaternions have a non-negative dot product (a note counts the flips);
+-- * optionally ('cleanRejectOutliers'), isolated position spikes are removed: see
+--   'rejectOutliers'; a warning says how many and where;
+-- * fewer than 2 samples left: an error;
+-- * a time step more than 'cleanGapFactor' times the median step: accepted, with a warning
+--   (how many, the largest and where).
+--
+-- Every sample of the input is either kept, merged into another sample of the same time,
+-- dropped as a duplicate or rejected as an outlier, and each of those is counted in a
+-- warning: nothing is dropped silently.
+module VProf.Compress.Clean
+  ( Sample (..)
+  , Duplicates (..)
+  , CleanOptions (..)
+  , defaultCleanOptions
+  , defaultOutlierFactor
+  , CleanWarning (..)
+  , Cleaned (..)
+  , Locator (..)
+  , fileLocator
+  , indexLocator
+  , cleanSamples
+  , warningCount
+  , renderCleanWarning
+  , unitTolerance
+  ) where
+
+import Data.List (sort, sortOn)
+import qualified Data.Vector as V
+import qualified Data.Vector.Unboxed as U
+
+import VProf.Compress.Types
+import VProf.Geometry.Quaternion (qdot, qneg)
+import VProf.Geometry.Vec
+import VProf.Validation
+
+-- | One parsed sample: where it came from (a line number of a file, an index of a wire
+-- message; see 'Locator'), time (s), position (m), quaternion (w, x, y, z) as read.
+data Sample = Sample
+  { smLoc  :: !Int
+  , smTime :: !Double
+  , smPos  :: !P3
+  , smRot  :: !Q4
+  } deriving (Show, Eq)
+
+-- | What to do with samples that share a time.
+data Duplicates = MergeDuplicates | DropDuplicates deriving (Show, Eq)
+
+data CleanOptions = CleanOptions
+  { cleanDuplicates     :: !Duplicates
+  , cleanRejectOutliers :: !(Maybe Double)  -- ^ the factor k of 'rejectOutliers'; Nothing: keep every sample
+  , cleanGapFactor      :: !Double          -- ^ a step longer than this times the median step is a gap
+  } deriving (Show, Eq)
+
+-- | The factor k of 'rejectOutliers' when none is given.
+defaultOutlierFactor :: Double
+defaultOutlierFactor = 5
+
+-- | Merge duplicates, keep outliers, gaps beyond 10 median steps.
+defaultCleanOptions :: CleanOptions
+defaultCleanOptions = CleanOptions MergeDuplicates Nothing 10
+
+-- | What cleaning changed (or noticed). Locations are 'smLoc's; lists hold the first few.
+data CleanWarning
+  = NonUnitQuaternions !Int [(Int, Double)]
+    -- ^ how many quaternions were normalised; (where, norm) of the first few
+  | DuplicateTimes !Duplicates !Int !Int [(Double, [Int])]
+    -- ^ merged or dropped; samples removed (merged into another or dropped); times that
+    -- had more than one sample; (time, where) of the first few
+  | SignFlips !Int !Int [Int]
+    -- ^ quaternions negated to keep the track continuous; sign changes in the input
+    -- (consecutive samples with a negative dot product); where they are, first few
+  | OutliersRejected !Double !Int [(Double, Int)]
+    -- ^ factor k; samples removed; (time, where) of the first few
+  | Gaps !Double !Double !Int (Double, Double, Int) [(Double, Int)]
+    -- ^ factor, median step (s), how many, (largest step, time after it, where), (step,
+    -- where) of the first few
+  deriving (Show, Eq)
+
+-- | The cleaned recording, its warnings, and where each kept sample came from (the first
+-- sample of a merged group).
+data Cleaned = Cleaned
+  { clTrack    :: !Track
+  , clWarnings :: ![CleanWarning]
+  , clLocs     :: !(U.Vector Int)
+  } deriving (Show, Eq)
+
+-- | How an interface names a sample and the fields of the recording: a file by its line,
+-- a wire message by its index.
+data Locator = Locator
+  { lcField :: String -> String  -- ^ "time", "position", "orientation" or "" (the recording)
+  , lcAt    :: Int -> String
+  }
+
+-- | Samples by line number (from 1); fields by their plain name.
+fileLocator :: Locator
+fileLocator = Locator (\f -> if null f then "recording" else f) (\l -> "line " ++ show l)
+
+-- | Samples by index (from 0) in a field named with the given prefix, e.g. @recording@.
+indexLocator :: String -> Locator
+indexLocator pre = Locator (\f -> if null f then pre else pre ++ "." ++ f) (\i -> "sample " ++ show i)
+
+-- | Norms within this of 1 are normalised without a warning.
+unitTolerance :: Double
+unitTolerance = 1e-3
+
+-- | How many samples (or quaternions) a warning is about.
+warningCount :: CleanWarning -> Int
+warningCount = \case
+  NonUnitQuaternions n _ -> n
+  DuplicateTimes _ n _ _ -> n
+  SignFlips n _ _ -> n
+  OutliersRejected _ n _ -> n
+  Gaps _ _ n _ _ -> n
+
+firstFew :: Int
+firstFew = 5
+
+-- | Clean a recording: every error at once (up to a few of each kind), or the track
+-- with its warnings.
+cleanSamples :: Locator -> CleanOptions -> [Sample] -> Either [FieldError] Cleaned
+cleanSamples loc opts raw
+  | null raw = Left [literalError (lcField loc "") "" "has no samples (an empty file, or only comments and blank lines)"]
+  | not (null badValues) = Left badValues
+  | not (null backwards) = Left backwards
+  | otherwise = do
+      let (normed, nonUnit) = normalise raw
+          groups = groupTimes normed
+          merged = map (collapse (cleanDuplicates opts)) groups
+          (aligned, flips) = alignSigns merged
+          changes = [ smLoc b | (a, b) <- zip merged (drop 1 merged), qdot (smRot a) (smRot b) < 0 ]
+          (kept, outliers) = case cleanRejectOutliers opts of
+            Just k -> rejectOutliers k aligned
+            Nothing -> (aligned, [])
+          dupGroups = [ g | g <- groups, length g > 1 ]
+          nDup = sum [ length g - 1 | g <- dupGroups ]
+          warnings = concat
+            [ [ NonUnitQuaternions (length nonUnit) (take firstFew nonUnit) | not (null nonUnit) ]
+            , [ DuplicateTimes (cleanDuplicates opts) nDup (length dupGroups)
+                  (take firstFew [ (smTime (head g), map smLoc g) | g <- dupGroups ]) | nDup > 0 ]
+            , [ SignFlips (length flips) (length changes) (take firstFew changes) | not (null flips) ]
+            , case cleanRejectOutliers opts of
+                Just k | not (null outliers) ->
+                  [OutliersRejected k (length outliers) (take firstFew [ (smTime s, smLoc s) | s <- outliers ])]
+                _ -> []
+            , gapWarning (cleanGapFactor opts) kept
+            ]
+      if length kept < 2
+        then Left [literalError (lcField loc "") ""
+                     ("has " ++ show (length kept) ++ " sample" ++ (if length kept == 1 then "" else "s")
+                      ++ " with distinct times" ++ (if length raw > length kept then " after cleaning (of " ++ show (length raw) ++ " read)" else "")
+                      ++ "; at least 2 are needed")]
+        else Right (Cleaned (Track (U.fromList (map smTime kept)) (pfromList (map smPos kept)) (pfromList (map smRot kept)))
+                            warnings (U.fromList (map smLoc kept)))
+  where
+    capped es = case splitAt firstFew es of
+      (a, []) -> a
+      (a, rest) -> a ++ [literalError (lcField loc "") "" ("and " ++ show (length rest) ++ " more such problems")]
+    badValues = capped (concatMap checkValues raw)
+    checkValues (Sample l t (P3 x y z) q@(Q4 w a b c))
+      | not (finite t) = [fieldError (lcField loc "time") t "s" ("at " ++ lcAt loc l ++ ": must be a finite number")]
+      | not (all finite [x, y, z]) =
+          [literalError (lcField loc "position") (show (x, y, z)) ("at " ++ lcAt loc l ++ ": must be finite numbers (m)")]
+      | not (all finite [w, a, b, c]) =
+          [literalError (lcField loc "orientation") (show (w, a, b, c)) ("at " ++ lcAt loc l ++ ": must be finite numbers (w, x, y, z)")]
+      | sqrt (qdot q q) < 1e-6 =
+          [literalError (lcField loc "orientation") (show (w, a, b, c))
+             ("at " ++ lcAt loc l ++ ": norm " ++ showNumber (sqrt (qdot q q)) ++ " is too small to be a rotation")]
+      | otherwise = []
+    backwards = capped
+      [ fieldError (lcField loc "time") (smTime s) "s"
+          ("at " ++ lcAt loc (smLoc s) ++ ": goes back before the previous time " ++ showNumber (smTime p)
+           ++ " s at " ++ lcAt loc (smLoc p) ++ " (times must never decrease; sort the recording first)")
+      | (p, s) <- zip raw (drop 1 raw), smTime s < smTime p ]
+
+-- | Normalise every quaternion; (where, norm) of those off unit length by more than
+-- 'unitTolerance'.
+normalise :: [Sample] -> ([Sample], [(Int, Double)])
+normalise ss = (map fst r, [ w | (_, Just w) <- r ])
+  where
+    r = map one ss
+    one s = let q@(Q4 w a b c) = smRot s
+                n = sqrt (qdot q q)
+            in ( s { smRot = Q4 (w / n) (a / n) (b / n) (c / n) }
+               , if abs (n - 1) > unitTolerance then Just (smLoc s, n) else Nothing )
+
+-- | Runs of samples with the same time (the input is sorted).
+groupTimes :: [Sample] -> [[Sample]]
+groupTimes [] = []
+groupTimes (s : rest) = let (same, others) = span ((== smTime s) . smTime) rest in (s : same) : groupTimes others
+
+-- | One sample for a group of samples with the same time.
+collapse :: Duplicates -> [Sample] -> Sample
+collapse _ [s] = s
+collapse DropDuplicates (s : _) = s
+collapse MergeDuplicates g@(s : _) = s { smPos = meanP, smRot = Q4 (w / n) (a / n) (b / n) (c / n) }
+  where
+    k = fromIntegral (length g)
+    meanP = foldr1 (^+^) (map smPos g) ^/ k
+    q0 = smRot s
+    qs = [ if qdot q0 q < 0 then qneg q else q | q <- map smRot g ]
+    Q4 w a b c = foldr1 (\(Q4 a1 b1 c1 d1) (Q4 a2 b2 c2 d2) -> Q4 (a1 + a2) (b1 + b2) (c1 + c2) (d1 + d2)) qs
+    n = sqrt (w * w + a * a + b * b + c * c)
+collapse _ [] = error "collapse: empty group"
+
+-- | Negate every quaternion whose dot product with the previous (already aligned) one is
+-- negative; where it happened.
+alignSigns :: [Sample] -> ([Sample], [Int])
+alignSigns [] = ([], [])
+alignSigns (s0 : rest) = go (smRot s0) rest [s0] []
+  where
+    go _ [] acc fl = (reverse acc, reverse fl)
+    go prev (s : ss) acc fl
+      | qdot prev (smRot s) < 0 = let s' = s { smRot = qneg (smRot s) } in go (smRot s') ss (s' : acc) (smLoc s : fl)
+      | otherwise = go (smRot s) ss (s : acc) fl
+
+-- | Isolated position spikes, removed. For an interior sample i, the residual r_i is its
+-- distance from the straight line (in time) between its neighbours i−1 and i+1. It is
+-- rejected when r_i is the largest of r_(i−1), r_i, r_(i+1) and
+--
+-- > r_i > k · max(s_i, median r + 1.4826 · MAD r)
+--
+-- where s_i is the largest of the steps next to the neighbours (|p_(i−1) − p_(i−2)|,
+-- |p_(i+2) − p_(i+1)|) and the median step: a corner of the motion leaves a residual of
+-- at most about one step, sensor noise a residual of about its robust spread (the median
+-- absolute deviation scaled to a standard deviation), a spike of k times both is not
+-- motion. The first and last samples are never rejected, and a recording of fewer than 5
+-- samples is left alone. Passes repeat (at most 10) until none is rejected, so that a
+-- second spike next to a first is found once the first is gone.
+rejectOutliers :: Double -> [Sample] -> ([Sample], [Sample])
+rejectOutliers k ss0 = go (10 :: Int) ss0 []
+  where
+    go 0 ss out = (ss, sortOn smTime out)
+    go m ss out =
+      let v = V.fromList ss
+          bad = spikes v
+      in if null bad then (ss, sortOn smTime out)
+         else go (m - 1) [ s | (i, s) <- zip [0 ..] ss, i `notElem` bad ] (map (v V.!) bad ++ out)
+    spikes v
+      | n < 5 = []
+      | otherwise = [ i | i <- [1 .. n - 2], let ri = r U.! i
+                        , ri >= r U.! (i - 1), ri >= r U.! (i + 1)
+                        , ri > k * maximum [sigma, medStep, step (i - 1), step (i + 2)] ]
+      where
+        n = V.length v
+        t i = smTime (v V.! i)
+        p i = smPos (v V.! i)
+        r = U.generate n $ \i ->
+          if i == 0 || i == n - 1 then 0
+          else let a = (t i - t (i - 1)) / (t (i + 1) - t (i - 1))
+               in distance (p i) (p (i - 1) ^+^ a *^ (p (i + 1) ^-^ p (i - 1)))
+        step j | j >= 1 && j <= n - 1 = distance (p j) (p (j - 1))
+               | otherwise = 0
+        interior = [ r U.! i | i <- [1 .. n - 2] ]
+        medR = median interior
+        sigma = medR + 1.4826 * median [ abs (x - medR) | x <- interior ]
+        medStep = median [ step j | j <- [1 .. n - 1] ]
+
+median :: [Double] -> Double
+median [] = 0
+median xs = let ys = sort xs; n = length ys
+            in if odd n then ys !! (n `div` 2) else (ys !! (n `div` 2 - 1) + ys !! (n `div` 2)) / 2
+
+-- | Steps longer than the factor times the median step.
+gapWarning :: Double -> [Sample] -> [CleanWarning]
+gapWarning f ss
+  | length ss < 3 || null gaps = []
+  | otherwise = [Gaps f med (length gaps) largest (take firstFew [ (d, l) | (d, _, l) <- gaps ])]
+  where
+    steps = [ (smTime b - smTime a, smTime b, smLoc b) | (a, b) <- zip ss (drop 1 ss) ]
+    med = median [ d | (d, _, _) <- steps ]
+    gaps = [ g | g@(d, _, _) <- steps, d > f * med ]
+    largest = foldr1 (\x@(d, _, _) y@(e, _, _) -> if d >= e then x else y) gaps
+
+-- | One line of text for a warning.
+renderCleanWarning :: Locator -> CleanWarning -> String
+renderCleanWarning loc = \case
+  NonUnitQuaternions n xs ->
+    show n ++ " quaternion" ++ plural n ++ " of norm off 1 by more than " ++ showNumber unitTolerance
+    ++ " normalised (" ++ list [ lcAt loc l ++ ": norm " ++ showNumber nm | (l, nm) <- xs ] n ++ ")"
+  DuplicateTimes act n g xs ->
+    show g ++ " time" ++ plural g ++ " with more than one sample: " ++ show n ++ " sample" ++ plural n ++ " "
+    ++ (case act of MergeDuplicates -> "merged into the first of the same time (poses averaged)"
+                    DropDuplicates -> "dropped (the first of each time kept)")
+    ++ " (" ++ list [ "t = " ++ showNumber t ++ " s at " ++ joinWith ", " (map (lcAt loc) ls) | (t, ls) <- xs ] g ++ ")"
+  SignFlips n c xs ->
+    show c ++ " quaternion sign change" ++ plural c ++ " (q and -q are the same orientation) at "
+    ++ list (map (lcAt loc) xs) c ++ "; " ++ show n ++ " quaternion" ++ plural n ++ " negated to keep the track continuous"
+  OutliersRejected k n xs ->
+    show n ++ " outlier" ++ plural n ++ " rejected (position spike above " ++ showNumber k ++ " times the local step) ("
+    ++ list [ "t = " ++ showNumber t ++ " s at " ++ lcAt loc l | (t, l) <- xs ] n ++ ")"
+  Gaps f med n (d, t, l) xs ->
+    show n ++ " gap" ++ plural n ++ " (time step above " ++ showNumber f ++ " times the median " ++ showNumber med
+    ++ " s) accepted; the largest " ++ showNumber d ++ " s before t = " ++ showNumber t ++ " s at " ++ lcAt loc l
+    ++ (if n > 1 then " (" ++ list [ showNumber dd ++ " s before " ++ lcAt loc ll | (dd, ll) <- xs ] n ++ ")" else "")
+  where
+    plural n = if n == 1 then "" else "s"
+    list items total = joinWith "; " items ++ (if total > length items then "; ..." else "")
+    joinWith s = foldr1' (\a b -> a ++ s ++ b)
+    foldr1' _ [] = ""
+    foldr1' f xs = foldr1 f xs

@@ -1,0 +1,254 @@
+-- | Cleaning real recordings: random smooth tracks with injected duplicates, sign flips,
+-- gaps, outliers and swapped samples; the cleaned track is strictly increasing, nothing
+-- is dropped silently, and the warnings count exactly what was injected.
+module VProf.Compress.CleanSpec (spec) where
+
+import Data.Either (isLeft)
+import Data.List (isInfixOf, nub, sort)
+import qualified Data.Vector.Unboxed as U
+import Test.Hspec
+import Test.Hspec.QuickCheck (modifyMaxSuccess)
+import Test.QuickCheck
+
+import VProf.Compress
+import VProf.Compress.Clean
+import VProf.Geometry.Quaternion (qdot, qexp, qmul, qneg, qnormalize)
+import VProf.Geometry.Vec
+
+-- | A smooth recording: 30–150 samples, steps of 5–50 ms with ±10 % jitter, positions a
+-- sum of slow sines (amplitude up to 0.3 m, up to 1 Hz), a steady rotation up to 1 rad/s.
+-- Locations are line numbers from 1.
+genBase :: Gen [Sample]
+genBase = do
+  n <- choose (30, 150)
+  dt <- choose (0.005, 0.05)
+  jit <- vectorOf (n - 1) (choose (0.9, 1.1))
+  t0 <- choose (0, 1000)
+  axes <- vectorOf 3 ((,,) <$> choose (0.05, 0.3) <*> choose (0.1, 1) <*> choose (0, 2 * pi))
+  w <- P3 <$> choose (-1, 1) <*> choose (-1, 1) <*> choose (-1, 1)
+  q0 <- qnormalize <$> (Q4 <$> choose (-1, 1) <*> choose (-1, 1) <*> choose (-1, 1) <*> choose (-1, 1))
+  let ts = scanl (+) t0 (map (* dt) jit)
+      pos t = let [x, y, z] = [ a * sin (2 * pi * f * (t - t0) + ph) | (a, f, ph) <- axes ] in P3 x y z
+      rot t = qnormalize (qmul (qexp ((t - t0) *^ w)) q0)
+  pure (renumber [ Sample 0 t (pos t) (rot t) | t <- ts ])
+
+renumber :: [Sample] -> [Sample]
+renumber = zipWith (\i s -> s { smLoc = i }) [1 ..]
+
+-- | k distinct indices in [lo, hi], at least gap apart.
+genIndices :: Int -> Int -> Int -> Int -> Gen [Int]
+genIndices k lo hi gap = go (100 :: Int) []
+  where
+    go 0 acc = pure (sort acc)
+    go tries acc
+      | length acc == k = pure (sort acc)
+      | otherwise = do
+          i <- choose (lo, hi)
+          if all (\j -> abs (i - j) >= gap) acc then go tries (i : acc) else go (tries - 1) acc
+
+clean :: CleanOptions -> [Sample] -> Either [FieldError] Cleaned
+clean = cleanSamples fileLocator
+
+strictlyIncreasing :: Track -> Bool
+strictlyIncreasing tr = let t = tTime tr in U.and (U.zipWith (<) t (U.tail t))
+
+continuous :: Track -> Bool
+continuous tr = let qs = ptoList (tRot tr) in and (zipWith (\a b -> qdot a b >= 0) qs (drop 1 qs))
+
+countOf :: (CleanWarning -> Bool) -> Cleaned -> Int
+countOf p = sum . map warningCount . filter p . clWarnings
+
+isDup, isFlip, isGap, isOutlier, isNonUnit :: CleanWarning -> Bool
+isDup = \case DuplicateTimes {} -> True; _ -> False
+isFlip = \case SignFlips {} -> True; _ -> False
+isGap = \case Gaps {} -> True; _ -> False
+isOutlier = \case OutliersRejected {} -> True; _ -> False
+isNonUnit = \case NonUnitQuaternions {} -> True; _ -> False
+
+-- | After each chosen index, a second sample of the same time with another pose (moved up
+-- to 5 mm, turned a little, and with its quaternion negated half the time).
+injectDuplicates :: [Int] -> [Sample] -> Gen [Sample]
+injectDuplicates idx ss = renumber . concat <$> mapM one (zip [0 ..] ss)
+  where
+    one (i, s)
+      | i `elem` idx = do
+          d <- P3 <$> choose (-5e-3, 5e-3) <*> choose (-5e-3, 5e-3) <*> choose (-5e-3, 5e-3)
+          r <- P3 <$> choose (-0.05, 0.05) <*> choose (-0.05, 0.05) <*> choose (-0.05, 0.05)
+          neg <- arbitrary
+          let q = qnormalize (qmul (qexp r) (smRot s))
+          pure [s, s { smPos = smPos s ^+^ d, smRot = if neg then qneg q else q }]
+      | otherwise = pure [s]
+
+-- | Lengthen the step before each chosen index by 20–100 median steps.
+injectGaps :: [Int] -> [Sample] -> Gen ([Sample], [Double])
+injectGaps idx ss = do
+  let dts = zipWith (\a b -> smTime b - smTime a) ss (drop 1 ss)
+      med = sort dts !! (length dts `div` 2)
+  extras <- mapM (\i -> (i,) . (* med) <$> choose (20, 100)) idx
+  let shift i = sum [ e | (j, e) <- extras, j <= i ]
+      out = [ s { smTime = smTime s + shift i } | (i, s) <- zip [0 ..] ss ]
+      steps = [ smTime b - smTime a | (a, b) <- zip out (drop 1 out) ]
+  pure (out, [ steps !! (i - 1) | i <- idx ])
+
+spec :: Spec
+spec = describe "VProf.Compress.Clean" $ do
+  it "leaves a clean recording alone: no warnings, every sample kept, same poses" $
+    property $ forAll genBase $ \ss -> case clean defaultCleanOptions ss of
+      Left e -> counterexample (show e) False
+      Right c -> clWarnings c === [] .&&. trackLength (clTrack c) === length ss
+                 .&&. U.toList (clLocs c) === map smLoc ss
+                 .&&. ptoList (tPos (clTrack c)) === map smPos ss
+
+  describe "duplicate timestamps" $ do
+    it "are merged (position mean, quaternions sign-aligned then normalised mean), counted and located" $
+      property $ forAll genBase $ \ss -> forAll (choose (1, 5)) $ \k ->
+        forAll (genIndices k 0 (length ss - 1) 1) $ \idx -> forAll (injectDuplicates idx ss) $ \dup ->
+          case clean defaultCleanOptions dup of
+            Left e -> counterexample (show e) False
+            Right c ->
+              let tr = clTrack c
+                  groups = [ (a, b) | (a, b) <- zip dup (drop 1 dup), smTime a == smTime b ]
+                  merged = [ (i, a, b) | (a, b) <- groups, let Just i = U.elemIndex (smTime a) (tTime tr) ]
+                  qa = [ qnormalize (let Q4 w x y z = smRot a; Q4 w' x' y' z' = if qdot (smRot a) (smRot b) < 0 then qneg (smRot b) else smRot b
+                                     in Q4 (w + w') (x + x') (y + y') (z + z')) | (_, a, b) <- merged ]
+                  close (P3 a b c') (P3 x y z) = maximum (map abs [a - x, b - y, c' - z]) < 1e-12
+                  qclose p q = abs (abs (qdot p q) - 1) < 1e-12
+              in counterexample (show (clWarnings c)) $
+                   strictlyIncreasing tr .&&. countOf isDup c === k
+                   .&&. trackLength tr + countOf isDup c === length dup
+                   .&&. length (filter isDup (clWarnings c)) === 1
+                   .&&. conjoin [ counterexample (show (i, a, b)) (close (pindex (tPos tr) i) ((smPos a ^+^ smPos b) ^/ 2))
+                                | (i, a, b) <- merged ]
+                   .&&. conjoin [ qclose (pindex (tRot tr) i) q | ((i, _, _), q) <- zip merged qa ]
+                   .&&. continuous tr
+    it "are dropped with DropDuplicates (the first of each time kept), counted" $
+      property $ forAll genBase $ \ss -> forAll (choose (1, 5)) $ \k ->
+        forAll (genIndices k 0 (length ss - 1) 1) $ \idx -> forAll (injectDuplicates idx ss) $ \dup ->
+          case clean defaultCleanOptions { cleanDuplicates = DropDuplicates } dup of
+            Left e -> counterexample (show e) False
+            Right c -> strictlyIncreasing (clTrack c) .&&. countOf isDup c === k
+                       .&&. ptoList (tPos (clTrack c)) === map smPos ss
+                       .&&. U.toList (clLocs c) === [ smLoc s | (s, p) <- zip dup (Nothing : map Just dup), fmap smTime p /= Just (smTime s) ]
+    it "the warning names the time and both lines" $ do
+      let s t x = Sample 0 t (P3 x 0 0) (Q4 1 0 0 0)
+          Right c = clean defaultCleanOptions (renumber [s 1 0, s 2 1, s 2 3, s 3 2])
+          msg = concatMap (renderCleanWarning fileLocator) (clWarnings c)
+      ptoList (tPos (clTrack c)) `shouldBe` [P3 0 0 0, P3 2 0 0, P3 2 0 0]
+      msg `shouldSatisfy` ("t = 2.0 s at line 2, line 3" `isInfixOf`)
+      msg `shouldSatisfy` ("1 sample merged" `isInfixOf`)
+
+  describe "unsorted input" $ do
+    it "is an error naming every sample that goes back in time (up to 5), with its time" $
+      property $ forAll genBase $ \ss -> forAll (choose (1, 5)) $ \k ->
+        forAll (genIndices k 0 (length ss - 2) 3) $ \idx ->
+          let swapped = concat [ if i `elem` idx then [b, a] else if (i - 1) `elem` idx then [] else [a]
+                               | (i, a, b) <- zip3 [0 ..] ss (drop 1 ss ++ [last ss]) ]
+          in case clean defaultCleanOptions swapped of
+               Right _ -> counterexample "accepted" False
+               Left es -> counterexample (show es) $
+                 length es === length idx
+                 .&&. conjoin [ counterexample (renderFieldError e) $
+                                  feField e === "time" .&&. ("at line " ++ show (smLoc a) ++ ":") `isInfixOf` renderFieldError e
+                                  .&&. feValue e === Number (smTime a)
+                              | (e, i) <- zip es idx, let a = ss !! i ]
+    it "says how many more there are past the first five" $ do
+      let ss = renumber [ Sample 0 t (P3 0 0 0) (Q4 1 0 0 0) | t <- [20, 19 .. 1] ]
+          Left es = clean defaultCleanOptions ss
+      length es `shouldBe` 6
+      renderFieldError (last es) `shouldSatisfy` ("and 14 more" `isInfixOf`)
+
+  describe "quaternion sign flips" $
+    it "are aligned (the cleaned track is continuous and equals the unflipped one), every negated sample and every sign change counted" $
+      property $ forAll genBase $ \ss -> forAll (choose (1, 10)) $ \k ->
+        forAll (genIndices k 1 (length ss - 1) 1) $ \idx ->
+          let flipped = [ if i `elem` idx then s { smRot = qneg (smRot s) } else s | (i, s) <- zip [0 :: Int ..] ss ]
+          in case clean defaultCleanOptions flipped of
+               Left e -> counterexample (show e) False
+               Right c -> continuous (clTrack c) .&&. countOf isFlip c === length (nub idx)
+                          .&&. [ ch | SignFlips _ ch _ <- clWarnings c ]
+                               === [ length [ i | i <- [1 .. length ss - 1], (i `elem` idx) /= ((i - 1) `elem` idx) ] ]
+                          .&&. conjoin [ counterexample (show (a, b)) (abs (qdot a b - 1) < 1e-12)
+                                       | (a, b) <- zip (ptoList (tRot (clTrack c))) (map smRot ss) ]
+                          .&&. trackLength (clTrack c) === length ss
+
+  describe "gaps" $
+    it "are accepted and reported: how many, the largest and where" $
+      property $ forAll genBase $ \ss -> forAll (choose (1, 4)) $ \k ->
+        forAll (genIndices k 1 (length ss - 1) 1) $ \idx -> forAll (injectGaps idx ss) $ \(gapped, steps) ->
+          case clean defaultCleanOptions gapped of
+            Left e -> counterexample (show e) False
+            Right c -> counterexample (show (clWarnings c)) $
+              trackLength (clTrack c) === length ss .&&. countOf isGap c === k
+              .&&. conjoin [ abs (d - maximum steps) < 1e-9 .&&. l === smLoc (gapped !! (idx !! j))
+                           | Gaps _ _ _ (d, _, l) _ <- clWarnings c
+                           , let Just j = lookup (maximum steps) (zip steps [0 ..]) ]
+
+  describe "outliers" $ do
+    let spike ss idx = do
+          ds <- vectorOf (length idx) (P3 <$> choose (1, 2) <*> choose (-1, 1) <*> choose (-1, 1))
+          pure [ maybe s (\d -> s { smPos = smPos s ^+^ d }) (lookup i (zip idx ds)) | (i, s) <- zip [0 :: Int ..] ss ]
+    it "are kept by default (no sample dropped, no outlier warning)" $
+      property $ forAll genBase $ \ss -> forAll (choose (1, 4)) $ \k ->
+        forAll (genIndices k 2 (length ss - 3) 4) $ \idx -> forAll (spike ss idx) $ \sp ->
+          case clean defaultCleanOptions sp of
+            Left e -> counterexample (show e) False
+            Right c -> trackLength (clTrack c) === length ss .&&. countOf isOutlier c === 0
+    it "with rejection, exactly the injected spikes are removed and reported with their lines" $
+      property $ forAll genBase $ \ss -> forAll (choose (1, 4)) $ \k ->
+        forAll (genIndices k 2 (length ss - 3) 4) $ \idx -> forAll (spike ss idx) $ \sp ->
+          case clean defaultCleanOptions { cleanRejectOutliers = Just defaultOutlierFactor } sp of
+            Left e -> counterexample (show e) False
+            Right c -> counterexample (show (clWarnings c)) $
+              countOf isOutlier c === length idx
+              .&&. trackLength (clTrack c) + countOf isOutlier c === length ss
+              .&&. U.toList (clLocs c) === [ smLoc s | (i, s) <- zip [0 ..] ss, i `notElem` idx ]
+              .&&. conjoin [ sort (map snd xs) === map (smLoc . (ss !!)) idx | OutliersRejected _ _ xs <- clWarnings c, k <= 5 ]
+    it "with rejection, a clean recording loses nothing" $
+      property $ forAll genBase $ \ss ->
+        case clean defaultCleanOptions { cleanRejectOutliers = Just defaultOutlierFactor } ss of
+          Left e -> counterexample (show e) False
+          Right c -> trackLength (clTrack c) === length ss .&&. clWarnings c === []
+
+  it "everything at once (duplicates, flips, gaps): strictly increasing, continuous, every removed sample counted" $
+    property $ forAll genBase $ \ss -> forAll ((,,) <$> choose (0, 4) <*> choose (0, 6) <*> choose (0, 3)) $ \(kd, kf, kg) ->
+      forAll (genIndices kg 1 (length ss - 1) 1) $ \gi -> forAll (injectGaps gi ss) $ \(gapped, _) ->
+      forAll (genIndices kf 1 (length ss - 1) 2) $ \fi ->
+      forAll (genIndices kd 0 (length ss - 1) 3) $ \di ->
+        let flipped = [ if i `elem` fi then s { smRot = qneg (smRot s) } else s | (i, s) <- zip [0 :: Int ..] gapped ]
+        in forAll (injectDuplicates di flipped) $ \dirty ->
+          case clean defaultCleanOptions dirty of
+            Left e -> counterexample (show e) False
+            Right c -> counterexample (show (clWarnings c)) $
+              strictlyIncreasing (clTrack c) .&&. continuous (clTrack c)
+              .&&. trackLength (clTrack c) + countOf isDup c === length dirty
+              .&&. countOf isDup c === length di .&&. countOf isGap c === length gi
+              .&&. property (null fi || countOf isFlip c >= 1)
+
+  describe "values" $ do
+    let s t q = Sample 0 t (P3 t 0 0) q
+    it "normalises non-unit quaternions, with a warning naming the line and the norm" $ do
+      let Right c = clean defaultCleanOptions (renumber [s 0 (Q4 1 0 0 0), s 1 (Q4 2 0 0 0), s 2 (Q4 0.9995 0 0 0)])
+      countOf isNonUnit c `shouldBe` 1
+      pindex (tRot (clTrack c)) 1 `shouldBe` Q4 1 0 0 0
+      pindex (tRot (clTrack c)) 2 `shouldBe` Q4 1 0 0 0
+      concatMap (renderCleanWarning fileLocator) (clWarnings c) `shouldSatisfy` ("line 2: norm 2.0" `isInfixOf`)
+    it "refuses NaN and infinite values and zero quaternions, naming the line" $ do
+      let bad = [ [s 0 (Q4 1 0 0 0), s (0 / 0) (Q4 1 0 0 0)]
+                , [s 0 (Q4 1 0 0 0), (s 1 (Q4 1 0 0 0)) { smPos = P3 (1 / 0) 0 0 }]
+                , [s 0 (Q4 1 0 0 0), s 1 (Q4 (0 / 0) 0 0 0)]
+                , [s 0 (Q4 1 0 0 0), s 1 (Q4 0 0 0 0)] ]
+      mapM_ (\ss -> case clean defaultCleanOptions (renumber ss) of
+                      Left [e] -> renderFieldError e `shouldSatisfy` ("at line 2" `isInfixOf`)
+                      r -> expectationFailure (show r)) bad
+    it "refuses an empty recording and one of fewer than 2 distinct times" $ do
+      clean defaultCleanOptions [] `shouldSatisfy` isLeft
+      clean defaultCleanOptions [s 0 (Q4 1 0 0 0)] `shouldSatisfy` isLeft
+      let Left [e] = clean defaultCleanOptions (renumber [s 1 (Q4 1 0 0 0), s 1 (Q4 1 0 0 0)])
+      renderFieldError e `shouldSatisfy` ("1 sample with distinct times after cleaning (of 2 read)" `isInfixOf`)
+  modifyMaxSuccess (const 20) $ it "compress keeps a recording with sign flips continuous even uncleaned (preparation aligns)" $
+    property $ forAll genBase $ \ss -> forAll (genIndices 5 1 (length ss - 1) 1) $ \idx ->
+      let flipped = [ if i `elem` idx then qneg (smRot x) else smRot x | (i, x) <- zip [0 :: Int ..] ss ]
+          Right rec = recordingFromArrays (U.fromList (map smTime ss)) (pfromList (map smPos ss)) (pfromList flipped)
+      in case compress defaultSettings { sPoints = Just 5 } rec of
+           Left e -> counterexample (show e) False
+           Right o -> property (continuous (pathTrack (oPath o)))
