@@ -90,6 +90,7 @@ timeIO n f x = do
 
 data Request = Request
   { rqRepsClosed :: Int        -- ^ repetitions per pose for the closed form and FK
+  , rqRepsFacade :: Int        -- ^ repetitions per pose for the IK facade (limits, 2π variants, FK check)
   , rqRepsNumeric :: Int       -- ^ repetitions per pose for the numerical solver
   , rqBudget :: Double         -- ^ numerical solver's wall-time budget per solve (s)
   , rqTol :: Double            -- ^ numerical tolerance (m and rad)
@@ -99,12 +100,13 @@ data Request = Request
 instance A.FromJSON Request where
   parseJSON = A.withObject "request" $ \o -> do
     rc <- o .:? "reps_closed_form"
+    rf <- o .:? "reps_facade"
     rn <- o .:? "reps_numeric"
     b <- o .:? "numeric_budget_s"
     t <- o .:? "numeric_tol"
     rs <- o .: "robots"
     robots <- forM rs $ A.withObject "robot" $ \r -> (,) <$> r .: "key" <*> r .: "qs"
-    pure (Request (fromMaybe 200 rc) (fromMaybe 3 rn) (fromMaybe 0.005 b) (fromMaybe 1e-5 t) robots)
+    pure (Request (fromMaybe 200 rc) (fromMaybe 5 rf) (fromMaybe 3 rn) (fromMaybe 0.005 b) (fromMaybe 1e-5 t) robots)
 
 readRequest :: FilePath -> IO Request
 readRequest p = do
@@ -153,7 +155,7 @@ compareMode inp out = do
         Just solver -> do
           let Just pose = CF.poseFromRowMajor (toRows4 target)
           tP <- timeNf rqRepsClosed (CF.solvePrincipal solver) pose
-          tF <- timeNf rqRepsClosed (\t -> solveIk defaultIkOptions k t Nothing) target
+          tF <- timeNf rqRepsFacade (\t -> solveIk defaultIkOptions k t Nothing) target
           tFk <- timeNf rqRepsClosed (CF.forwardPose (CF.solverDh solver)) q
           let principal = either (const []) id (CF.solvePrincipal solver pose)
               facade = either (const []) id (solveIk defaultIkOptions k target Nothing)
@@ -186,7 +188,7 @@ compareMode inp out = do
       , "dh" .= fmap (dhJson . CF.solverDh) solverM
       , "poses" .= poses ]
   BL.writeFile out (A.encode (A.object
-    [ "reps_closed_form" .= rqRepsClosed, "reps_numeric" .= rqRepsNumeric
+    [ "reps_closed_form" .= rqRepsClosed, "reps_facade" .= rqRepsFacade, "reps_numeric" .= rqRepsNumeric
     , "numeric_budget_s" .= rqBudget, "numeric_tol" .= rqTol
     , "robots" .= robots ]))
 
