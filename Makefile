@@ -4,13 +4,14 @@
 #   make test-fast  the inner loop: every hspec spec with 50 cases a property, no daemon suites
 # and for the figures:
 #   make bench  criterion benchmarks (bench/), and bench/compare against Ruckig
+#   make compare-kinematics  closed-form and numerical IK beside EAIK, roboticstoolbox, TRAC-IK
 
 STACK ?= stack
 # a fixed QuickCheck seed keeps CI reproducible; VPROF_SEED=random explores new cases
 VPROF_SEED ?= 42
 SEED_ARG := $(if $(filter random,$(VPROF_SEED)),,--seed $(VPROF_SEED))
 
-.PHONY: all deps build run test test-fast hspec check-examples bench compare clean
+.PHONY: all deps build run test test-fast hspec check-examples bench compare compare-kinematics clean
 all: build
 
 deps:
@@ -53,11 +54,16 @@ test: hspec check-examples golden-check interop
 	@echo "make test: all suites passed"
 
 bench: build
-	$(STACK) bench --benchmark-arguments='--output bench/report.html'
+	$(STACK) bench vprof:bench:vprof-bench --benchmark-arguments='--output bench/report.html'
 
 compare: build
 	@python3 -c 'import ruckig' 2>/dev/null || python3 -m pip install -q ruckig
 	python3 bench/compare
+
+# vprof's kinematics beside EAIK, roboticstoolbox-python and TRAC-IK (bench/KINEMATICS.md): makes its
+# own bench/.venv and an -O2 build of its driver under .stack-work-bench; no test depends on it
+compare-kinematics:
+	python3 bench/compare-kinematics
 
 clean:
 	$(STACK) clean
