@@ -1,6 +1,8 @@
+{-# OPTIONS_GHC -O2 #-}
 -- | An independent brute-force distance, written apart from "VProf.Geometry.Distance" and the
--- BVH: plain tuples, its own point–segment and point–triangle distances (projection onto the
--- plane with an inside test by edge cross products, else the nearest edge), and the segment's
+-- BVH: plain tuples, its own point–segment and point–triangle distances (the foot of the point in
+-- the plane from the normal equations in the edge coordinates u, w; inside when u, w ≥ 0 and
+-- u + w ≤ 1, else the nearest edge), and the segment's
 -- distance as the minimum over the segment parameter t of the convex function
 -- t ↦ dist(p + t (q − p), triangle), found by golden-section search (plus both ends). Meshes are
 -- scanned triangle by triangle, no pruning.
@@ -24,9 +26,6 @@ minus (a, b, c) (x, y, z) = (a - x, b - y, c - z)
 dotP :: Pt -> Pt -> Double
 dotP (a, b, c) (x, y, z) = a * x + b * y + c * z
 
-crossP :: Pt -> Pt -> Pt
-crossP (a, b, c) (x, y, z) = (b * z - c * y, c * x - a * z, a * y - b * x)
-
 along :: Pt -> Pt -> Double -> Pt
 along (a, b, c) (x, y, z) t = (a + t * (x - a), b + t * (y - b), c + t * (z - c))
 
@@ -43,16 +42,19 @@ oPointSegment p a b =
 
 oPointTriangle :: Pt -> Pt -> Pt -> Pt -> Double
 oPointTriangle p a b c =
-  let n = crossP (minus b a) (minus c a)
-      nn = dotP n n
+  let ab = minus b a; ac = minus c a; ap = minus p a
+      g00 = dotP ab ab; g01 = dotP ab ac; g11 = dotP ac ac
+      r0 = dotP ab ap; r1 = dotP ac ap
+      det = g00 * g11 - g01 * g01
       edges = minimum [oPointSegment p a b, oPointSegment p b c, oPointSegment p c a]
-  in if nn == 0 then edges else
-       let h = dotP (minus p a) n / nn
-           (nx, ny, nz) = n
-           (px, py, pz) = p
-           x = (px - h * nx, py - h * ny, pz - h * nz)
-           side u v = dotP (crossP (minus v u) (minus x u)) n >= 0
-       in if side a b && side b c && side c a then min edges (abs h * sqrt nn) else edges
+  in if det <= 0 then edges else
+       -- the foot of p in the plane, a + u ab + w ac, by the normal equations (no normal vector,
+       -- whose direction is ill-determined for a sliver)
+       let u = (g11 * r0 - g01 * r1) / det
+           w = (g00 * r1 - g01 * r0) / det
+           (ax, ay, az) = a; (bx, by, bz) = ab; (cx, cy, cz) = ac
+           x = (ax + u * bx + w * cx, ay + u * by + w * cy, az + u * bz + w * cz)
+       in if u >= 0 && w >= 0 && u + w <= 1 then min edges (len (minus p x)) else edges
 
 -- | Golden-section minimum over t ∈ [0, 1] of a convex function, with both ends.
 golden :: (Double -> Double) -> Double
@@ -79,7 +81,9 @@ oSegmentMesh p q ts = minimum [(oSegmentTriangle p q a b c, k) | (k, (a, b, c)) 
 
 -- | The same minimum over every triangle, faster: each triangle first gets the lower bound
 -- dist(midpoint, triangle) − half the segment's length (a distance to a convex set is 1-Lipschitz),
--- and triangles are searched in increasing bound until the bound exceeds the best distance found.
+-- and triangles are searched in increasing bound until the bound exceeds the best distance found;
+-- a triangle that passes is sampled at nine equally spaced t (the minimum of the samples less a
+-- sixteenth of the length is again a lower bound) before the full search.
 oSegmentMeshBounded :: Pt -> Pt -> [(Pt, Pt, Pt)] -> (Double, Int)
 oSegmentMeshBounded p q ts =
   let m = along p q 0.5
@@ -88,5 +92,6 @@ oSegmentMeshBounded p q ts =
       go best [] = best
       go best@(bd, _) ((lb, (k, (a, b, c))) : rest)
         | lb > bd = best
+        | minimum [oPointTriangle (along p q (fromIntegral i / 8)) a b c | i <- [0 .. 8 :: Int]] - h / 8 > bd = go best rest
         | otherwise = go (min best (oSegmentTriangle p q a b c, k)) rest
   in go (1 / 0, -1) bounds

@@ -83,7 +83,7 @@ spec = do
             | w <- robotCapsules cm q, let c = wcCapsule w
             , let (d, k) = oSegmentMeshBounded (pt (capA c)) (pt (capB c)) tris ]
     it "clearance agrees with the oracle over every triangle (1e-9 m): distance, and the part and triangle named" $
-      withMaxSuccess 40 $ property $ forAll (genQ ur5) $ \q ->
+      withMaxSuccess 15 $ property $ forAll (genQ ur5) $ \q ->
         let Just c = robotClearance cm bvh q
             (od, ob, _) = oracle q
             w = head [x | x <- robotCapsules cm q, wcPart x == clrPart c]
@@ -103,6 +103,18 @@ spec = do
           up = U.fromList [0, -pi / 2, 0, -pi / 2, 0, 0]
       fmap clrDistance (robotClearance cm bvh down) `shouldSatisfy` maybe False (< 0)
       fmap clrDistance (robotClearance cm bvh up) `shouldSatisfy` maybe False (> 0)
+
+    it "leaves out the bodies of coSceneIgnore: the base column is what keeps the UR5 within 0.04 m of the table" $ do
+      let up = U.fromList [0, -pi / 2, 0, -pi / 2, 0, 0]
+          cm' = collisionModel defaultCollisionOptions {coSceneIgnore = [1]} ur5
+          Just c = robotClearance cm bvh up
+          Just c' = robotClearance cm' bvh up
+      clrBody c `shouldBe` 1
+      clrDistance c `shouldSatisfy` (\d -> abs (d - 0.04) < 1e-6)
+      clrBody c' `shouldSatisfy` (/= 1)
+      clrDistance c' `shouldSatisfy` (> clrDistance c)
+      robotClearanceAtLeast cm' bvh up (clrDistance c') `shouldBe` True
+      robotClearanceAtLeast cm bvh up (clrDistance c') `shouldBe` False
 
   describe "self-collision" $ do
     let cm = collisionModel defaultCollisionOptions ur5

@@ -22,7 +22,8 @@ module VProf.Geometry.Bvh
   ) where
 
 import Control.DeepSeq (NFData (..))
-import Data.List (sortOn)
+import Control.Monad.ST (ST, runST)
+import qualified Data.Vector.Unboxed.Mutable as MU
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Geometry.Mesh
@@ -62,30 +63,43 @@ buildBvh mesh
   where
     n = triangleCount mesh
     v = meshCoords mesh
-    cen k ax = (v U.! (9 * k + ax) + v U.! (9 * k + 3 + ax) + v U.! (9 * k + 6 + ax)) / 3
-    (tree, chunks) = build 0 (U.enumFromN 0 n)
-    build :: Int -> U.Vector Int -> (Tree, [U.Vector Int])
-    build start ix
-      | m <= leafSize = (Leaf (boxOf ix) start m, [ix])
-      | otherwise =
-          let ext ax = let cs = U.map (`cen` ax) ix in U.maximum cs - U.minimum cs
-              (ex, ey, ez) = (ext 0, ext 1, ext 2)
-              ax | ex >= ey && ex >= ez = 0
-                 | ey >= ez = 1
-                 | otherwise = 2
-          in if max ex (max ey ez) <= 0
-               then (Leaf (boxOf ix) start m, [ix])
-               else
-                 let sorted = U.fromList (sortOn (`cen` ax) (U.toList ix))
-                     h = m `div` 2
-                     (tl, cl) = build start (U.take h sorted)
-                     (tr, cr) = build (start + h) (U.drop h sorted)
-                 in (Inner (boxOf ix) tl tr, cl ++ cr)
-      where m = U.length ix
+    -- per triangle: centroid (3) and box (6), computed once
+    cens = U.generate (3 * n) $ \i -> let k = i `div` 3; ax = i `mod` 3
+                                      in (v U.! (9 * k + ax) + v U.! (9 * k + 3 + ax) + v U.! (9 * k + 6 + ax)) / 3
+    tbox = U.generate (6 * n) $ \i ->
+      let k = i `div` 6; j = i `mod` 6; ax = j `mod` 3
+          a = v U.! (9 * k + ax); b = v U.! (9 * k + 3 + ax); c = v U.! (9 * k + 6 + ax)
+      in if j < 3 then min a (min b c) else max a (max b c)
+    cen k ax = U.unsafeIndex cens (3 * k + ax)
+    (tree, order) = runST $ do
+      ix <- U.thaw (U.enumFromN 0 n)
+      t <- build ix 0 n
+      o <- U.unsafeFreeze ix
+      pure (t, o)
+    chunks = [order]
+    -- the node over positions [lo, hi) of the index array
+    build :: MU.MVector s Int -> Int -> Int -> ST s Tree
+    build ix lo hi = do
+      ks <- U.freeze (MU.slice lo (hi - lo) ix)
+      let m = hi - lo
+          bx = boxOf ks
+          ext ax = let cs = U.map (`cen` ax) ks in U.maximum cs - U.minimum cs
+          (ex, ey, ez) = (ext 0, ext 1, ext 2)
+          ax | ex >= ey && ex >= ez = 0
+             | ey >= ez = 1
+             | otherwise = 2
+      if m <= leafSize || max ex (max ey ez) <= 0
+        then pure (Leaf bx lo m)
+        else do
+          let mid = lo + m `div` 2
+          select ix (`cen` ax) lo (hi - 1) mid
+          l <- build ix lo mid
+          r <- build ix mid hi
+          pure (Inner bx l r)
     boxOf ix =
-      let coord ax = U.concatMap (\k -> U.fromList [v U.! (9 * k + ax), v U.! (9 * k + 3 + ax), v U.! (9 * k + 6 + ax)]) ix
-          lo ax = U.minimum (coord ax); hi ax = U.maximum (coord ax)
-      in (lo 0, lo 1, lo 2, hi 0, hi 1, hi 2)
+      let lo j = U.minimum (U.map (\k -> U.unsafeIndex tbox (6 * k + j)) ix)
+          hi j = U.maximum (U.map (\k -> U.unsafeIndex tbox (6 * k + j)) ix)
+      in (lo 0, lo 1, lo 2, hi 3, hi 4, hi 5)
     depth (Leaf {}) = 1 :: Int
     depth (Inner _ l r) = 1 + max (depth l) (depth r)
     -- preorder: (box, a, b)
@@ -139,3 +153,25 @@ lowerBound b (V3 px py pz) (V3 qx qy qz) i =
       mid = sqrt (ox * ox + oy * oy + oz * oz) - half
   in max boxGap mid
 {-# INLINE lowerBound #-}
+
+-- | Quickselect (Hoare partition, middle pivot): afterwards position k of [lo, hi] holds the
+-- element of rank k by key, everything before it has a key ≤ and everything after a key ≥.
+select :: MU.MVector s Int -> (Int -> Double) -> Int -> Int -> Int -> ST s ()
+select v key = go
+  where
+    go lo hi k
+      | lo >= hi = pure ()
+      | otherwise = do
+          p <- key <$> MU.unsafeRead v ((lo + hi) `div` 2)
+          let part i j
+                | i > j = pure (i, j)
+                | otherwise = do
+                    i' <- advance i
+                    j' <- retreat j
+                    if i' <= j'
+                      then MU.unsafeSwap v i' j' >> part (i' + 1) (j' - 1)
+                      else pure (i', j')
+              advance i = do x <- key <$> MU.unsafeRead v i; if x < p then advance (i + 1) else pure i
+              retreat j = do x <- key <$> MU.unsafeRead v j; if x > p then retreat (j - 1) else pure j
+          (i, j) <- part lo hi
+          if k <= j then go lo j k else if k >= i then go i hi k else pure ()

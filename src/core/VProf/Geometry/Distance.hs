@@ -210,10 +210,11 @@ clearanceAtLeast bvh cap@(Capsule p q r) d
   | otherwise = go 0
   where
     need = d + r
-    need2 = need * need
     go node
-      | need <= 0 = True
+      | need < 0 = True
       | lowerBound bvh p q node >= need = True
       | otherwise = case bvhChildren bvh node of
-          Left (s, n) -> U.all (\i -> clSquared (capsuleDistance bvh cap (bvhOrder bvh i)) >= need2) (U.enumFromN s n)
+          -- the same arithmetic as 'minimumDistance' (axis distance − r), so that the two agree
+          -- at equality
+          Left (s, n) -> U.all (\i -> sqrt (clSquared (capsuleDistance bvh cap (bvhOrder bvh i))) - r >= d) (U.enumFromN s n)
           Right (l, rr) -> go l && go rr

@@ -53,10 +53,12 @@ data CollisionOptions = CollisionOptions
   { coTool :: Maybe Capsule       -- ^ a capsule in the tool frame (a gripper, a torch)
   , coRadius :: Maybe Double      -- ^ the radius of default capsules instead of 'defaultRadius'
   , coForceDefault :: Bool        -- ^ default capsules even when the model has its own
+  , coSceneIgnore :: [Int]        -- ^ bodies left out of the scene check (e.g. 1, a base column
+                                  --   standing on the cell's table)
   }
 
 defaultCollisionOptions :: CollisionOptions
-defaultCollisionOptions = CollisionOptions Nothing Nothing False
+defaultCollisionOptions = CollisionOptions Nothing Nothing False []
 
 -- | A capsule attached to a body, or the default bone of a body (from the previous body's frame
 -- origin to this body's), with its radius.
@@ -74,6 +76,7 @@ data CollisionModel = CollisionModel
   , cmParts :: V.Vector Part
   , cmSelfPairs :: [(Int, Int)]    -- ^ part indices checked for self-collision (i < j)
   , cmDefaulted :: Maybe Double    -- ^ the radius, when default bones were generated
+  , cmSceneIgnore :: [Int]         -- ^ bodies left out of the scene check
   }
 
 -- | The default radius: a twentieth of the arm's stretched length L (the sum of the distances
@@ -103,7 +106,7 @@ collisionModel CollisionOptions{..} robot =
       linkParts = if useDefault then [Bone (k + 1) rad | k <- [0 .. nl - 1]] else own
       tool = [Attached (nl + 1) c | Just c <- [coTool]]
       parts = V.fromList (linkParts ++ tool)
-      m0 = CollisionModel robot parts [] (if useDefault then Just rad else Nothing)
+      m0 = CollisionModel robot parts [] (if useDefault then Just rad else Nothing) coSceneIgnore
       ref = worldParts m0 (referenceConfiguration robot)
       pairs =
         [ (i, j)
@@ -163,11 +166,11 @@ data Clearance = Clearance
   }
   deriving (Show)
 
--- | The minimum over the parts of their distance to the scene; Nothing for an empty scene or a
--- robot without parts.
+-- | The minimum over the parts (but those of 'cmSceneIgnore') of their distance to the scene;
+-- Nothing for an empty scene or a robot without parts.
 robotClearance :: CollisionModel -> Bvh -> U.Vector Double -> Maybe Clearance
 robotClearance cm bvh q =
-  case mapMaybe one (robotCapsules cm q) of
+  case mapMaybe one (sceneParts cm q) of
     [] -> Nothing
     cs -> Just (minimumBy (comparing clrDistance) cs)
   where
@@ -177,7 +180,10 @@ robotClearance cm bvh q =
 
 -- | Whether every part keeps at least d from the scene (stops at the first that does not).
 robotClearanceAtLeast :: CollisionModel -> Bvh -> U.Vector Double -> Double -> Bool
-robotClearanceAtLeast cm bvh q d = all (\w -> clearanceAtLeast bvh (wcCapsule w) d) (robotCapsules cm q)
+robotClearanceAtLeast cm bvh q d = all (\w -> clearanceAtLeast bvh (wcCapsule w) d) (sceneParts cm q)
+
+sceneParts :: CollisionModel -> U.Vector Double -> [WorldCapsule]
+sceneParts cm q = [w | w <- robotCapsules cm q, wcBody w `notElem` cmSceneIgnore cm]
 
 -- | Two parts of the robot and their surface distance.
 data SelfContact = SelfContact
