@@ -16,11 +16,13 @@ module VProf.Select.Ik
   ) where
 
 import Data.List (sortOn)
+import qualified Data.Map.Strict as M
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Geometry.Bvh (Bvh)
 import VProf.Kinematics.Collision
 import VProf.Kinematics.Ik
+import VProf.Kinematics.Model (Robot (..), Joint (..), JointKind (..))
 import VProf.Kinematics.Transform (Tf, V3 (..))
 
 data SelectIkOptions = SelectIkOptions
@@ -74,7 +76,14 @@ solveCollisionFree SelectIkOptions{..} kin cm bvh target seed =
     Left f -> Left (IkFailed f)
     Right [] -> Left (IkFailed (Unreachable "no solution" 0))
     Right sols ->
-      let cands = [Candidate s (robotClearance cm bvh (solJoints s)) (selfClearance cm (solJoints s)) | s <- sols]
+      let -- solutions that differ by whole turns of revolute joints have the same geometry: their
+          -- clearances are computed once (a UR's ±360° limits give 64 copies of each branch)
+          kinds = map jointKind (robotJoints (cmRobot cm))
+          canonical q = [ if k == Revolute then round (1e9 * (x - 2 * pi * fromIntegral (round (x / (2 * pi)) :: Integer))) else round (1e9 * x)
+                        | (k, x) <- zip kinds (U.toList q) ] :: [Integer]
+          geometry = M.fromList [ (canonical q, (robotClearance cm bvh q, selfClearance cm q))
+                                | s <- sols, let q = solJoints s ]
+          cands = [ Candidate s c sc | s <- sols, let (c, sc) = geometry M.! canonical (solJoints s) ]
           sceneMargin c = maybe (1 / 0) (\cl -> clrDistance cl - siClearance) (cdClearance c)
           selfMargin c = maybe (1 / 0) (\sc -> scDistance sc - siSelfMargin) (cdSelf c)
           ok c = sceneMargin c >= 0 && selfMargin c >= 0
