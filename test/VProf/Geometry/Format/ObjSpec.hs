@@ -12,6 +12,7 @@ import Test.Hspec
 import Test.QuickCheck
 
 import VProf.Geometry.Format.Obj
+import VProf.Geometry.Format.Scene
 import VProf.Geometry.Mesh
 import VProf.Kinematics.Transform (V3 (..), trans, rotZ, compose)
 import VProf.Validation (renderFieldError)
@@ -87,6 +88,17 @@ spec = describe "VProf.Geometry.Format.Obj" $ do
     lx `shouldSatisfy` (\x -> abs (x + 0.45) < 0.05)
     hx `shouldSatisfy` (\x -> x >= 1.55 && x < 1.7)
     lz `shouldSatisfy` (< 0)
+  it "loads a scene of several files with scale and pose" $ do
+    r <- loadScene [ SceneFile "../shared/data/cell/cell.obj" 1 (trans 0 0 0)
+                   , SceneFile "../shared/data/cell/cell.obj" 0.5 (trans 10 0 0) ]
+    let Right s = r
+    triangleCount s `shouldBe` 2 * 13392
+    let (a, _, _) = triangle s 13392
+        (a0, _, _) = triangle s 0
+        V3 x0 y0 z0 = a0
+    a `shouldSatisfy` near (V3 (10 + 0.5 * x0) (0.5 * y0) (0.5 * z0))
+    bad <- loadScene [SceneFile "../shared/data/cell/cell.obj" 0 (trans 0 0 0)]
+    either id (const "") bad `shouldSatisfy` ("scale" `isInfixOf`)
   it "names the file in an error" $ do
     r <- readObj "../shared/data/cell/no-such.obj"
     either id (const "") r `shouldSatisfy` ("no-such.obj" `isInfixOf`)
