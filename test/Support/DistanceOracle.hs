@@ -1,8 +1,8 @@
 {-# OPTIONS_GHC -O2 #-}
 -- | An independent brute-force distance, written apart from "VProf.Geometry.Distance" and the
 -- BVH: plain tuples, its own point–segment and point–triangle distances (the foot of the point in
--- the plane from the normal equations in the edge coordinates u, w; inside when u, w ≥ 0 and
--- u + w ≤ 1, else the nearest edge), and the segment's
+-- an orthonormal frame of the triangle's plane built on its longest edge, a 2-D inside test, else
+-- the nearest edge), and the segment's
 -- distance as the minimum over the segment parameter t of the convex function
 -- t ↦ dist(p + t (q − p), triangle), found by golden-section search (plus both ends). Meshes are
 -- scanned triangle by triangle, no pruning.
@@ -40,21 +40,35 @@ oPointSegment p a b =
         | otherwise = max 0 (min 1 (dotP (minus p a) ab / l2))
   in len (minus p (along a b t))
 
+-- | Point–triangle in the triangle's own orthonormal frame: e1 along the longest edge, e2 the rest
+-- of the third corner by Gram–Schmidt (well conditioned even for a sliver, unlike a normal vector
+-- or the normal equations); the foot of p is inside when the 2-D orientations agree, and then the
+-- distance is the residual out of the plane; otherwise the nearest edge.
 oPointTriangle :: Pt -> Pt -> Pt -> Pt -> Double
-oPointTriangle p a b c =
-  let ab = minus b a; ac = minus c a; ap = minus p a
-      g00 = dotP ab ab; g01 = dotP ab ac; g11 = dotP ac ac
-      r0 = dotP ab ap; r1 = dotP ac ap
-      det = g00 * g11 - g01 * g01
+oPointTriangle p a0 b0 c0 =
+  let l2 u v = let d = minus v u in dotP d d
+      (a, b, c) = snd (maximum [ (l2 a0 b0, (a0, b0, c0)), (l2 b0 c0, (b0, c0, a0)), (l2 c0 a0, (c0, a0, b0)) ])
       edges = minimum [oPointSegment p a b, oPointSegment p b c, oPointSegment p c a]
-  in if det <= 0 then edges else
-       -- the foot of p in the plane, a + u ab + w ac, by the normal equations (no normal vector,
-       -- whose direction is ill-determined for a sliver)
-       let u = (g11 * r0 - g01 * r1) / det
-           w = (g00 * r1 - g01 * r0) / det
-           (ax, ay, az) = a; (bx, by, bz) = ab; (cx, cy, cz) = ac
-           x = (ax + u * bx + w * cx, ay + u * by + w * cy, az + u * bz + w * cz)
-       in if u >= 0 && w >= 0 && u + w <= 1 then min edges (len (minus p x)) else edges
+      ab = minus b a; ac = minus c a; ap = minus p a
+      lab = len ab
+  in if lab == 0 then edges else
+       let e1 = scaleP (1 / lab) ab
+           r = minus ac (scaleP (dotP ac e1) e1)
+           lr = len r
+       in if lr == 0 then edges else
+            let e2 = scaleP (1 / lr) r
+                -- 2-D corners: a = (0, 0), b = (lab, 0), c = (cx, cy) with cy > 0
+                cx = dotP ac e1; cy = dotP ac e2
+                px = dotP ap e1; py = dotP ap e2
+                orient (ux, uy) (vx, vy) (wx, wy) = (vx - ux) * (wy - uy) - (vy - uy) * (wx - ux)
+                inside = orient (0, 0) (lab, 0) (px, py) >= 0
+                      && orient (lab, 0) (cx, cy) (px, py) >= 0
+                      && orient (cx, cy) (0, 0) (px, py) >= 0
+                out = minus ap (plusP (scaleP px e1) (scaleP py e2))
+            in if inside then min edges (len out) else edges
+  where
+    scaleP k (x, y, z) = (k * x, k * y, k * z)
+    plusP (x, y, z) (u, v, w) = (x + u, y + v, z + w)
 
 -- | Golden-section minimum over t ∈ [0, 1] of a convex function, with both ends.
 golden :: (Double -> Double) -> Double

