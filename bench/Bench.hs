@@ -22,6 +22,7 @@ import Graphics.Rendering.Chart.Backend.Cairo
 
 import CompressBench (compressBenchmarks)
 import ClosedFormBench (closedFormBenchmarks)
+import CollisionBench (collisionBenchmarks)
 import KinematicsBench (kinematicsBenchmarks)
 import Routes
 import VProf.Profile.Generate
@@ -62,7 +63,7 @@ main = do
       , bgroup "scaling" [ bench (show (round len :: Int) ++ "m-" ++ show nz ++ "limits")
                                   (nf (resIterations . generatePure) (syntheticRoute len nz))
                          | (len, nz) <- series ]
-      ] ++ compression ++ kinematicsBenchmarks ++ closedFormBenchmarks
+      ] ++ compression ++ kinematicsBenchmarks ++ closedFormBenchmarks ++ collisionBenchmarks
 
 -- | Wall-clock scaling series (best of 5 runs): route length and number of limits.
 scaling :: IO ()
