@@ -10,7 +10,7 @@ module VProf.Kinematics.ClosedForm
   ( -- * Families
     Family (..), classify, classifyWhy
     -- * Solving
-  , Solver, solverFamily, solverDh, solverFor, solveWith, solveAll, solvePrincipal
+  , Solver, solverFamily, solverDh, solverFor, solveWith, solveAll, solvePrincipal, limitVariants
     -- * Branches
   , Branch (..), Shoulder (..), Elbow (..), Wrist (..)
   , branchText, branchCfx, parseBranch, allBranches
@@ -113,8 +113,14 @@ badPose (Pose (Rot a b c) t) = bad a || bad b || bad c || bad t
 -- | 'solvePrincipal', then every combination of each joint's variants q + 2πk within the
 -- limits (a value within 1e-12 rad outside a limit is put on it).
 solveWith :: Solver -> Pose -> Either IkFailure [Solution]
-solveWith s@Solver{..} target = do
-  principal <- solvePrincipal s target
+solveWith s target = solvePrincipal s target >>= limitVariants s
+
+-- | Every combination of each joint's variants q + 2πk within the limits, of the given
+-- solutions (a value within 1e-12 rad outside a limit is put on it); 'OutsideLimits' with
+-- the joint that misses least when none fits. The variants of a solution reach the same
+-- pose, so a caller that checks solutions can check the principal ones and expand after.
+limitVariants :: Solver -> [Solution] -> Either IkFailure [Solution]
+limitVariants Solver{..} principal = do
   let lo = sdLower solverDh; hi = sdUpper solverDh
       twoPi = 2 * pi
       -- joint j's variants x + 2πk within [l, h]: k from k0 to k1

@@ -34,23 +34,33 @@ sixAxisSolver ch = do
     row _ = Nothing
     unzip4 xs = (map (\(a, _, _, _) -> a) xs, map (\(_, b, _, _) -> b) xs, map (\(_, _, c, _) -> c) xs, map (\(_, _, _, d) -> d) xs)
 
--- | Every solution within the limits, nearest the seed first, each checked by forward
--- kinematics to the options' tolerances.
+-- | Every solution within the limits, nearest the seed first. Each principal solution
+-- (one per branch) is checked by forward kinematics to the options' tolerances; its 2π
+-- variants within the limits reach the same pose and carry its residuals.
 solveSixAxis :: IkOptions -> Chain -> CF.Solver -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
 solveSixAxis opts ch solver target seed = case CF.poseFromRowMajor (toRows4 target) of
   Nothing -> Left (InvalidRequest ["target: not a 4×4 transform"])
-  Just pose -> case CF.solveWith solver pose of
-    Left (CF.BadTarget why) -> Left (InvalidRequest [why])
-    Left (CF.UnknownFamily why) -> Left (InvalidRequest [why])
-    Left (CF.OutOfReach what d) -> Left (Unreachable what d)
-    Left (CF.OutsideLimits _ j by) -> Left (OutsideLimits [[(jointName (robotJoints (chainRobot ch) !! (j - 1)), by)]])
-    Right sols ->
-      let from = maybe (midLimits ch) id seed
-          checked = [ IkSolution q pe re (seedDistance q from) (Just (CF.branchText (CF.solBranch s)))
-                    | s <- sols, let q = CF.solQ s, let (pe, re) = residual (forward ch q) target
-                    , pe <= ikTolPosition opts, re <= ikTolRotation opts ]
-      in case checked of
-           [] | null sols -> Left (NotConverged (1 / 0) (1 / 0))
-           [] -> Left (NotConverged (minimum (map (fst . resid) sols)) (minimum (map (snd . resid) sols)))
-           _ -> Right (sortBySeed checked)
-      where resid s = residual (forward ch (CF.solQ s)) target
+  Just pose -> case CF.solvePrincipal solver pose of
+    Left e -> Left (failure e)
+    Right principal ->
+      let withResid = [ (s, residual (forward ch (CF.solQ s)) target) | s <- principal ]
+          ok = [ sr | sr@(_, (pe, re)) <- withResid, pe <= ikTolPosition opts, re <= ikTolRotation opts ]
+          from = maybe (midLimits ch) id seed
+          solution s = let q = CF.solQ s; (pe, re) = residualOf ok s
+                       in IkSolution q pe re (seedDistance q from) (Just (CF.branchText (CF.solBranch s)))
+      in case (withResid, ok) of
+           ([], _) -> Left (NotConverged (1 / 0) (1 / 0))
+           (_, []) -> Left (NotConverged (minimum (map (fst . snd) withResid)) (minimum (map (snd . snd) withResid)))
+           _ -> either (Left . failure) (Right . sortBySeed . map solution) (CF.limitVariants solver (map fst ok))
+  where
+    failure = \case
+      CF.BadTarget why -> InvalidRequest [why]
+      CF.UnknownFamily why -> InvalidRequest [why]
+      CF.OutOfReach what d -> Unreachable what d
+      CF.OutsideLimits _ j by -> OutsideLimits [[(jointName (robotJoints (chainRobot ch) !! (j - 1)), by)]]
+    -- a variant reaches its principal solution's pose: the same angles up to 2π
+    residualOf ok s = case [ r | (p, r) <- ok, sameWrapped (CF.solQ p) (CF.solQ s) ] of
+      (r : _) -> r
+      [] -> residual (forward ch (CF.solQ s)) target
+    sameWrapped a b = U.and (U.zipWith (\x y -> abs (wrapPi (x - y)) < 1e-9) a b)
+    wrapPi x = x - 2 * pi * fromIntegral (round (x / (2 * pi)) :: Int)
