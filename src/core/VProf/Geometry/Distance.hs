@@ -29,29 +29,28 @@ import qualified Data.Vector.Unboxed as U
 
 import VProf.Geometry.Bvh
 import VProf.Kinematics.Model (Capsule (..))
-import VProf.Kinematics.Transform (V3 (..))
+import VProf.Kinematics.Transform (V3 (..), v3Add, v3Cross, v3Dot, v3Scale, v3Sub)
 
 -- | The squared distance and a closest pair: the point on the first set, the point on the second.
 data Closest = Closest {clSquared :: !Double, clFirst :: !V3, clSecond :: !V3}
   deriving (Eq, Show)
 
-sub, add :: V3 -> V3 -> V3
-sub (V3 a b c) (V3 x y z) = V3 (a - x) (b - y) (c - z)
-add (V3 a b c) (V3 x y z) = V3 (a + x) (b + y) (c + z)
+-- the vector operations of "VProf.Kinematics.Transform", under short names
+sub, add, cross :: V3 -> V3 -> V3
+sub = v3Sub
+add = v3Add
+cross = v3Cross
 {-# INLINE sub #-}
 {-# INLINE add #-}
+{-# INLINE cross #-}
 
 scale :: Double -> V3 -> V3
-scale k (V3 x y z) = V3 (k * x) (k * y) (k * z)
+scale = v3Scale
 {-# INLINE scale #-}
 
 dot :: V3 -> V3 -> Double
-dot (V3 a b c) (V3 x y z) = a * x + b * y + c * z
+dot = v3Dot
 {-# INLINE dot #-}
-
-cross :: V3 -> V3 -> V3
-cross (V3 a b c) (V3 x y z) = V3 (b * z - c * y) (c * x - a * z) (a * y - b * x)
-{-# INLINE cross #-}
 
 q2 :: V3 -> Double
 q2 v = dot v v

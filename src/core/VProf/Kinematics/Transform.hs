@@ -209,7 +209,6 @@ isRigid tol Tf{..} =
     near x y = abs (x - y) <= tol
     det = r00 * (r11*r22 - r12*r21) - r01 * (r10*r22 - r12*r20) + r02 * (r10*r21 - r11*r20)
 
--- | Neither NaN nor ±∞.
 v3Norm :: V3 -> Double
 v3Norm (V3 x y z) = sqrt (x*x + y*y + z*z)
 
@@ -223,3 +222,9 @@ v3Dot (V3 a b c) (V3 x y z) = a*x + b*y + c*z
 
 v3Scale :: Double -> V3 -> V3
 v3Scale k (V3 x y z) = V3 (k*x) (k*y) (k*z)
+{-# INLINE v3Norm #-}
+{-# INLINE v3Sub #-}
+{-# INLINE v3Add #-}
+{-# INLINE v3Cross #-}
+{-# INLINE v3Dot #-}
+{-# INLINE v3Scale #-}
