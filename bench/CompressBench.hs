@@ -15,7 +15,7 @@ findData :: FilePath -> IO FilePath
 findData name = do
   env <- lookupEnv "VPROF_SHARED"
   let cands = maybe [] (\d -> [d </> "data" </> name, d </> name]) env
-              ++ ["../shared/data" </> name, "/work/shared/data" </> name]
+              ++ ["../shared/data" </> name]
   ok <- mapM doesFileExist cands
   case [ c | (c, True) <- zip cands ok ] of
     (c : _) -> pure c

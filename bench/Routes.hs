@@ -47,7 +47,7 @@ shortRoutes =
 -- | The reference cases, by name.
 loadCases :: IO [(String, Request)]
 loadCases = do
-  let candidates = ["../shared/reference/velocity-cases.json", "/work/shared/reference/velocity-cases.json"]
+  let candidates = ["../shared/reference/velocity-cases.json"]
   found <- filter snd <$> mapM (\p -> (,) p <$> doesFileExist p) candidates
   case found of
     [] -> fail "bench: velocity-cases.json not found in ../shared/reference"

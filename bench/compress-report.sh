@@ -5,7 +5,6 @@
 set -e
 DATA=${VPROF_SHARED:+$VPROF_SHARED/data}
 [ -n "$DATA" ] && [ -d "$DATA" ] || DATA=../shared/data
-[ -d "$DATA" ] || DATA=/work/shared/data
 stack build
 for f in freiburg1_xyz-groundtruth.txt V101_gt.txt; do
   echo "== $f"

@@ -84,7 +84,7 @@ def main():
     ap.add_argument("--frames", type=int, default=100000)
     ap.add_argument("--batch", type=int, default=100)
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--cases", default="/work/shared/reference/velocity-cases.json")
+    ap.add_argument("--cases", default=os.path.join(os.environ.get("VPROF_SHARED", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared")), "reference", "velocity-cases.json"))
     args = ap.parse_args()
     rng = random.Random(args.seed)
     pool = seeds(args.cases)

@@ -10,7 +10,6 @@ module Support.Arbitrary
   ) where
 
 import Data.List (nub, sort)
-import System.Directory (doesDirectoryExist)
 import System.Environment (lookupEnv)
 import Test.QuickCheck
 
@@ -60,9 +59,7 @@ shared = do
   env <- lookupEnv "VPROF_SHARED"
   case env of
     Just d -> pure d
-    Nothing -> do
-      here <- doesDirectoryExist "../shared/data"
-      pure (if here then "../shared" else "/work/shared")
+    Nothing -> pure "../shared"
 
 -- | How many random cases a property runs: 1000, or VPROF_PROPERTY_CASES.
 propertyCount :: IO Int

@@ -9,7 +9,6 @@ module Support.DhReference
 
 import Data.Aeson
 import qualified Data.ByteString.Lazy as BL
-import System.Directory (doesDirectoryExist)
 import System.Environment (lookupEnv)
 import Support.DhOracle
 
@@ -40,9 +39,7 @@ sharedDir :: IO FilePath
 sharedDir = lookupEnv "VPROF_SHARED" >>= case'
   where
     case' (Just d) = pure d
-    case' Nothing = do
-      here <- doesDirectoryExist "../shared/reference"
-      pure (if here then "../shared" else "/work/shared")
+    case' Nothing = pure "../shared"
 
 loadReference :: String -> IO RefRobot
 loadReference name = do

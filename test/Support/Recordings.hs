@@ -1,5 +1,5 @@
 -- | Where the shared recordings are: $VPROF_SHARED (the shared directory, or its data
--- directory), then ../shared/data from the project root, then /work/shared/data.
+-- directory), then ../shared/data from the project root.
 module Support.Recordings
   ( dataFile
   , loadTum
@@ -17,7 +17,7 @@ dataFile :: FilePath -> IO FilePath
 dataFile name = do
   env <- lookupEnv "VPROF_SHARED"
   let candidates = maybe [] (\d -> [d </> "data" </> name, d </> name]) env
-                   ++ ["../shared/data" </> name, "/work/shared/data" </> name]
+                   ++ ["../shared/data" </> name]
   found <- filterM' doesFileExist candidates
   case found of
     (f : _) -> pure f
