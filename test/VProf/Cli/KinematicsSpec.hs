@@ -36,6 +36,18 @@ spec = describe "vprof robots / fk / ik" $ do
     run ikCommand ["ur5", "--pose", "3 0 0 1 0 0 0"] `shouldReturn` ExitFailure 1
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 1 1 0 0"] `shouldReturn` ExitFailure 2
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3"] `shouldReturn` ExitFailure 99
+  it "inverse kinematics in the work cell: 0 clear of it, 1 when every solution hits it, 2 for a bad scene or clearance" $ do
+    dir <- shared
+    let cell = dir </> "data" </> "cell" </> "cell.obj"
+        down x = ["--pose", x ++ " 0 1 0 0", "--environment", cell]
+    run ikCommand (["ur5"] ++ down "0.5 0.2 0.3") `shouldReturn` ExitSuccess
+    -- the base link stands 40 mm from the table's edge: 50 mm cannot be kept unless it is ignored
+    run ikCommand (["ur5"] ++ down "0.5 0.2 0.3" ++ ["--clearance", "0.05"]) `shouldReturn` ExitFailure 1
+    run ikCommand (["ur5"] ++ down "0.5 0.2 0.3" ++ ["--clearance", "0.05", "--ignore-body", "1"]) `shouldReturn` ExitSuccess
+    -- a target 10 cm below the table top
+    run ikCommand (["ur5"] ++ down "0.5 0 -0.1") `shouldReturn` ExitFailure 1
+    run ikCommand (["ur5"] ++ down "0.5 0.2 0.3" ++ ["--clearance", "-1"]) `shouldReturn` ExitFailure 2
+    run ikCommand ["ur5", "--pose", "0.5 0.2 0.3 0 1 0 0", "--environment", dir </> "no-such.obj"] `shouldReturn` ExitFailure 2
   it "reads a URDF with --tip and a robot file; a malformed file is exit code 2" $ do
     dir <- shared
     let urdf = dir </> "data" </> "urdf" </> "panda.urdf"

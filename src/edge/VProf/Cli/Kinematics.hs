@@ -32,6 +32,10 @@ import VProf.Kinematics
 import VProf.Kinematics.Format.RobotFile (readRobotFile)
 import VProf.Kinematics.Format.Urdf (UrdfOptions (..), defaultUrdfOptions, readUrdfFile)
 import VProf.Kinematics.Library (libraryRobots, lookupRobot)
+import VProf.Geometry.Bvh (buildBvh)
+import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
+import VProf.Kinematics.Collision (Clearance (..), CollisionOptions (..), collisionModel, defaultCollisionOptions)
+import VProf.Select.Ik
 
 data Format = Table | Json deriving (Eq)
 
@@ -170,7 +174,8 @@ runFk o = do
 
 data IkOpts = IkOpts
   { ikRobotName :: String, ikPose :: [Double], ikSeedQ :: Maybe [Double], ikAll :: Bool
-  , ikDeg :: Bool, ikTip :: Maybe String, ikFormat :: Format, ikBudget :: Double, ikBranchWanted :: Maybe String }
+  , ikDeg :: Bool, ikTip :: Maybe String, ikFormat :: Format, ikBudget :: Double, ikBranchWanted :: Maybe String
+  , ikEnvironment :: Maybe FilePath, ikEnvScale :: Double, ikClearance :: Double, ikIgnoreBodies :: [Int] }
 
 ikCommand :: Parser (IO ExitCode)
 ikCommand = runIk <$> (IkOpts
@@ -183,7 +188,15 @@ ikCommand = runIk <$> (IkOpts
   <*> tipOption <*> formatOption
   <*> option auto (long "time-budget" <> metavar "SECONDS" <> value 1 <> showDefault <> help "wall-clock budget of the numerical solver")
   <*> optional (option (eitherReader branch) (long "branch" <> metavar "RUN|LDF|..."
-        <> help "six-axis closed forms: only this branch (shoulder R/L, elbow U/D, wrist N/F)")))
+        <> help "six-axis closed forms: only this branch (shoulder R/L, elbow U/D, wrist N/F)"))
+  <*> optional (strOption (long "environment" <> metavar "FILE.obj"
+        <> help "keep the robot clear of this Wavefront OBJ scene (in the robot's base frame)"))
+  <*> option auto (long "scale" <> metavar "S" <> value 1 <> showDefault
+        <> help "the scene's coordinates times S are metres (0.001 for millimetres)")
+  <*> option auto (long "clearance" <> metavar "M" <> value 0.01 <> showDefault
+        <> help "with --environment: the least distance between the robot's capsules and the scene, m")
+  <*> many (option auto (long "ignore-body" <> metavar "N"
+        <> help "with --environment: leave body N out of the scene check (1 = the first link, e.g. a base column on a table); repeatable")))
   where
     numbers k s = case mapM readD (words (map (\c -> if c == ',' then ' ' else c) s)) of
       Just xs | k == 0 || length xs == k -> Right xs
@@ -209,22 +222,52 @@ runIk o = do
             let target = fromQuat (V3 x y z) (Quat w qx' qy' qz')
                 seed = jointsFrom (ikDeg o) r <$> ikSeedQ o
                 opts = defaultIkOptions { ikAllSolutions = ikAll o }
-            res <- solveIkIO (ikBudget o) opts (kinematicsFor r) target seed
-            case res of
-              Left (InvalidRequest es) -> failWith (intercalate "; " es)
-              Left f -> do
+            scene <- loadEnvironment
+            case scene of
+              Left e -> failWith e
+              Right env -> do
+                res <- solveWithin env r target seed opts
+                answer r res
+      _ -> failWith "--pose: expected 7 numbers"
+  where
+    loadEnvironment = case ikEnvironment o of
+      Nothing -> pure (Right Nothing)
+      Just path
+        | isNaN (ikClearance o) || isInfinite (ikClearance o) || ikClearance o < 0 ->
+            pure (Left ("--clearance = " ++ show (ikClearance o) ++ " m: must be a finite number >= 0"))
+        | otherwise -> fmap (Just . buildBvh) <$> loadScene [SceneFile path (ikEnvScale o) identity]
+    -- every solution with its clearance to the scene (m), or why there is none: Left a usage
+    -- error (exit 2), Right a reason (exit 1)
+    solveWithin env r target seed opts = case env of
+      Nothing -> either (Left . ikFail) (Right . map (, Nothing)) <$> solveIkIO (ikBudget o) opts (kinematicsFor r) target seed
+      Just bvh ->
+        let sopts = defaultSelectIkOptions { siIk = opts, siClearance = ikClearance o }
+            cm = collisionModel defaultCollisionOptions { coSceneIgnore = ikIgnoreBodies o } r
+        in pure $ case solveCollisionFree sopts (kinematicsFor r) cm bvh target seed of
+             Left (IkFailed f) -> Left (ikFail f)
+             Left f -> Left (Right (describeSelectIkFailure sopts f))
+             Right cs -> Right [ (cdSolution c, clrDistance <$> cdClearance c) | c <- cs ]
+    order = maybe "nearest the seed" (const "largest clearance (then nearest the seed)") (ikEnvironment o)
+    ikFail (InvalidRequest es) = Left es
+    ikFail f = Right (describeFailure f)
+    answer r res = case res of
+              Left (Left es) -> failWith (intercalate "; " es)
+              Left (Right why) -> do
                 case ikFormat o of
-                  Json -> BLC.putStrLn (A.encode (A.object [ "error" A..= describeFailure f ]))
-                  Table -> hPutStrLn stderr ("vprof ik: " ++ describeFailure f)
+                  Json -> BLC.putStrLn (A.encode (A.object [ "error" A..= why ]))
+                  Table -> hPutStrLn stderr ("vprof ik: " ++ why)
                 pure (ExitFailure 1)
-              Right sols0 -> do
-                let sols = maybe sols0 (\b -> filter ((== Just b) . solBranch) sols0) (ikBranchWanted o)
+              Right found -> do
+                let sols0 = map fst found
+                    clearanceOf s = lookup (solJoints s) [ (solJoints x, c) | (x, Just c) <- found ]
+                    sols = maybe sols0 (\b -> filter ((== Just b) . solBranch) sols0) (ikBranchWanted o)
                     shown = if ikAll o then sols else take 1 sols
                 case ikFormat o of
                   Json -> BLC.putStrLn $ A.encode $ A.object
                     [ "solutions" A..= [ A.object [ "q" A..= jointsTo (ikDeg o) r (solJoints s), "branch" A..= solBranch s
                                                   , "position_error" A..= solPositionError s
-                                                  , "rotation_error" A..= solRotationError s ]
+                                                  , "rotation_error" A..= solRotationError s
+                                                  , "clearance_m" A..= clearanceOf s ]
                                        | s <- shown ] ]
                   Table
                     | null sols -> hPutStrLn stderr $ "vprof ik: no solution on branch "
@@ -232,11 +275,12 @@ runIk o = do
                         ++ unwords (nubOrd [ b | Just b <- map solBranch sols0 ])
                     | otherwise -> do
                     putStrLn $ show (length sols) ++ " solution(s) within the joint limits"
-                      ++ (if ikAll o || length sols == 1 then ", nearest the seed first"
-                          else "; the nearest the seed (--all lists them)")
+                      ++ maybe "" (const (" and clear of the environment by " ++ num 3 (ikClearance o) ++ " m")) (ikEnvironment o)
+                      ++ (if ikAll o || length sols == 1 then ", " ++ order ++ " first"
+                          else "; the " ++ order ++ " (--all lists them)")
                       ++ (if ikDeg o then " (deg)" else " (rad, m)")
                     mapM_ (\s -> putStrLn ("  " ++ maybe "" (++ "  ") (solBranch s) ++ unwords (map (num 6) (jointsTo (ikDeg o) r (solJoints s)))
                                            ++ "   error " ++ showEFloat (Just 1) (solPositionError s) "" ++ " m, "
-                                           ++ showEFloat (Just 1) (solRotationError s) "" ++ " rad")) shown
+                                           ++ showEFloat (Just 1) (solRotationError s) "" ++ " rad"
+                                           ++ maybe "" (\c -> "   clearance " ++ num 1 (1000 * c) ++ " mm") (clearanceOf s))) shown
                 pure (if null sols then ExitFailure 1 else ExitSuccess)
-      _ -> failWith "--pose: expected 7 numbers"
