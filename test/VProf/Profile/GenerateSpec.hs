@@ -285,6 +285,20 @@ spec = do
           abs (U.last (prVelocities p)) `shouldSatisfy` (<= 1e-9)
 
   describe "budget and cap" $ do
+    it "a route whose zones at their speed limits already need more than 2^20 samples is refused, naming route_length" $ do
+      -- 10 m at 1 m/s, then 990 m at 1 mm/s: 990 010 s, 7 920 080 samples at 0.125 s, though
+      -- the route at its top speed would need only 8 000 (the bound used to be that)
+      let zones = [(0, 1.0), (10, 0.001)]
+          rq = defaultRequest { rqRouteLength = 1000 *~ meter
+                              , rqZones = [ SpeedZone (st *~ meter) (v *~ mps) | (st, v) <- zones ]
+                              , rqTimeStep = Just (0.125 *~ second) }
+          bound = (10 / 1.0 + 990 / 0.001) / 0.125 :: Double
+      bound `shouldSatisfy` (> 1048576)
+      case resOutcome (generatePure rq) of
+        Failed (InvalidRequest es) -> do
+          map feField es `shouldBe` ["route_length"]
+          concatMap feRule es `shouldSatisfy` ("above the cap of 1048576 samples" `isInfixOf`)
+        other -> expectationFailure (show other)
     it "an iteration cap of 0 passes is refused by validation, naming the field" $
       case resOutcome (generatePure defaultRequest { rqMaxIterations = Just 0 }) of
         Failed (InvalidRequest es) -> map feField es `shouldBe` ["max_iterations"]

@@ -28,6 +28,7 @@ import VProf.Profile.Legality
 import VProf.Profile.Sampled
 import VProf.Profile.Request
 import VProf.Profile.Result
+import VProf.Validation (FieldValue (..))
 
 -- | The state after each pass.
 data Snapshot = Snapshot
@@ -67,9 +68,20 @@ iterations pb = case pbAlgorithm pb of
 
 -- | The verdict on the last snapshot.
 finish :: Problem -> Double -> Int -> Bool -> Maybe String -> U.Vector Double -> Result
-finish pb secs iters done stopReason v =
-  let prof = endAtArrival pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
-      vs = check pb prof
+finish pb secs iters done stopReason v
+  | sampleCount prof > maxSamples =
+      Result (Failed (InvalidRequest [overCap])) Nothing [] iters False (pbAlgorithm pb) (pbDt pb) (pbDv pb) secs
+  | otherwise = finishWithin pb secs iters done stopReason prof
+  where
+    prof = endAtArrival pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
+    overCap = FieldError "route_length" (Number (pbLength pb)) "m"
+      ("the profile needs " ++ show (sampleCount prof) ++ " samples at time_step " ++ show (pbDt pb)
+       ++ " s, above the cap of " ++ show maxSamples ++ " samples; split the route or raise time_step")
+
+-- | The result of a profile within the sample cap.
+finishWithin :: Problem -> Double -> Int -> Bool -> Maybe String -> Profile -> Result
+finishWithin pb secs iters done stopReason prof =
+  let vs = check pb prof
       outcome
         | null vs && done = Generated
         | null vs = Failed (NotConverged (maybe "stopped before the fixed point" id stopReason

@@ -101,8 +101,9 @@ defaultMaxIterations = \case
   Thesis -> 4000000
 
 -- | The largest profile the generator will make: 2²⁰ samples (36 hours at the default
--- 0.125 s step). A request whose route cannot be driven in that many samples, even at
--- its highest speed limit, is refused by 'validate'.
+-- 0.125 s step). A request whose route cannot be driven in that many samples, even with
+-- every zone at its speed limit, is refused by 'validate'; a profile that still comes out
+-- longer (accelerating and braking take time too) is refused after generation.
 maxSamples :: Int
 maxSamples = 1048576
 
@@ -220,13 +221,18 @@ validate rq =
     izones = zip [0 :: Int ..] zones
     fld i f = "speed_limits[" ++ show i ++ "]." ++ f
 
-    -- The samples the profile needs at the very least: the route at its top speed.
+    -- The samples the profile needs at the very least: every zone driven at its own speed
+    -- limit (no legal profile is faster anywhere), so the time is at least the sum of the
+    -- zones' lengths over their limits.
     sizeErrors
-      | all finite [len, dt] && len > 0 && dt > 0 && not (null zones) && all (\(_, v) -> finite v && v > 0) zones =
-          let lower = len / maximum (map snd zones) / dt
+      | all finite [len, dt] && len > 0 && dt > 0 && not (null zones)
+      , all (\(st, v) -> finite st && finite v && v > 0) zones =
+          let ends = drop 1 (map fst sorted) ++ [len]
+              lower = sum [ max 0 (min len e - max 0 st) / v | ((st, v), e) <- zip sorted ends ] / dt
           in check (lower <= fromIntegral maxSamples) "route_length" len "m"
                ("needs at least " ++ show (ceiling lower :: Integer) ++ " samples at time_step " ++ num dt
-                ++ " s, above the cap of " ++ show maxSamples ++ " samples; split the route or raise time_step")
+                ++ " s (each zone at its speed limit), above the cap of " ++ show maxSamples
+                ++ " samples; split the route or raise time_step")
       | otherwise = []
 
     sorted = sortOn fst zones
