@@ -74,10 +74,17 @@ restVelocity = 1e-10
 -- | The forward pass toward a standstill on the terminal point, from a state: the states
 -- visited after it, in order, until it has come to rest within the landing tolerance
 -- of the terminal. Stops after @limit@ steps.
+--
+-- Inside the landing tolerance the pass brakes as hard as the hard policy allows, straight
+-- to a standstill: any stop from there lands, and the gentle policy would brake only while
+-- its reach touches the terminal, hold the lower speed once it no longer does, and so
+-- approach the terminal in a staircase of ever slower plateaus (a crawl of seconds on a
+-- route of centimetres). A hard step that a limit forbids falls back on the gentle one.
 forward :: SeedEnv -> Double -> Int -> St -> [St]
 forward e landTol limit = go 0
   where
     p = tP (eTerm e)
+    eStop = e { eHard = True }
     go n st
       | n >= limit = []
       | stS st >= p - landTol = finishBraking st (n :: Int)
@@ -87,7 +94,10 @@ forward e landTol limit = go 0
       | stV st <= restVelocity =
           let st' = St 0 (negate (stV st) / dtE e) (stS st + stV st * dtE e / 2)
           in [ st' | stepOk e st st' ]
-      | otherwise = let st' = stepTo e st (brakeAcc e st) in st' : finishBraking st' (n + 1)
+      | otherwise =
+          let hard = stepTo e st (brakeAcc eStop st)
+              st' = if stepOk e st hard then hard else stepTo e st (brakeAcc e st)
+          in st' : finishBraking st' (n + 1)
 
 -- | The greedy pass from a state: the states after it, up to the first for which @done@
 -- holds, at most @n@.

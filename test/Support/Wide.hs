@@ -1,0 +1,94 @@
+-- | The wide world of requests (issue "the generator on any valid request"): time steps from
+-- 2⁻⁷ to 2⁻² s and non-powers of two (0.01, 0.02, 0.05, 0.1 s); speed limits 0.01–30 m/s;
+-- acceleration and jerk magnitudes 0.05–50 with asymmetric ranges up to 3×; 1–500 zones,
+-- sometimes with a cluster of tiny zones (1 mm–0.5 m); routes from 5 cm to 5 km, all
+-- log-uniform; start and end at rest or in motion. The same distribution as
+-- @bench/fuzz-requests@, drawn with QuickCheck so that the properties shrink and replay.
+-- Every request it draws passes the contract's field rules; a request the sample cap refuses
+-- is valid input that gets a clear refusal, and the properties count it apart.
+module Support.Wide
+  ( WideRequest (..)
+  , genWide
+  , wideTimeSteps
+  , lowered
+  ) where
+
+import Data.List (nub, sort)
+import Test.QuickCheck
+
+import VProf.Profile.Request
+import VProf.Units
+
+newtype WideRequest = WideRequest Request deriving (Show)
+
+instance Arbitrary WideRequest where
+  arbitrary = WideRequest <$> genWide
+
+-- | The controller time steps drawn: powers of two and the common non-powers.
+wideTimeSteps :: [Double]
+wideTimeSteps = [2 ** negate k | k <- [2 .. 7]] ++ [0.01, 0.02, 0.05, 0.1]
+
+-- | A log-uniform draw in [lo, hi].
+logUniform :: Double -> Double -> Gen Double
+logUniform lo hi = (\u -> exp (log lo + u * (log hi - log lo))) <$> choose (0, 1)
+
+-- | Four significant digits, so that counterexamples read well (and zone starts stay distinct
+-- after the 'nub').
+sig4 :: Double -> Double
+sig4 0 = 0
+sig4 x = let e = floor (logBase 10 (abs x)) :: Int
+             k = 10 ^^ (3 - e) :: Double
+         in fromIntegral (round (x * k) :: Integer) / k
+
+genWide :: Gen Request
+genWide = do
+  len <- sig4 <$> logUniform 0.05 5000
+  oneZone <- (< (0.2 :: Double)) <$> choose (0, 1)
+  nz <- if oneZone then pure 1 else min 500 . floor <$> logUniform 1 500
+  cuts <- vectorOf (nz - 1) (choose (0, len))
+  cluster <- (\u -> nz > 3 && u < (0.3 :: Double)) <$> choose (0, 1)
+  starts0 <-
+    if cluster
+      then do
+        at <- choose (0, len)
+        w <- logUniform 0.001 0.5
+        pure (take (nz `div` 2) cuts ++ [min len (at + fromIntegral k * w) | k <- [1 .. nz - 1 - nz `div` 2]])
+      else pure cuts
+  let starts = 0 : nub (sort [s | s <- map sig4 starts0, s > 0, s < len])
+  vmax <- logUniform 0.01 30
+  speeds <- vectorOf (length starts) (max 0.01 . sig4 . (vmax *) <$> logUniform 0.05 1)
+  aMag <- sig4 <$> logUniform 0.05 50
+  jMag <- sig4 <$> logUniform 0.05 50
+  ra <- logUniform (1 / 3) 3
+  rj <- logUniform (1 / 3) 3
+  flipA <- arbitrary
+  let (aMin, aMax) = if flipA then (negate aMag, sig4 (aMag * ra)) else (negate (sig4 (aMag * ra)), aMag)
+      (jMin, jMax) = (negate (sig4 (jMag * rj)), jMag)
+  dt <- elements wideTimeSteps
+  startMoving <- (< (0.4 :: Double)) <$> choose (0, 1)
+  endMoving <- (< (0.3 :: Double)) <$> choose (0, 1)
+  (v0, a0) <- if startMoving then movingState (head speeds) aMin aMax else pure (0, 0)
+  (vE, aE) <- if endMoving then movingState (last speeds) aMin aMax else pure (0, 0)
+  pure defaultRequest
+    { rqRouteLength = len *~ meter
+    , rqZones = zipWith (\s v -> SpeedZone (s *~ meter) (v *~ mps)) starts speeds
+    , rqMinAcceleration = aMin *~ mps2, rqMaxAcceleration = aMax *~ mps2
+    , rqMinJerk = jMin *~ mps3, rqMaxJerk = jMax *~ mps3
+    , rqStartVelocity = v0 *~ mps, rqStartAcceleration = a0 *~ mps2
+    , rqEndVelocity = vE *~ mps, rqEndAcceleration = aE *~ mps2
+    , rqTimeStep = Just (dt *~ second)
+    }
+  where
+    movingState lim aMin aMax = do
+      v <- sig4 <$> choose (0, lim)
+      a <- sig4 <$> ((*) <$> choose (aMin, aMax) <*> choose (0, 1))
+      pure (min lim v, max aMin (min aMax a))
+
+-- | The request with every zone lowered to its lowest limit (one zone), when its start and end
+-- velocities still fit under it.
+lowered :: Request -> Maybe Request
+lowered rq
+  | si (rqStartVelocity rq) > vLow || si (rqEndVelocity rq) > vLow = Nothing
+  | otherwise = Just rq { rqZones = [SpeedZone (0 *~ meter) (vLow *~ mps)] }
+  where
+    vLow = minimum (map (si . zoneSpeed) (rqZones rq))
