@@ -20,6 +20,7 @@ import qualified Data.Vector.Unboxed as U
 import GHC.Clock (getMonotonicTime)
 import System.Timeout (timeout)
 import Control.Exception (evaluate)
+import Data.IORef (IORef, newIORef, readIORef, writeIORef)
 
 import VProf.Profile.Generate.RubberBand
 import VProf.Profile.Generate.Seed
@@ -128,23 +129,40 @@ generate rq = case validate rq of
   Right pb -> generateProblem pb
 
 -- | The wall-clock budget binds the whole generation: iterations are checked between
--- passes, and the forward pass that seeds them is stopped by a timeout at the budget
--- (plus a quarter, at least 50 ms), answering NOT_CONVERGED rather than running on.
+-- passes, and a pass (or the first pass that seeds them) still running at the hard limit
+-- ('hardLimit': the budget and a tenth of it, at least 20 ms and at most 100 ms) is
+-- stopped by a timeout. The answer is then NOT_CONVERGED, naming the stage that ran out,
+-- with the profile of the last finished pass and the checker's verdict on it; before the
+-- first pass has finished there is no profile to give.
 generateProblem :: Problem -> IO Result
 generateProblem pb = do
   t0 <- getMonotonicTime
-  let limitSec = pbBudget pb + max 0.05 (pbBudget pb / 4)
-  r <- timeout (ceiling (limitSec * 1e6)) (generateWithin pb t0)
+  latest <- newIORef Nothing
+  r <- timeout (ceiling (hardLimit pb * 1e6)) (generateWithin pb t0 latest)
   case r of
     Just res -> pure res
     Nothing -> do
+      best <- readIORef latest
+      let spent = "time budget of " ++ show (pbBudget pb) ++ " s spent "
+      res <- case best of
+        Nothing -> pure (failed pb (NotConverged (spent ++ "before the first pass finished")))
+        Just sn -> do
+          -- (a fixed point reached just before the limit: only its verdict ran out of time)
+          let reason | snDone sn = Nothing
+                     | otherwise = Just (spent ++ "during pass " ++ show (snIteration sn + 1)
+                                         ++ "; the profile is that of pass " ++ show (snIteration sn))
+              r0 = finish pb 0 (snIteration sn) (snDone sn) reason (snVel sn)
+          _ <- evaluate (length (resViolations r0))
+          pure r0
       t1 <- getMonotonicTime
-      pure (failed pb (NotConverged ("time budget of " ++ show (pbBudget pb)
-                                     ++ " s spent before the first pass finished")))
-        { resSeconds = t1 - t0 }
+      pure res { resSeconds = t1 - t0 }
 
-generateWithin :: Problem -> Double -> IO Result
-generateWithin pb t0 = do
+-- | The wall-clock time after which a running pass is stopped (s).
+hardLimit :: Problem -> Double
+hardLimit pb = pbBudget pb + min 0.1 (max 0.02 (pbBudget pb / 10))
+
+generateWithin :: Problem -> Double -> IORef (Maybe Snapshot) -> IO Result
+generateWithin pb t0 latest = do
   let elapsed = do t <- getMonotonicTime; pure (t - t0)
   case iterations pb of
     Left f -> do
@@ -154,6 +172,7 @@ generateWithin pb t0 = do
     Right snaps -> do
       let walk (sn : rest) = do
             _ <- evaluate (snVel sn)
+            writeIORef latest (Just sn)
             secs <- elapsed
             if snDone sn
               then pure (sn, Nothing)
