@@ -24,6 +24,7 @@ import CompressBench (compressBenchmarks)
 import ClosedFormBench (closedFormBenchmarks)
 import CollisionBench (collisionBenchmarks)
 import KinematicsBench (kinematicsBenchmarks)
+import OutputBench (outputBenchmarks)
 import Routes
 import VProf.Profile.Generate
 import VProf.Profile.Sampled (duration, sampleCount)
@@ -56,6 +57,7 @@ main = do
         (Failed (InfeasibleRequest _ _), "8820-infeasible") -> pure ()
         (other, _) -> putStrLn ("bench: " ++ n ++ " gave " ++ show other) >> exitFailure
     compression <- compressBenchmarks
+    output <- outputBenchmarks
     defaultMain $
       [ bgroup "cases" [ bench n (nf (resIterations . generatePure) rq) | (n, rq) <- cases ]
       , bgroup "thesis" [ bench n (nf (resIterations . generatePure) rq) | (n, rq) <- thesisCases ]
@@ -63,7 +65,7 @@ main = do
       , bgroup "scaling" [ bench (show (round len :: Int) ++ "m-" ++ show nz ++ "limits")
                                   (nf (resIterations . generatePure) (syntheticRoute len nz))
                          | (len, nz) <- series ]
-      ] ++ compression ++ kinematicsBenchmarks ++ closedFormBenchmarks ++ collisionBenchmarks
+      ] ++ compression ++ kinematicsBenchmarks ++ closedFormBenchmarks ++ collisionBenchmarks ++ output
 
 -- | Wall-clock scaling series (best of 5 runs): route length and number of limits.
 scaling :: IO ()

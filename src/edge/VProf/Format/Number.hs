@@ -13,7 +13,7 @@ module VProf.Format.Number
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Char8 as BC
 import qualified Data.ByteString.Lazy.Char8 as BLC
-import Data.Double.Conversion.ByteString (toExponential)
+import Data.Double.Conversion.ByteString (toExponential, toShortest)
 
 -- | A double as text that reads back exactly, in 'show''s layout.
 doubleBuilder :: Double -> BB.Builder
@@ -24,7 +24,14 @@ doubleBuilder x
   | x < 0 = BB.char7 '-' <> positive (negate x)
   | otherwise = positive x
   where
-    positive y =
+    positive y
+      -- the common case, in one call: double-conversion's shortest form is already the
+      -- fixed layout there (it writes decimals from 1e-7 to 1e21), short of "2" for "2.0"
+      | y >= 0.1 && y < 1e7 =
+          let s = toShortest y
+          in if BC.elem '.' s then BB.byteString s else BB.byteString s <> BB.string7 ".0"
+      | otherwise = general y
+    general y =
       -- "d.ddddeN" (or "deN"): the shortest digits d ddddd and y = 0.dddddd · 10^(N+1)
       let s = toExponential (-1) y
           (mant, ex) = BC.break (== 'e') s
