@@ -10,7 +10,11 @@
 --   on that pose, each timed over many repetitions after a warm-up, with whether the original q
 --   is among the solutions up to 2π wraps (the input of @bench/compare-kinematics@);
 -- * @--fk IN.json OUT.json@: vprof's forward kinematics of given joint vectors (to check a
---   peer's solutions against the same model).
+--   peer's solutions against the same model);
+-- * @--numeric IN.json OUT.json@: the TRAC-IK protocol for any robot (the 7-axis arms): per joint
+--   vector the target by FK, one numerical solve from mid-limits timed once (one warm-up solve
+--   per robot), its residual; and the robot's compiled chain as constant transforms and z axes
+--   (@model@), from which the peers build the same arm.
 --
 -- Full laziness is off in this module so that a timed repetition cannot be floated out of its
 -- loop (as criterion does for its own loops).
@@ -43,6 +47,7 @@ main = do
   case args of
     ["--compare", inp, out] -> compareMode inp out
     ["--fk", inp, out] -> fkMode inp out
+    ["--numeric", inp, out] -> numericMode inp out
     ("--protocol" : n : robots) -> do
       let keys = if null robots then ["ur5", "franka-panda", "ur10", "abb-irb140", "kuka-lbr-iiwa14", "puma560"] else robots
       putStrLn (printf "%-22s %8s %9s %9s %9s %9s %9s %12s %12s" ("robot" :: String) ("solves" :: String) ("success%" :: String)
@@ -199,3 +204,46 @@ fkMode inp out = do
     ch <- compile <$> robotOrDie key
     pure (A.object ["key" .= key, "poses" .= [toRows4 (forward ch (U.fromList qs)) | qs <- qss]])
   BL.writeFile out (A.encode (A.object ["robots" .= robots]))
+
+-- | The TRAC-IK protocol, one timed solve per pose, and the chain for the peers: per moving link
+-- the constant transform before it (row-major 3×4), whether it slides, its drive offset and its
+-- (joint, coefficient) terms; the constant transform after the last link to the tool; the limits.
+numericMode :: FilePath -> FilePath -> IO ()
+numericMode inp out = do
+  Request{..} <- readRequest inp
+  let opts = defaultIkOptions {ikTolPosition = rqTol, ikTolRotation = rqTol, ikMaxRestarts = 100000}
+  robots <- forM rqRobots $ \(key, qss) -> do
+    r <- robotOrDie key
+    let ch = compile r
+        k = Kinematics ch NumericLM
+        seed = midLimits ch
+        m = chainLinks ch
+        terms i = [ (chainTermJoint ch U.! t, chainTermCoeff ch U.! t)
+                  | t <- [chainTermStart ch U.! i .. chainTermStart ch U.! (i + 1) - 1] ]
+        model = A.object
+          [ "dof" .= chainDof ch, "lower" .= U.toList (chainLo ch), "upper" .= U.toList (chainHi ch)
+          , "links" .= [ A.object [ "before" .= toRows (constAt (chainConst ch) i), "prismatic" .= (chainPrismatic ch U.! i)
+                                  , "offset" .= (chainOffset ch U.! i), "terms" .= terms i ]
+                       | i <- [0 .. m - 1] ]
+          , "tool" .= toRows (constAt (chainConst ch) m) ]
+    hPutStrLn stderr ("vprof-kinematics-compare: " ++ key ++ ", " ++ show (length qss) ++ " numerical solves")
+    case qss of
+      (q0 : _) -> solveIkIO rqBudget opts k (forward ch (U.fromList q0)) (Just seed) >>= evaluate . force >> pure ()
+      [] -> pure ()
+    poses <- forM qss $ \qs -> do
+      let q = U.fromList qs
+          target = forward ch q
+      _ <- evaluate (force (toRows target))
+      t0 <- getMonotonicTimeNSec
+      res <- solveIkIO rqBudget opts k target (Just seed) >>= evaluate . force
+      t1 <- getMonotonicTimeNSec
+      let us = fromIntegral (t1 - t0) / 1000 :: Double
+      pure $ case res of
+        Right (s : _) ->
+          let (pe, re) = residual (forward ch (solJoints s)) target
+          in A.object [ "pose" .= toRows4 target, "us" .= us, "ok" .= (pe <= rqTol && re <= rqTol)
+                      , "pos_err" .= pe, "rot_err" .= re ]
+        Right [] -> A.object ["pose" .= toRows4 target, "us" .= us, "ok" .= False, "error" .= ("no solution" :: String)]
+        Left e -> A.object ["pose" .= toRows4 target, "us" .= us, "ok" .= False, "error" .= describeFailure e]
+    pure (A.object ["key" .= key, "name" .= robotName r, "model" .= model, "poses" .= poses])
+  BL.writeFile out (A.encode (A.object ["numeric_budget_s" .= rqBudget, "numeric_tol" .= rqTol, "robots" .= robots]))

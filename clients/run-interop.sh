@@ -52,6 +52,16 @@ echo "== Python client"
 (cd "$here/python" && python3 -m vprof_client "$json" --port "$port" "${only[@]}") || status=1
 echo "== Python client over --stdio"
 (cd "$here/python" && python3 -m vprof_client "$json" --spawn "$vprof" --case simple "${only[@]}") || status=1
+if [ "$stub" != 1 ]; then
+  echo "== FK and IK: Python and C++ examples, responses compared byte for byte"
+  python3 "$here/python/kinematics_example.py" --port "$port" --out "$tmp/kin-py.bin" || status=1
+  "$here/cpp/build/vprof_kinematics" --port "$port" --out "$tmp/kin-cpp.bin" || status=1
+  if cmp -s "$tmp/kin-py.bin" "$tmp/kin-cpp.bin"; then
+    echo "kinematics responses identical ($(wc -c < "$tmp/kin-py.bin") bytes)"
+  else
+    echo "kinematics responses differ between the Python and the C++ client"; status=1
+  fi
+fi
 echo "== C++ checker self test"
 "$here/cpp/build/vprof_check" --selftest >/dev/null || { echo "checker self test failed"; status=1; }
 echo "== Python client tests"

@@ -3,7 +3,7 @@
 -- "VProf.Service". 'testHandler': ping -> pong echoing the payload (a payload @sleep:SECONDS@ makes
 -- it sleep first, for drain tests); profile -> a trivial ProfileResponse echoing
 -- request_id (no samples: it is NOT a generator); compress -> CompressedPath with Error
--- UNSUPPORTED.
+-- UNSUPPORTED; fk and ik -> a Response whose body is an Error UNSUPPORTED.
 module Support.TestHandler
   ( testHandler
   , testAnswer
@@ -57,10 +57,12 @@ testAnswer rid = \case
     , cpError = putField (Just (mkError ErrUnsupported "compress" "the test handler does not compress"))
     , cpWarnings = putField []
     }
+  other -> pure (errorResponse rid ErrUnsupported "body" ("the test handler does not serve " <> incomingKind other))
 
 -- | An envelope with the given bodies set.
 requestWith :: Word64 -> Maybe ProfileRequestMsg -> Maybe CompressRequestMsg -> Maybe PingMsg -> RequestMsg
 requestWith rid p c g = RequestMsg (putField (nonDefault rid)) (putField p) (putField c) (putField g)
+                                   (putField Nothing) (putField Nothing)
 
 pingMsg :: Word64 -> Text -> RequestMsg
 pingMsg rid payload = requestWith rid Nothing Nothing (Just (PingMsg (putField (nonDefault payload))))

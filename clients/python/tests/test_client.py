@@ -74,6 +74,28 @@ class DaemonTest(unittest.TestCase):
         req = request_from_json(obj)
         self.assertEqual(req.route_length, obj["route_length"])
 
+    @unittest.skipUnless(REAL, "[real] the stub serves no kinematics")
+    def test_fk_then_ik_round_trip(self):
+        """[real] IK of an FK pose gives solutions that FK maps back onto it; a bad joint
+        count is INVALID_ARGUMENT naming `joints`."""
+        q = [0.2, -1.1, 1.3, -0.4, 1.0, 0.3]
+        ur5 = pb.Robot(name="ur5")
+        with Client.connect(self.host, self.port) as c:
+            fk = c.fk(pb.FkRequest(robot=ur5, joints=q))
+            self.assertFalse(fk.HasField("error"))
+            self.assertEqual(fk.dof, 6)
+            ik = c.ik(pb.IkRequest(robot=ur5, target=fk.tool, seed=q))
+            self.assertEqual(ik.solver, "closed-form six-axis")
+            self.assertEqual(len(ik.solutions), 1)
+            for a, b in zip(ik.solutions[0].joints, q):
+                self.assertAlmostEqual(a, b, places=9)
+            back = c.fk(pb.FkRequest(robot=ur5, joints=ik.solutions[0].joints)).tool
+            for f in ("x", "y", "z"):
+                self.assertAlmostEqual(getattr(back, f), getattr(fk.tool, f), places=9)
+            bad = c.fk(pb.FkRequest(robot=ur5, joints=[0, 0]))
+            self.assertEqual(bad.error.code, pb.ERROR_CODE_INVALID_ARGUMENT)
+            self.assertEqual(bad.error.field, "joints")
+
     def test_frame_too_large_then_closed(self):
         s = socket.create_connection((self.host, self.port))
         s.sendall(bytes([0x80, 0x89, 0x7a]))  # 2,000,000 > --max-frame-bytes 1000000

@@ -141,6 +141,25 @@ class Client:
             raise RuntimeError("expected a profile response, got %r" % kind)
         return resp.profile
 
+    def _body(self, field, msg, answer):
+        req = pb.Request(request_id=msg.request_id)
+        getattr(req, field).CopyFrom(msg)
+        resp = self.call(req)
+        kind = resp.WhichOneof("body")
+        if kind == "error":
+            raise DaemonError(resp.error)
+        if kind != answer:
+            raise RuntimeError("expected a %s response, got %r" % (answer, kind))
+        return getattr(resp, answer)
+
+    def fk(self, fk_request):
+        """Forward kinematics: an FkRequest in, its FkResponse out (check .error)."""
+        return self._body("fk", fk_request, "fk")
+
+    def ik(self, ik_request):
+        """Inverse kinematics: an IkRequest in, its IkResponse out (check .error)."""
+        return self._body("ik", ik_request, "ik")
+
 
 def request_from_json(obj, request_id=0):
     """A ProfileRequest from a dict with proto3 JSON field names; other keys (name, note,

@@ -175,6 +175,8 @@ outcomeOf r
   | Just c <- getField (rspCompressed r) = (maybe "ok" codeOf (getField (cpError c)), Nothing, Nothing, Nothing)
   | Just e <- getField (rspError r) = (codeOf e, Nothing, Nothing, Nothing)
   | Just _ <- getField (rspPong r) = ("ok", Nothing, Nothing, Nothing)
+  | Just f <- getField (rspFk r) = (maybe "ok" codeOf (getField (fksError f)), Nothing, Nothing, Nothing)
+  | Just k <- getField (rspIk r) = (maybe "ok" codeOf (getField (ikrError k)), Nothing, Nothing, Nothing)
   | otherwise = ("empty", Nothing, Nothing, Nothing)
   where codeOf e = errorCodeName (getEnum (getField (errCode e)))
 

@@ -1,5 +1,5 @@
 {-# LANGUAGE OverloadedStrings #-}
--- | The daemon's request handler: one classified request body (profile, compress or ping)
+-- | The daemon's request handler: one classified request body (profile, compress, ping, fk or ik)
 -- to one response, and how long each kind may take. Never throws: every failure,
 -- including a bug, becomes an 'ErrorMsg' in the response.
 module VProf.Service
@@ -15,6 +15,7 @@ import Data.Word (Word64)
 
 import VProf.Server (Handler (..))
 import VProf.Service.Compress
+import VProf.Service.Kinematics
 import VProf.Service.Profile
 import VProf.Version (versionString)
 import VProf.Wire.Envelope
@@ -24,12 +25,14 @@ import VProf.Wire.Messages
 service :: Handler
 service = Handler answer timeLimit
 
--- | Answer one body; the envelope's request_id is also the profile response's.
+-- | Answer one body; the envelope's request_id is also the profile, FK and IK response's.
 answer :: Word64 -> Incoming -> IO ResponseMsg
 answer rid inc = do
   r <- try $ case inc of
     InProfile p -> profileResponse rid <$> serveProfile p { prqRequestId = putField (nonDefault rid) }
     InCompress c -> compressedResponse rid <$> serveCompress c
+    InFk f -> fkResponse rid <$> serveFk f { fkqRequestId = putField (nonDefault rid) }
+    InIk k -> ikResponse rid <$> serveIk k { ikqRequestId = putField (nonDefault rid) }
     InPing pg -> pure (emptyResponse rid)
       { rspPong = putField (Just (PongMsg (putField (getField (pingPayload pg))) (putField (nonDefault (T.pack versionString))))) }
   pure $ case r of
@@ -42,3 +45,5 @@ timeLimit = \case
   InProfile p -> profileTimeLimit p
   InCompress _ -> compressTimeLimit
   InPing _ -> 0
+  InFk _ -> fkTimeLimit
+  InIk k -> ikTimeLimit k

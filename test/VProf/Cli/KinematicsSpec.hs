@@ -1,5 +1,5 @@
 -- | The kinematics subcommands end to end (in process): exit codes for good input, an
--- unreachable target and bad input, for library robots, robot files and URDF.
+-- unreachable target and bad input, for library robots, robot files and URDF; the arm's drawing.
 module VProf.Cli.KinematicsSpec (spec) where
 
 import Options.Applicative
@@ -10,7 +10,13 @@ import Test.Hspec
 
 import Support.Arbitrary (shared)
 import VProf.Cli.Kinematics (fkCommand, ikCommand, loadRobot, robotsCommand)
-import VProf.Kinematics (dof)
+import VProf.Kinematics
+import VProf.Kinematics.Library (lookupRobot)
+import VProf.Plot.Robot (armPoints)
+import Support.Gen (genQ)
+import Test.QuickCheck (forAll, property)
+import qualified Data.ByteString as B
+import System.Directory (doesFileExist)
 
 run :: Parser (IO ExitCode) -> [String] -> IO ExitCode
 run p args = case execParserPure defaultPrefs (info p forwardOptions) args of
@@ -59,3 +65,33 @@ spec = describe "vprof robots / fk / ik" $ do
       let bad = tmp </> "bad.yaml"
       writeFile bad "name: broken\njoints: [1, 2\n"
       run fkCommand [bad, "0"] `shouldReturn` ExitFailure 2
+  it "robots NAME --plot: writes a non-empty PNG (library robot, --q in degrees, URDF with --tip); refuses a wrong joint count, NaN, a missing NAME" $
+    withSystemTempDirectory "vprof-plot" $ \tmp -> do
+      dir <- shared
+      let png = tmp </> "arm.png"
+          isPng f = do
+            bs <- B.readFile f
+            pure (B.length bs > 1000 && B.take 8 bs == B.pack [137, 80, 78, 71, 13, 10, 26, 10])
+      run robotsCommand ["ur5", "--plot", png] `shouldReturn` ExitSuccess
+      isPng png `shouldReturn` True
+      let png2 = tmp </> "arm-deg.png"
+      run robotsCommand ["kuka-lbr-iiwa14", "--plot", png2, "--q", "10 45 0 -60 0 30 0", "--deg"] `shouldReturn` ExitSuccess
+      isPng png2 `shouldReturn` True
+      let png3 = tmp </> "panda.png"
+      run robotsCommand [dir </> "data" </> "urdf" </> "panda.urdf", "--tip", "panda_link8", "--plot", png3] `shouldReturn` ExitSuccess
+      isPng png3 `shouldReturn` True
+      let bad = tmp </> "bad.png"
+      run robotsCommand ["ur5", "--plot", bad, "--q", "0 1"] `shouldReturn` ExitFailure 2
+      run robotsCommand ["ur5", "--plot", bad, "--q", "0 0 0 0 0 NaN"] `shouldReturn` ExitFailure 2
+      run robotsCommand ["no-such-robot", "--plot", bad] `shouldReturn` ExitFailure 2
+      run robotsCommand ["--plot", bad] `shouldReturn` ExitFailure 2
+      run robotsCommand ["ur5", "--q", "0 0 0 0 0 0"] `shouldReturn` ExitFailure 2
+      doesFileExist bad `shouldReturn` False
+  it "the drawn polyline runs from the base frame's origin to the tool's, through every link frame (random q)" $ do
+    let Right r = lookupRobot "ur10"
+        ch = compile r
+    property $ forAll (genQ ch) $ \q ->
+      let (pts, tool) = armPoints ch q
+          close (V3 a b c) (V3 x y z) = maximum (map abs [a - x, b - y, c - z]) < 1e-12
+      in close (last pts) (translation (forward ch q)) && close (head pts) (translation (robotBase r))
+           && length pts == length (linkFrames ch q) && maximum (zipWith (\x y -> abs (x - y)) (toRows tool) (toRows (forward ch q))) < 1e-12

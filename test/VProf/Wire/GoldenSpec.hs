@@ -151,11 +151,13 @@ compressMethodNames = ["COMPRESS_METHOD_DEFAULT", "COMPRESS_METHOD_THESIS", "COM
 request :: Obj -> Parser RequestMsg
 request o = RequestMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msg profileRequest o "profile")
   <*> (putField <$> msg compressRequest o "compress") <*> (putField <$> msg ping o "ping")
+  <*> (putField <$> msg fkRequest o "fk") <*> (putField <$> msg ikRequest o "ik")
 
 response :: Obj -> Parser ResponseMsg
 response o = ResponseMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msg profileResponse o "profile")
   <*> (putField <$> msg compressedPath o "compressed") <*> (putField <$> msg pong o "pong")
   <*> (putField <$> msg errorMsg o "error")
+  <*> (putField <$> msg fkResponse o "fk") <*> (putField <$> msg ikResponse o "ik")
 
 ping :: Obj -> Parser PingMsg
 ping o = PingMsg . putField <$> str o "payload"
@@ -221,3 +223,46 @@ compressedPath o = CompressedPathMsg
   <$> (putField <$> u64 o "request_id") <*> (putField <$> msg poses o "path")
   <*> (putField <$> msg compressMetrics o "metrics") <*> (putField <$> dbl o "compute_time")
   <*> (putField <$> msg errorMsg o "error") <*> pure (putField [])
+
+u32s :: Obj -> Text -> Parser [Word32]
+u32s o k = maybe (pure []) (A.withArray (T.unpack k) (mapM toIntegral . V.toList)) (field o k)
+
+robot :: Obj -> Parser RobotMsg
+robot o = RobotMsg <$> s "name" <*> s "robot_file" <*> s "urdf" <*> s "base_link" <*> s "tip_link"
+  where s k = putField <$> str o k
+
+pose :: Obj -> Parser PoseMsg
+pose o = PoseMsg <$> d "x" <*> d "y" <*> d "z" <*> d "qw" <*> d "qx" <*> d "qy" <*> d "qz"
+  where d k = putField <$> dbl o k
+
+fkRequest :: Obj -> Parser FkRequestMsg
+fkRequest o = FkRequestMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msg robot o "robot")
+  <*> (putField <$> dbls o "joints") <*> (putField <$> bool o "link_frames")
+
+fkResponse :: Obj -> Parser FkResponseMsg
+fkResponse o = FkResponseMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msg pose o "tool")
+  <*> (putField <$> msgs pose o "link_frames") <*> (putField <$> dbls o "jacobian")
+  <*> d "manipulability" <*> d "condition_number" <*> d "compute_time"
+  <*> (putField <$> msg errorMsg o "error") <*> (putField <$> u32 o "dof")
+  where d k = putField <$> dbl o k
+
+mesh :: Obj -> Parser MeshMsg
+mesh o = MeshMsg <$> (putField <$> dbls o "vertices") <*> (putField <$> u32s o "triangles")
+  <*> (putField <$> dbl o "scale") <*> (putField <$> msg pose o "pose")
+
+ikRequest :: Obj -> Parser IkRequestMsg
+ikRequest o = IkRequestMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msg robot o "robot")
+  <*> (putField <$> msg pose o "target") <*> (putField <$> dbls o "seed") <*> (putField <$> bool o "all_solutions")
+  <*> d "position_tolerance" <*> d "rotation_tolerance" <*> d "time_budget"
+  <*> (putField <$> msgs mesh o "environment") <*> d "clearance" <*> (putField <$> u32s o "ignore_bodies")
+  where d k = putField <$> dbl o k
+
+ikSolution :: Obj -> Parser IkSolutionMsg
+ikSolution o = IkSolutionMsg <$> (putField <$> dbls o "joints") <*> d "position_error" <*> d "rotation_error"
+  <*> (putField <$> str o "branch") <*> d "manipulability" <*> d "clearance" <*> d "seed_distance"
+  where d k = putField <$> dbl o k
+
+ikResponse :: Obj -> Parser IkResponseMsg
+ikResponse o = IkResponseMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msgs ikSolution o "solutions")
+  <*> (putField <$> str o "solver") <*> (putField <$> dbl o "compute_time")
+  <*> (putField <$> msg errorMsg o "error") <*> (putField <$> u32 o "dof")

@@ -1,7 +1,7 @@
 {-# LANGUAGE OverloadedStrings #-}
 -- | The kinematics commands of the @vprof@ executable:
 --
--- > vprof robots [NAME] [--format table|json]
+-- > vprof robots [NAME] [--format table|json] [--plot FILE.png [--q "Q..."] [--deg]]
 -- > vprof fk ROBOT Q... [--deg] [--tip LINK] [--format table|json]
 -- > vprof ik ROBOT --pose X Y Z QW QX QY QZ [--seed Q...] [--all] [--branch RUN] [--deg] [--tip LINK] [--format table|json]
 --
@@ -36,6 +36,7 @@ import VProf.Geometry.Bvh (buildBvh)
 import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
 import VProf.Kinematics.Collision (Clearance (..), CollisionOptions (..), collisionModel, defaultCollisionOptions)
 import VProf.Select.Ik
+import VProf.Plot.Robot (plotRobot)
 
 data Format = Table | Json deriving (Eq)
 
@@ -69,9 +70,40 @@ num d x = showFFloat (Just d) x ""
 ------------------------------------------------------------------------------ robots
 
 robotsCommand :: Parser (IO ExitCode)
-robotsCommand = run <$> optional (strArgument (metavar "NAME" <> help "show one robot (a library name or a robot file)"))
+robotsCommand = runPlot <$> optional (strArgument (metavar "NAME" <> help "show one robot (a library name or a robot file)"))
                     <*> tipOption <*> formatOption
+                    <*> optional (strOption (long "plot" <> metavar "FILE.png"
+                          <> help "draw the arm (side view x-z and top view x-y) to a PNG or SVG file"))
+                    <*> optional (option (eitherReader jointNumbers) (long "q" <> metavar "\"Q...\""
+                          <> help "with --plot: the joint values, as one argument (rad or m; degrees with --deg; default: mid-limits, 0 for an unbounded joint)"))
+                    <*> switch (long "deg" <> help "with --plot: --q in degrees")
   where
+    runPlot name tip fmt Nothing qs deg
+      | Just _ <- qs = failWith "--q needs --plot FILE.png" >> pure (ExitFailure 2)
+      | deg = failWith "--deg needs --plot FILE.png" >> pure (ExitFailure 2)
+      | otherwise = run name tip fmt
+    runPlot Nothing _ _ (Just _) _ _ = failWith "--plot needs a robot NAME (a library name or a robot file)"
+    runPlot (Just name) tip _ (Just file) qs deg = do
+      er <- loadRobot tip name
+      case er of
+        Left e -> failWith e
+        Right r -> do
+          let ch = compile r
+              q = maybe (midLimits ch) (jointsFrom deg r) qs
+          case checkJointVector False r q of
+            es@(_ : _) -> failWith (intercalate "; " (map (renameQ . renderFieldError) es))
+            [] -> do
+              plotRobot file (robotName r) ch q
+              putStrLn ("wrote " ++ file ++ " (" ++ robotName r ++ " at q = " ++ unwords (map (num 4) (jointsTo deg r q))
+                        ++ (if deg then " deg)" else " rad/m)"))
+              pure ExitSuccess
+    renameQ e = if take 1 e == "q" then "--q" ++ drop 1 e else e
+    jointNumbers s = case mapM readD (words (map (\c -> if c == ',' then ' ' else c) s)) of
+      Just xs@(_ : _) -> Right xs
+      _ -> Left ("expected joint values as numbers, got " ++ show s)
+    readD w = case reads w of
+      [(d, "")] -> Just (d :: Double)
+      _ -> Nothing
     run Nothing _ fmt = do
       let rows = [ (key, r) | (key, Right r) <- libraryRobots ]
           bad = [ (key, es) | (key, Left es) <- libraryRobots ]

@@ -15,6 +15,8 @@ module VProf.Wire.Envelope
   , pongResponse
   , profileResponse
   , compressedResponse
+  , fkResponse
+  , ikResponse
   , responseKind
   , errorCodeName
   ) where
@@ -30,14 +32,18 @@ data Incoming
   = InProfile ProfileRequestMsg
   | InCompress CompressRequestMsg
   | InPing PingMsg
+  | InFk FkRequestMsg
+  | InIk IkRequestMsg
   deriving (Eq, Show)
 
--- | "profile", "compress" or "ping" (as logged).
+-- | "profile", "compress", "ping", "fk" or "ik" (as logged).
 incomingKind :: Incoming -> Text
 incomingKind = \case
   InProfile _ -> "profile"
   InCompress _ -> "compress"
   InPing _ -> "ping"
+  InFk _ -> "fk"
+  InIk _ -> "ik"
 
 requestIdOf :: RequestMsg -> Word64
 requestIdOf = orDefault . getField . reqRequestId
@@ -47,15 +53,17 @@ classify :: RequestMsg -> Either ErrorMsg Incoming
 classify r = case bodies of
   [b] -> Right b
   [] -> Left (mkError ErrInvalidArgument "body"
-               "Request.body is empty: set exactly one of profile, compress, ping")
+               "Request.body is empty: set exactly one of profile, compress, ping, fk, ik")
   bs -> Left (mkError ErrInvalidArgument "body"
                ("Request.body has " <> T.pack (show (length bs)) <> " bodies ("
                 <> T.intercalate ", " (map incomingKind bs)
-                <> "): set exactly one of profile, compress, ping"))
+                <> "): set exactly one of profile, compress, ping, fk, ik"))
   where
     bodies = maybe [] (pure . InProfile) (getField (reqProfile r))
           ++ maybe [] (pure . InCompress) (getField (reqCompress r))
           ++ maybe [] (pure . InPing) (getField (reqPing r))
+          ++ maybe [] (pure . InFk) (getField (reqFk r))
+          ++ maybe [] (pure . InIk) (getField (reqIk r))
 
 mkError :: ErrorCodeEnum -> Text -> Text -> ErrorMsg
 mkError code field msg = ErrorMsg
@@ -72,6 +80,8 @@ emptyResponse rid = ResponseMsg
   , rspCompressed = putField Nothing
   , rspPong = putField Nothing
   , rspError = putField Nothing
+  , rspFk = putField Nothing
+  , rspIk = putField Nothing
   }
 
 -- | A Response whose body is an Error.
@@ -90,13 +100,21 @@ profileResponse rid p = (emptyResponse rid) { rspProfile = putField (Just p) }
 compressedResponse :: Word64 -> CompressedPathMsg -> ResponseMsg
 compressedResponse rid p = (emptyResponse rid) { rspCompressed = putField (Just p) }
 
--- | The body a response carries: "profile", "compressed", "pong", "error" or "empty".
+fkResponse :: Word64 -> FkResponseMsg -> ResponseMsg
+fkResponse rid p = (emptyResponse rid) { rspFk = putField (Just p) }
+
+ikResponse :: Word64 -> IkResponseMsg -> ResponseMsg
+ikResponse rid p = (emptyResponse rid) { rspIk = putField (Just p) }
+
+-- | The body a response carries: "profile", "compressed", "pong", "error", "fk", "ik" or "empty".
 responseKind :: ResponseMsg -> Text
 responseKind r
   | Just _ <- getField (rspProfile r) = "profile"
   | Just _ <- getField (rspCompressed r) = "compressed"
   | Just _ <- getField (rspPong r) = "pong"
   | Just _ <- getField (rspError r) = "error"
+  | Just _ <- getField (rspFk r) = "fk"
+  | Just _ <- getField (rspIk r) = "ik"
   | otherwise = "empty"
 
 -- | The lower-case name of an error code as logged (@invalid_argument@, ...).

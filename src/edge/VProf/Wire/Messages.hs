@@ -23,6 +23,15 @@ module VProf.Wire.Messages
   , CompressMetricsMsg (..)
   , CompressedPathMsg (..)
   , CompressMethodEnum (..)
+    -- * Robot kinematics
+  , RobotMsg (..)
+  , PoseMsg (..)
+  , FkRequestMsg (..)
+  , FkResponseMsg (..)
+  , MeshMsg (..)
+  , IkRequestMsg (..)
+  , IkSolutionMsg (..)
+  , IkResponseMsg (..)
     -- * Daemon envelope
   , PingMsg (..)
   , PongMsg (..)
@@ -250,6 +259,101 @@ data CompressedPathMsg = CompressedPathMsg
 instance Encode CompressedPathMsg
 instance Decode CompressedPathMsg
 
+----------------------------------------------------------------------------- kinematics
+
+data RobotMsg = RobotMsg
+  { robName      :: Optional 1 (Value Text)
+  , robRobotFile :: Optional 2 (Value Text)
+  , robUrdf      :: Optional 3 (Value Text)
+  , robBaseLink  :: Optional 4 (Value Text)
+  , robTipLink   :: Optional 5 (Value Text)
+  } deriving (Generic, Show, Eq)
+instance Encode RobotMsg
+instance Decode RobotMsg
+
+data PoseMsg = PoseMsg
+  { poseX  :: Optional 1 (Value Double)
+  , poseY  :: Optional 2 (Value Double)
+  , poseZ  :: Optional 3 (Value Double)
+  , poseQw :: Optional 4 (Value Double)
+  , poseQx :: Optional 5 (Value Double)
+  , poseQy :: Optional 6 (Value Double)
+  , poseQz :: Optional 7 (Value Double)
+  } deriving (Generic, Show, Eq)
+instance Encode PoseMsg
+instance Decode PoseMsg
+
+data FkRequestMsg = FkRequestMsg
+  { fkqRequestId  :: Optional 1 (Value Word64)
+  , fkqRobot      :: Optional 2 (Message RobotMsg)
+  , fkqJoints     :: Packed 3 (Value Double)
+  , fkqLinkFrames :: Optional 4 (Value Bool)
+  } deriving (Generic, Show, Eq)
+instance Encode FkRequestMsg
+instance Decode FkRequestMsg
+
+data FkResponseMsg = FkResponseMsg
+  { fksRequestId       :: Optional 1 (Value Word64)
+  , fksTool            :: Optional 2 (Message PoseMsg)
+  , fksLinkFrames      :: Repeated 3 (Message PoseMsg)
+  , fksJacobian        :: Packed 4 (Value Double)
+  , fksManipulability  :: Optional 5 (Value Double)
+  , fksConditionNumber :: Optional 6 (Value Double)
+  , fksComputeTime     :: Optional 7 (Value Double)
+  , fksError           :: Optional 8 (Message ErrorMsg)
+  , fksDof             :: Optional 9 (Value Word32)
+  } deriving (Generic, Show, Eq)
+instance Encode FkResponseMsg
+instance Decode FkResponseMsg
+
+data MeshMsg = MeshMsg
+  { meshVertices  :: Packed 1 (Value Double)
+  , meshTriangles :: Packed 2 (Value Word32)
+  , meshScale     :: Optional 3 (Value Double)
+  , meshPose      :: Optional 4 (Message PoseMsg)
+  } deriving (Generic, Show, Eq)
+instance Encode MeshMsg
+instance Decode MeshMsg
+
+data IkRequestMsg = IkRequestMsg
+  { ikqRequestId         :: Optional 1 (Value Word64)
+  , ikqRobot             :: Optional 2 (Message RobotMsg)
+  , ikqTarget            :: Optional 3 (Message PoseMsg)
+  , ikqSeed              :: Packed 4 (Value Double)
+  , ikqAllSolutions      :: Optional 5 (Value Bool)
+  , ikqPositionTolerance :: Optional 6 (Value Double)
+  , ikqRotationTolerance :: Optional 7 (Value Double)
+  , ikqTimeBudget        :: Optional 8 (Value Double)
+  , ikqEnvironment       :: Repeated 9 (Message MeshMsg)
+  , ikqClearance         :: Optional 10 (Value Double)
+  , ikqIgnoreBodies      :: Packed 11 (Value Word32)
+  } deriving (Generic, Show, Eq)
+instance Encode IkRequestMsg
+instance Decode IkRequestMsg
+
+data IkSolutionMsg = IkSolutionMsg
+  { iksJoints         :: Packed 1 (Value Double)
+  , iksPositionError  :: Optional 2 (Value Double)
+  , iksRotationError  :: Optional 3 (Value Double)
+  , iksBranch         :: Optional 4 (Value Text)
+  , iksManipulability :: Optional 5 (Value Double)
+  , iksClearance      :: Optional 6 (Value Double)
+  , iksSeedDistance   :: Optional 7 (Value Double)
+  } deriving (Generic, Show, Eq)
+instance Encode IkSolutionMsg
+instance Decode IkSolutionMsg
+
+data IkResponseMsg = IkResponseMsg
+  { ikrRequestId   :: Optional 1 (Value Word64)
+  , ikrSolutions   :: Repeated 2 (Message IkSolutionMsg)
+  , ikrSolver      :: Optional 3 (Value Text)
+  , ikrComputeTime :: Optional 4 (Value Double)
+  , ikrError       :: Optional 5 (Message ErrorMsg)
+  , ikrDof         :: Optional 6 (Value Word32)
+  } deriving (Generic, Show, Eq)
+instance Encode IkResponseMsg
+instance Decode IkResponseMsg
+
 ----------------------------------------------------------------------------- envelope
 
 data PingMsg = PingMsg
@@ -273,6 +377,9 @@ data RequestMsg = RequestMsg
   , reqProfile   :: Optional 2 (Message ProfileRequestMsg)
   , reqCompress  :: Optional 3 (Message CompressRequestMsg)
   , reqPing      :: Optional 4 (Message PingMsg)
+  , reqFk        :: Optional 5 (Message FkRequestMsg)
+  , reqIk        :: Optional 6 (Message IkRequestMsg)
+    -- 7 and 8 are reserved for the select and plan requests
   } deriving (Generic, Show, Eq)
 instance Encode RequestMsg
 instance Decode RequestMsg
@@ -283,6 +390,9 @@ data ResponseMsg = ResponseMsg
   , rspCompressed :: Optional 3 (Message CompressedPathMsg)
   , rspPong       :: Optional 4 (Message PongMsg)
   , rspError      :: Optional 5 (Message ErrorMsg)
+  , rspFk         :: Optional 6 (Message FkResponseMsg)
+  , rspIk         :: Optional 7 (Message IkResponseMsg)
+    -- 8 and 9 are reserved for the select and plan responses
   } deriving (Generic, Show, Eq)
 instance Encode ResponseMsg
 instance Decode ResponseMsg

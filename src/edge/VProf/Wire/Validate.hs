@@ -25,14 +25,17 @@ import VProf.Wire.Varint (VarintResult (..), decodeVarint)
 data MsgType
   = TRequest | TResponse | TProfileRequest | TSpeedLimit | TProfileResponse | TViolation
   | TError | TPoses | TCompressRequest | TCompressMetrics | TCompressedPath | TPing | TPong
+  | TRobot | TPose | TFkRequest | TFkResponse | TMesh | TIkRequest | TIkSolution | TIkResponse
   deriving (Eq, Show, Enum, Bounded)
 
-data Kind = KVarint | KF64 | KStr | KMsg MsgType | KPackedF64
+data Kind = KVarint | KF64 | KStr | KMsg MsgType | KPackedF64 | KPackedVarint
 
 fields :: MsgType -> Word64 -> Maybe Kind
 fields t n = case t of
-  TRequest -> lookup n [(1, KVarint), (2, KMsg TProfileRequest), (3, KMsg TCompressRequest), (4, KMsg TPing)]
-  TResponse -> lookup n [(1, KVarint), (2, KMsg TProfileResponse), (3, KMsg TCompressedPath), (4, KMsg TPong), (5, KMsg TError)]
+  TRequest -> lookup n [ (1, KVarint), (2, KMsg TProfileRequest), (3, KMsg TCompressRequest), (4, KMsg TPing)
+                       , (5, KMsg TFkRequest), (6, KMsg TIkRequest) ]
+  TResponse -> lookup n [ (1, KVarint), (2, KMsg TProfileResponse), (3, KMsg TCompressedPath), (4, KMsg TPong), (5, KMsg TError)
+                        , (6, KMsg TFkResponse), (7, KMsg TIkResponse) ]
   TProfileRequest
     | n == 1 || n == 14 || n == 17 -> Just KVarint
     | n == 3 -> Just (KMsg TSpeedLimit)
@@ -61,6 +64,16 @@ fields t n = case t of
   TCompressedPath -> lookup n [(1, KVarint), (2, KMsg TPoses), (3, KMsg TCompressMetrics), (4, KF64), (5, KMsg TError), (6, KStr)]
   TPing -> lookup n [(1, KStr)]
   TPong -> lookup n [(1, KStr), (2, KStr)]
+  TRobot -> if n >= 1 && n <= 5 then Just KStr else Nothing
+  TPose -> if n >= 1 && n <= 7 then Just KF64 else Nothing
+  TFkRequest -> lookup n [(1, KVarint), (2, KMsg TRobot), (3, KPackedF64), (4, KVarint)]
+  TFkResponse -> lookup n [ (1, KVarint), (2, KMsg TPose), (3, KMsg TPose), (4, KPackedF64), (5, KF64), (6, KF64)
+                          , (7, KF64), (8, KMsg TError), (9, KVarint) ]
+  TMesh -> lookup n [(1, KPackedF64), (2, KPackedVarint), (3, KF64), (4, KMsg TPose)]
+  TIkRequest -> lookup n [ (1, KVarint), (2, KMsg TRobot), (3, KMsg TPose), (4, KPackedF64), (5, KVarint), (6, KF64)
+                         , (7, KF64), (8, KF64), (9, KMsg TMesh), (10, KF64), (11, KPackedVarint) ]
+  TIkSolution -> lookup n [(1, KPackedF64), (2, KF64), (3, KF64), (4, KStr), (5, KF64), (6, KF64), (7, KF64)]
+  TIkResponse -> lookup n [(1, KVarint), (2, KMsg TIkSolution), (3, KStr), (4, KF64), (5, KMsg TError), (6, KVarint)]
 
 -- | @Right ()@ when the bytes are a well-formed encoding of the message type; otherwise a
 -- message saying where (byte offset, field path) and what is wrong.
@@ -99,11 +112,18 @@ validateWire = go (0 :: Int) ""
             (Just KPackedF64, 2)
               | B.length payload `mod` 8 == 0 -> Right ()
               | otherwise -> Left ("field " ++ here ++ ": packed doubles of " ++ show (B.length payload) ++ " bytes")
+            (Just KPackedVarint, 0) ->
+              Left ("field " ++ here ++ ": unpacked repeated integer (wire type 0); this server reads "
+                    ++ "only the packed encoding proto3 writes (the Haskell decoder would drop it)")
+            (Just KPackedVarint, 2) -> varints here payload
             (Just KStr, 2) -> either (const (Left ("field " ++ here ++ ": string is not valid UTF-8"))) (const (Right ()))
                                      (TE.decodeUtf8' payload)
             (Just (KMsg sub), 2) -> go (depth + 1) here sub payload
             (Just _, _) -> Left ("field " ++ here ++ " of " ++ show t ++ ": wrong wire type " ++ show wt)
           go depth path t rest'
+    varints path bs
+      | B.null bs = Right ()
+      | otherwise = varint path bs >>= \(_, u) -> varints path (B.drop u bs)
     varint path bs = case decodeVarint bs of
       VarintOk v u -> Right (v, u)
       VarintIncomplete -> Left ("truncated varint at " ++ path)
