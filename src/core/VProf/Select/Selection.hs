@@ -208,7 +208,7 @@ evaluateRobot opts task bvh key robot0
     stepOf a b = U.maximum (U.map abs (U.zipWith (-) a b))
 
 -- | The score (docs/select.md) and the ranking, best first. With N targets, a robot reaching n
--- scores 100·(n + 0.9·s)/N, s = 0.6·(T_min/T) + 0.3·min(c, 5 cm)/5 cm + 0.1·(w/w_max) in [0, 1]:
+-- scores 100·(n + 0.9·s)/(N + 0.9) (0 to 100), s = 0.6·(T_min/T) + 0.3·min(c, 5 cm)/5 cm + 0.1·(w/w_max) in [0, 1]:
 -- T its cycle time (the term is 0 without one), T_min the fastest robot's, c its minimum
 -- clearance (1 for an empty scene), w its minimum manipulability and w_max the largest. So a
 -- robot reaching more targets always ranks higher; among equals the faster, then the clearer,
@@ -232,7 +232,7 @@ scoreAndRank rs =
                   (Just w, Just m) | m > 0 -> w / m
                   _ -> 0
                 s = 0.6 * sT + 0.3 * sC + 0.1 * sW
-            in 100 * (fromIntegral (rrReached r) + 0.9 * s) / fromIntegral (rrTotal r)
+            in 100 * (fromIntegral (rrReached r) + 0.9 * s) / (fromIntegral (rrTotal r) + 0.9)
       scored = [r {rrScore = score r} | r <- rs]
   in sortBy (comparing (negate . rrScore) <> comparing rrKey) scored
   where
