@@ -38,6 +38,8 @@ import VProf.Kinematics
 import VProf.Kinematics.Collision
 import VProf.Kinematics.Ik.Numeric (SplitMix (..), nextDouble)
 import VProf.Kinematics.Library
+import VProf.Select.CycleTime (cycleTime, jointRates)
+import VProf.Select.Ik
 import VProf.Select.Selection
 import VProf.Select.Task
 
@@ -51,6 +53,7 @@ main = do
     ("--thesis" : n : seed : out : robots) ->
       thesis cellPath mesh bvh (read n) (read seed) out (if null robots then ["ur5", "abb-irb140", "franka-panda"] else robots)
     ["--check", inp, out] -> checkMode mesh inp out
+    ["--pieces", key] -> pieces cellPath bvh key
     ["--task", n, seed, key, out] -> do
       let robot = libRobot key
           ts = feasible (read seed) (read n) robot bvh
@@ -73,6 +76,13 @@ feasible seed n robot bvh = take n [(q, forward ch q) | q <- draws (SplitMix (fr
     draws g = let (q, g') = drawQ g lims [] in U.fromList q : draws g'
     drawQ g [] acc = (reverse acc, g)
     drawQ g ((lo, hi) : rest) acc = let (u, g') = nextDouble g in drawQ g' rest (lo + u * (hi - lo) : acc)
+
+-- | Everything a target result reports (its fields are lazy): joints, clearance, manipulability.
+forceAll :: RobotResult -> Double
+forceAll r = fromIntegral (rrReached r)
+  + sum [ maybe 0 U.sum (trJoints tr) + maybe 0 id (trClearance tr) + maybe 0 id (trManipulability tr)
+          + maybe 0 (fromIntegral . length) (trFailure tr) + maybe 0 (fromIntegral . length) (trClearanceBody tr)
+        | tr <- rrTargets r ]
 
 oneTask :: FilePath -> Tf -> Task
 oneTask cell p = Task
@@ -107,29 +117,85 @@ thesis cell mesh bvh n seed out keys = do
     _ <- evaluate (sum [U.sum q | (q, _) <- ts])
     -- a warm-up target
     _ <- evaluate (rrReached (evaluateRobot defaultSelectOptions (oneTask cell (snd (head ts))) bvh key robot))
-    results <- forM ts $ \(_, p) -> do
-      t0 <- getMonotonicTimeNSec
+    -- all targets in one task, each solved on its own (no seed): the mean per target
+    let batch = (oneTask cell identity) {taskTargets = [Target ("targets[" ++ show i ++ "]") p | (i, (_, p)) <- zip [0 :: Int ..] ts]}
+    t0 <- getMonotonicTimeNSec
+    let all' = evaluateRobot defaultSelectOptions {soSeeded = False} batch bvh key robot
+    _ <- evaluate (forceAll all')
+    t1 <- getMonotonicTimeNSec
+    -- the cycle time through the targets (the jerk-limited generator), timed apart
+    c0 <- getMonotonicTimeNSec
+    cyc <- evaluate (either (const 0) id (cycleTime (jointRates robot) [q | tr <- rrTargets all', Just q <- [trJoints tr]]))
+    c1 <- getMonotonicTimeNSec
+    let cycleMs = fromIntegral (c1 - c0) / 1e6 :: Double
+        -- (the batch's own cycle time is lazy and not forced above: the batch time is the IK's)
+        batchMean = fromIntegral (t1 - t0) / 1e6 / fromIntegral (length ts) :: Double
+        moveMean = cycleMs / fromIntegral (max 1 (length ts - 1))
+    printf "%-14s cycle time through the %d targets %.1f s, the generator %.3f ms a move\n" key (length ts) cyc moveMean
+    -- each target as a one-target task (its own setup: chain, solver, capsules): the spread
+    singles <- forM ts $ \(_, p) -> do
+      s0 <- getMonotonicTimeNSec
       let res = evaluateRobot defaultSelectOptions (oneTask cell p) bvh key robot
-          [tr] = rrTargets res
-      _ <- evaluate (rrReached res + maybe 0 (round . U.sum) (trJoints tr) + maybe 0 round (trClearance tr) :: Int)
-      t1 <- getMonotonicTimeNSec
-      pure (tr, fromIntegral (t1 - t0) / 1e6 :: Double)
+      _ <- evaluate (forceAll res)
+      s1 <- getMonotonicTimeNSec
+      pure (fromIntegral (s1 - s0) / 1e6 :: Double)
+    let results = zip (rrTargets all') singles
     let solved = [(q, p) | ((tr, _), (_, p)) <- zip results ts, Just q <- [trJoints tr]]
         checks = [check robot cm tris p q | (q, p) <- solved]
         nviol = length (filter violates checks)
         times = map snd results
         sorted = sort times
-        mean = sum times / fromIntegral (length times)
+        mean = batchMean
         median = sorted !! (length sorted `div` 2)
         minClr = minimum (1 / 0 : map ckClearance checks)
-    printf "%-14s solved %d/%d  violations %d  min clearance (brute force) %.2f mm  mean %.3f ms  median %.3f ms  max %.3f ms\n"
+    printf "%-14s solved %d/%d  violations %d  min clearance (brute force) %.2f mm  mean %.3f ms (all in one task)  one-target tasks: median %.3f ms  max %.3f ms\n"
       key (length solved) (length ts) nviol (1000 * minClr) mean median (last sorted)
     pure $ A.object
       [ "robot" .= key, "targets" .= length ts, "solved" .= length solved, "violations" .= nviol
-      , "min_clearance_m" .= minClr, "mean_ms" .= mean, "median_ms" .= median, "max_ms" .= last sorted
+      , "min_clearance_m" .= minClr, "mean_ms" .= mean, "move_ms" .= moveMean, "median_ms" .= median, "max_ms" .= last sorted
       , "failures" .= [f | (tr, _) <- results, Just f <- [trFailure tr]]
+      , "model" .= modelJson robot cm
       , "cases" .= [ A.object ["q" .= U.toList q, "pose" .= toRows p] | (q, p) <- ts ] ]
   BL.writeFile out (A.encode (A.object ["robots" .= rows]))
+
+-- | Where a target's time goes (mean µs over 50 targets, each piece repeated 20 times).
+pieces :: FilePath -> Bvh -> String -> IO ()
+pieces cell bvh key = do
+  let robot = libRobot key
+      kin = kinematicsFor robot
+      cm = collisionModel defaultCollisionOptions robot
+      ts = feasible 7 50 robot bvh
+      sopts = defaultSelectIkOptions
+  _ <- evaluate (sum [U.sum q | (q, _) <- ts])
+  let timeIt name f = do
+        t0 <- getMonotonicTimeNSec
+        mapM_ (\(q, p) -> mapM_ (\k -> evaluate (f k q p)) [1 .. 20 :: Int]) ts
+        t1 <- getMonotonicTimeNSec
+        printf "%-40s %10.1f us\n" (name :: String) (fromIntegral (t1 - t0) / 1e3 / fromIntegral (20 * length ts) :: Double)
+  timeIt "solveIk (all solutions)" (\k _ p -> either (const 0) length (solveIk defaultIkOptions {ikAllSolutions = True, ikTolPosition = 1e-6 + fromIntegral k * 1e-12} kin p Nothing))
+  timeIt "robotClearance (exact, BVH)" (\k q _ -> maybe 0 (round . (* 1e6) . clrDistance) (robotClearance cm bvh (U.map (+ fromIntegral k * 1e-12) q)))
+  timeIt "robotClearanceAtLeast 1 cm" (\k q _ -> if robotClearanceAtLeast cm bvh (U.map (+ fromIntegral k * 1e-12) q) 0.01 then 1 else 0 :: Int)
+  timeIt "selfClearance" (\k q _ -> maybe 0 (round . (* 1e6) . scDistance) (selfClearance cm (U.map (+ fromIntegral k * 1e-12) q)))
+  timeIt "solveCollisionFree" (\k _ p -> either (const 0) length (solveCollisionFree sopts {siClearance = 0.01 + fromIntegral k * 1e-12} kin cm bvh p Nothing))
+  timeIt "evaluateRobot (one target)" (\k _ p -> rrReached (evaluateRobot defaultSelectOptions (oneTask cell p) {taskClearance = 0.01 + fromIntegral k * 1e-12} bvh key robot))
+
+-- | The DH table, limits, base, tool and collision parts, for a peer to build the same robot.
+modelJson :: Robot -> CollisionModel -> A.Value
+modelJson robot cm = A.object
+  [ "links" .= [ case (linkGeometry l, linkDrive l) of
+                   (DhStandard th d a al, Drive off ts) -> A.object ["convention" .= ("standard" :: String), "theta" .= th, "d" .= d, "a" .= a, "alpha" .= al, "offset" .= off, "terms" .= ts, "moving" .= (linkJointKind l /= Nothing)]
+                   (DhModified al a th d, Drive off ts) -> A.object ["convention" .= ("modified" :: String), "theta" .= th, "d" .= d, "a" .= a, "alpha" .= al, "offset" .= off, "terms" .= ts, "moving" .= (linkJointKind l /= Nothing)]
+                   _ -> A.object ["convention" .= ("other" :: String)]
+               | l <- robotLinks robot ]
+  , "lower" .= [limMin (jointLimits j) | j <- robotJoints robot]
+  , "upper" .= [limMax (jointLimits j) | j <- robotJoints robot]
+  , "base" .= toRows (robotBase robot), "tool" .= toRows (robotTool robot)
+  , "parts" .= [ case p of
+                   Attached b (Capsule a e r) -> A.object ["body" .= b, "a" .= v a, "b" .= v e, "r" .= r]
+                   Bone b r -> A.object ["bone" .= b, "r" .= r]
+               | p <- foldr (:) [] (cmParts cm) ] ]
+  where
+    v (V3 x y z) = [x, y, z]
 
 -- | IN: {"robots": [{"robot": key, "cases": [{"pose": [12 numbers], "q": [...] or null}]}]}.
 checkMode :: Mesh -> FilePath -> FilePath -> IO ()

@@ -47,7 +47,7 @@ jerkTime = 0.05
 
 -- | The generator's time step for joint moves (s).
 profileTimeStep :: Double
-profileTimeStep = 1 / 128
+profileTimeStep = 1 / 32
 
 -- | The robot file's limits, or the default rule: v from the file or 'defaultJointSpeed';
 -- a from the file or v / 'accelerationTime'; j = a / 'jerkTime'.

@@ -22,7 +22,8 @@ module VProf.Select.Selection
   , maxJointStep
   ) where
 
-import Data.List (minimumBy, sortBy)
+import Data.Containers.ListUtils (nubOrdOn)
+import Data.List (find, minimumBy, sortBy, sortOn)
 import Data.Maybe (catMaybes, isJust, isNothing, mapMaybe)
 import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
@@ -42,10 +43,12 @@ data SelectOptions = SelectOptions
   { soIk :: IkOptions
   , soSelfMargin :: Double      -- ^ m, least distance between checked parts of the robot
   , soRestarts :: Int           -- ^ numerical IK: random restarts when the seed's solution collides
+  , soSeeded :: Bool            -- ^ seed each target by the previous one's solution (default);
+                                --   False solves every target on its own
   }
 
 defaultSelectOptions :: SelectOptions
-defaultSelectOptions = SelectOptions defaultIkOptions 0 40
+defaultSelectOptions = SelectOptions defaultIkOptions 0 40 True
 
 -- | Along a path, no joint may move more than this between two samples (rad or m): a larger
 -- step is a jump to another branch (a wrist flip), not a continuation.
@@ -131,7 +134,6 @@ evaluateRobot opts task bvh key robot0
     d = taskClearance task
     sopts = defaultSelectIkOptions { siIk = (soIk opts) { ikMaxRestarts = soRestarts opts }, siClearance = d, siSelfMargin = soSelfMargin opts }
     (centre, bound) = reachBound ch
-    numeric = case kinMethod kin of NumericLM -> True; _ -> False
 
     -- targets in order; in a path task each target after the first comes with its segment
     solveAll = go Nothing (zip [0 :: Int ..] targets)
@@ -144,7 +146,7 @@ evaluateRobot opts task bvh key robot0
                   Left (k, why) ->
                     ( solveTarget (Just q0) t
                     , Just (SegmentResult j k (Just ("segment " ++ show j ++ " -> " ++ show i ++ " " ++ why))) )
-                _ -> (solveTarget ((\(_, q, _) -> q) <$> prev) t, Nothing)
+                _ -> (solveTarget (if soSeeded opts then (\(_, q, _) -> q) <$> prev else Nothing) t, Nothing)
               next = case trJoints res of
                 Just q -> Just (i, q, tgPose t)
                 Nothing -> prev
@@ -165,13 +167,25 @@ evaluateRobot opts task bvh key robot0
                     Just _ -> minimumBy (comparing (solSeedDistance . cdSolution)) cs
               in describe t (solJoints (cdSolution pick)) (solBranch (cdSolution pick))
 
-    -- the numerical solver's nearest solution to the seed, when it is clear: no restarts needed
-    fastPath seed pose
-      | numeric, Just _ <- seed =
-          case solveIk (soIk opts) { ikAllSolutions = False, ikMaxRestarts = 0 } kin pose seed of
-            Right (s : _) | clearOk (solJoints s) -> Just (Candidate s Nothing Nothing)
-            _ -> Nothing
-      | otherwise = Nothing
+    -- with a seed: the nearest of the solutions nearest the seed (the numerical solver from the
+    -- seed alone, no restarts) that keeps the clearance; without one, of the distinct geometries
+    -- (whole turns of revolute joints apart are one) the most dexterous that keeps it. Only the
+    -- clearance test with early exit runs here; the full search (every solution's exact
+    -- clearance, for the failure's reason) only when no solution passes.
+    fastPath seed pose = case seed of
+      Just _ -> case solveIk (soIk opts) { ikAllSolutions = False, ikMaxRestarts = 0 } kin pose seed of
+        Right sols -> (\s -> Candidate s Nothing Nothing) <$> find (clearOk . solJoints) (take 8 sols)
+        Left _ -> Nothing
+      Nothing -> case solveIk (soIk opts) { ikAllSolutions = True, ikMaxRestarts = soRestarts opts } kin pose Nothing of
+        Right sols ->
+          let geometries = nubOrdOn (canonical . solJoints) sols
+              byDexterity = sortOn (negate . manipOf . solJoints) geometries
+          in (\s -> Candidate s Nothing Nothing) <$> find (clearOk . solJoints) byDexterity
+        Left _ -> Nothing
+
+    canonical q = [ if rev then round (1e6 * (x - 2 * pi * fromIntegral (round (x / (2 * pi)) :: Int))) else round (1e6 * x) :: Int
+                  | (rev, x) <- zip (U.toList (chainRevoluteJoint ch)) (U.toList q) ]
+    manipOf q = let (_, jac) = jacobian ch q in manipulability (chainDof ch) jac
 
     clearOk q = robotClearanceAtLeast cm bvh q d && not (selfCollides cm (soSelfMargin opts) q)
 
