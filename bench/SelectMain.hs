@@ -152,6 +152,9 @@ thesis cell mesh bvh n seed out keys = do
       key (length solved) (length ts) nviol (1000 * minClr) mean median (last sorted)
     pure $ A.object
       [ "robot" .= key, "targets" .= length ts, "solved" .= length solved, "violations" .= nviol
+      , "clearance_or_limit_violations" .= length [c | c <- checks, ckClearance c < 0.01 - 1e-9 || not (ckLimits c)]
+      , "pose_errors" .= length [c | c <- checks, ckPos c > 1e-6 || ckRot c > 1e-6]
+      , "self_collisions" .= length (filter ckSelf checks)
       , "min_clearance_m" .= minClr, "mean_ms" .= mean, "move_ms" .= moveMean, "median_ms" .= median, "max_ms" .= last sorted
       , "failures" .= [f | (tr, _) <- results, Just f <- [trFailure tr]]
       , "model" .= modelJson robot cm

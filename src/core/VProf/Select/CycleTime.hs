@@ -62,7 +62,12 @@ jointRates r =
 moveTime :: JointRates -> U.Vector Double -> U.Vector Double -> Either String Double
 moveTime JointRates{..} a b
   | len < 1e-9 = Right 0
-  | otherwise =
+  | otherwise = firstLegal [min profileTimeStep (len / 16), min profileTimeStep (len / 16) / 4]
+  where
+    -- the grid: 'profileTimeStep', finer for a short move (at least 16 steps over its full-speed
+    -- time), and once more four times finer should the generator not arrive on the first
+    firstLegal [] = Left ("no profile for a move of " ++ show len ++ " s at full speed")
+    firstLegal (dt : rest) =
       let rq = defaultRequest
             { rqRouteLength = len *~ meter
             , rqZones = [SpeedZone (0 *~ meter) (1 *~ mps)]
@@ -70,17 +75,17 @@ moveTime JointRates{..} a b
             , rqMaxAcceleration = acc *~ mps2
             , rqMinJerk = negate jerk *~ mps3
             , rqMaxJerk = jerk *~ mps3
-            , rqTimeStep = Just (profileTimeStep *~ second)
+            , rqTimeStep = Just (dt *~ second)
             , rqEndTolerance = Just ((1e-3 * len) *~ meter)
             }
           res = generatePure rq
       in case (resultLegal res, resProfile res) of
            (True, Just p) -> Right (duration p)
-           _ -> Left ("no profile for a move of " ++ show len ++ " s at full speed: "
-                      ++ case resOutcome res of
-                           Failed f -> renderFailure f
-                           Generated -> "the checker found violations")
-  where
+           _ | null rest -> Left ("no profile for a move of " ++ show len ++ " s at full speed: "
+                                  ++ case resOutcome res of
+                                       Failed f -> renderFailure f
+                                       Generated -> "the checker found violations")
+             | otherwise -> firstLegal rest
     d = U.map abs (U.zipWith (-) b a)
     moving = [i | i <- [0 .. U.length d - 1], d U.! i > 1e-12]
     len = maximum (0 : [d U.! i / jrVelocity U.! i | i <- moving])
