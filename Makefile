@@ -68,3 +68,8 @@ compare-kinematics:
 clean:
 	$(STACK) clean
 	rm -rf clients/cpp/build clients/python/vprof_client/gen
+
+# robot selection: the thesis experiment through vprof and through roboticstoolbox + fcl, and
+# vprof select over the library; writes bench/SELECT.md (makes bench/.venv if missing)
+compare-select:
+	python3 bench/compare-select
