@@ -23,7 +23,7 @@ module VProf.Plan.Track
   , smallestSingularValue
   ) where
 
-import Data.List (minimumBy)
+import Data.List (minimumBy, sortOn)
 import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
@@ -31,9 +31,11 @@ import Numeric (showFFloat)
 import VProf.Geometry.Bvh (Bvh)
 import VProf.Kinematics.Collision (Clearance (..), CollisionModel, robotClearance, robotClearanceAtLeast)
 import VProf.Kinematics.Ik
+import qualified VProf.Kinematics.ClosedForm as CF
+import VProf.Kinematics.Forward (forward)
 import VProf.Kinematics.Jacobian (jacobian, singularValues)
 import VProf.Kinematics.Model
-import VProf.Kinematics.Transform (V3 (..))
+import VProf.Kinematics.Transform (V3 (..), toRows4)
 import VProf.Plan.Route
 
 data TrackOptions = TrackOptions
@@ -123,9 +125,9 @@ smallestSingularValue ch q = case singularValues (chainDof ch) (snd (jacobian ch
 -- | Track the route from the start configuration (or mid-limits).
 trackRoute :: TrackOptions -> Kinematics -> Route -> Maybe (U.Vector Double) -> Either PlanStop Tracked
 trackRoute TrackOptions{..} kin rt start = do
-  q0 <- solveAt 0 (solveIk defaultIkOptions kin (routeTfAt rt 0) start) Nothing
+  q0 <- solveAt 0 (pickStart <$> solveIk defaultIkOptions kin (routeTfAt rt 0) start) Nothing Nothing
   sg0 <- checkAt 0 q0
-  go 1 q0 [q0] [sg0]
+  go 1 q0 Nothing [q0] [sg0]
   where
     ch = kinChain kin
     n = chainDof ch
@@ -137,21 +139,53 @@ trackRoute TrackOptions{..} kin rt start = do
     stop :: Double -> StopReason -> Either PlanStop a
     stop s r = Left (PlanStop r s (posAt s))
 
-    go !k prev qs sgs
+    -- without a start configuration: the solution nearest the middle of the joint ranges, each
+    -- joint's distance in halves of its range (a turn for an unbounded joint)
+    pickStart sols = case start of
+      Just _ -> sols
+      Nothing -> take 1 (sortOn (\sol -> U.sum (U.imap normSq (solJoints sol))) sols)
+    normSq i x =
+      let lo = chainLo ch U.! i; hi = chainHi ch U.! i
+          (mid, half) = if isInfinite lo || isInfinite hi then (0, pi) else (0.5 * (lo + hi), 0.5 * (hi - lo))
+          d = (x - mid) / max 1e-9 half
+      in d * d
+
+    go !k prev trend qs sgs
       | k >= nGrid = Right (Tracked grid (U.concat (reverse qs)) n (U.fromList (reverse sgs)))
       | otherwise = do
           let s = grid U.! k
-          q <- solveAt s (solveIk contOpts kin (routeTfAt rt s) (Just prev)) (Just prev)
+          q <- solveAt s (continueIk (routeTfAt rt s) prev) (Just prev) trend
           let steps = U.zipWith (\a b -> abs (a - b)) q prev
               j = U.maxIndex steps
           if steps U.! j > toMaxJointStep
-            then stop s (maybe (Jump (jointName (joints !! j)) (steps U.! j)) (uncurry JointLimit) (nearLimit prev))
+            then stop s (maybe (Jump (jointName (joints !! j)) (steps U.! j)) (uncurry JointLimit) (nearLimit prev trend))
             else do
               sg <- checkAt s q
-              go (k + 1) q (q : qs) (sg : sgs)
+              go (k + 1) q (Just (U.zipWith (-) q prev)) (q : qs) (sg : sgs)
+
+    -- the solution nearest the previous sample's: for the six-axis closed forms, each branch's
+    -- principal solution with every joint turned by whole turns to lie nearest the previous
+    -- value (within the limits), checked by forward kinematics; else the facade, seeded
+    continueIk target prev = case kinMethod kin of
+      ClosedFormSixAxis solver
+        | Just pose <- CF.poseFromRowMajor (toRows4 target)
+        , Right principal <- CF.solvePrincipal solver pose
+        , sols@(_ : _) <- [ IkSolution q pe re (seedDistance q prev) Nothing
+                          | p <- principal
+                          , Just q <- [nearestTurns prev (CF.solQ p)]
+                          , let (pe, re) = residual (forward ch q) target
+                          , pe <= ikTolPosition defaultIkOptions, re <= ikTolRotation defaultIkOptions ]
+        -> Right (sortOn solSeedDistance sols)
+      _ -> solveIk contOpts kin target (Just prev)
+    nearestTurns prev q = fmap U.fromList $ sequence $ flip map [0 .. n - 1] $ \i ->
+      let x = q U.! i; p = prev U.! i
+          lo = chainLo ch U.! i; hi = chainHi ch U.! i
+          y = x + 2 * pi * fromIntegral (round ((p - x) / (2 * pi)) :: Int)
+          cands = [ c | c <- [y, y - 2 * pi, y + 2 * pi], c >= lo - 1e-12, c <= hi + 1e-12 ]
+      in if null cands then Nothing else Just (max lo (min hi (minimumBy (comparing (\c -> abs (c - p))) cands)))
 
     -- the solution nearest the seed, or the reason there is none
-    solveAt s res prev = case res of
+    solveAt s res prev trend = case res of
       Right (sol : _) -> Right (solJoints sol)
       Right [] -> stop s (NoSolution "no solution within the joint limits")
       Left f -> case f of
@@ -161,7 +195,7 @@ trackRoute TrackOptions{..} kin rt start = do
         OutsideLimits sols -> case [ (nm, limitOf nm by) | (nm, by) : _ <- sols ] of
           ((nm, l) : _) -> stop s (JointLimit nm l)
           [] -> stop s (NoSolution (describeFailure f))
-        _ -> case prev >>= nearLimit of
+        _ -> case prev >>= \p -> nearLimit p trend of
           Just (nm, l) -> stop s (JointLimit nm l)
           Nothing
             | Just p <- prev, smallestSingularValue ch p < 10 * toMinSigma -> stop s (Singularity (smallestSingularValue ch p))
@@ -171,13 +205,17 @@ trackRoute TrackOptions{..} kin rt start = do
       (Limits lo hi : _) -> if by < 0 then lo else hi
       [] -> 0
 
-    -- a joint within one jump bound of a finite limit: the one nearest its limit
-    nearLimit q =
-      let cands = [ (d, (jointName jt, l))
+    -- a joint within one jump bound of a finite limit and moving toward it (by the last step's
+    -- direction): the one nearest its limit
+    nearLimit q trend =
+      let toward i dirSign = case trend of
+            Nothing -> True
+            Just t -> signum (t U.! i) == dirSign
+          cands = [ (d, (jointName jt, l))
                   | (i, jt) <- zip [0 ..] joints
                   , let x = q U.! i; Limits lo hi = jointLimits jt
-                  , (l, d) <- [(lo, x - lo), (hi, hi - x)]
-                  , not (isInfinite l), d <= toMaxJointStep ]
+                  , (l, d, sg) <- [(lo, x - lo, -1), (hi, hi - x, 1)]
+                  , not (isInfinite l), d <= toMaxJointStep, toward i sg ]
       in if null cands then Nothing else Just (snd (minimumBy (comparing fst) cands))
 
     checkAt s q = do
