@@ -104,6 +104,24 @@ spec = describe "VProf.Plan" $ do
       Left f -> expectationFailure ("stopped otherwise: " ++ describePlanFailure f)
       Right _ -> expectationFailure "planned through a joint limit"
 
+  it "the checker rejects a trajectory run twice as fast, and one moved off the route" $ do
+    let r = robot "ur5"
+        wps = [waypoint (0.4, -0.1, 0.3) (0, 1, 0, 0), waypoint (0.5, 0.1, 0.3) (0, 1, 0, 0), waypoint (0.4, 0.1, 0.25) (0, 1, 0, 0)]
+        -- a TCP speed that makes joints run near their limits
+        rq = (planRequest r wps) { prSpeed = 3 *~ mps, prAcceleration = 20 *~ mps2, prJerk = 400 *~ mps3 }
+    case planPath rq of
+      Left f -> expectationFailure (describePlanFailure f)
+      Right plan -> do
+        let check' = checkTrajectory r (positions wps) 0.01 20 400 defaultTimeStep
+            tr = planTrajectory plan
+            fast = plan { planTrajectory = tr { trTime = U.map (/ 2) (trTime tr) } }
+            n = trDof tr
+            -- the first joint turned by 0.05 rad everywhere: the TCP leaves the route
+            moved = plan { planTrajectory = tr { trQ = U.imap (\k x -> if k `mod` n == 0 then x + 0.05 else x) (trQ tr) } }
+        check' plan `shouldBe` []
+        check' fast `shouldSatisfy` any (\m -> "speed" `elem` words m)
+        check' moved `shouldSatisfy` any (\m -> "polyline" `elem` words m)
+
   it "refuses bad input naming the field and the value" $ do
     let r = robot "ur5"
         wps = [waypoint (0.4, 0, 0.3) (0, 1, 0, 0), waypoint (0.5, 0, 0.3) (0, 1, 0, 0)]

@@ -237,7 +237,7 @@ renderSummary r p secs = unlines $
   ++ [ "  " ++ pad 12 (num 1 (1000 * lzStart z)) ++ pad 12 (num 1 (1000 * lzEnd z)) ++ pad 14 (num 1 (1000 * lzSpeed z))
        ++ describeBinding r (lzBinding z)
      | z <- shown ]
-  ++ [ "  … " ++ show (length zs - length shown) ++ " more (the JSON output lists every zone)" | length zs > length shown ]
+  ++ [ "  ... " ++ show (length zs - length shown) ++ " more (the JSON output lists every zone)" | length zs > length shown ]
   ++ [ "legal:         " ++ (if planLegal p && all resultLegal (planProfiles p) then "yes" else "no")
      , "compute time:  " ++ num 1 (secs * 1000) ++ " ms" ]
   where
