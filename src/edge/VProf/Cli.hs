@@ -34,6 +34,6 @@ main = do
      <> command "robots" (info robotsCommand (progDesc "List the built-in robot library, or show one robot (library name, robot file or URDF)"))
      <> command "fk" (info fkCommand (forwardOptions <> progDesc "Forward kinematics: the tool pose, manipulability and condition number for joint values (negative values need no quoting)"))
      <> command "ik" (info ikCommand (progDesc "Inverse kinematics: joint values within the limits that reach a pose, nearest the seed first"))
-     <> command "plan" (info planCommand (progDesc "Plan a path (RAPID .mod, CSV or TUM) for a robot: a timed, checked joint trajectory; exit 1 when the plan stops"))
+     <> command "plan" (info planCommand (failureCode 2 <> progDesc "Plan a path (RAPID .mod, CSV or TUM) for a robot: a timed, checked joint trajectory; exit 1 when the plan stops"))
      <> command "serve" (info (serveCommand service) (progDesc "Serve length-delimited Request/Response messages over TCP or --stdio"))
       ) <|> generateOptions
