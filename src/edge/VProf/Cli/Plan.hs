@@ -23,7 +23,6 @@ import Data.Char (toLower)
 import Data.List (intercalate)
 import qualified Data.Vector.Unboxed as U
 import GHC.Clock (getMonotonicTime)
-import qualified Linear as L
 import Numeric (showFFloat)
 import Options.Applicative
 import System.Exit
@@ -276,6 +275,3 @@ planJson r p = A.object
                    | k <- [0 .. trajectoryCount tr - 1] ]
   ]
   where tr = planTrajectory p
-
-_unused :: L.V3 Double
-_unused = L.V3 0 0 0
