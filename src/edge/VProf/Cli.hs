@@ -9,6 +9,7 @@ import System.Exit
 
 import VProf.Cli.Compress (compressCommand)
 import VProf.Cli.Kinematics (fkCommand, ikCommand, robotsCommand)
+import VProf.Cli.Plan (planCommand)
 import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
 import VProf.Cli.Select (selectCommand)
 import VProf.Cli.Serve (serveCommand)
@@ -35,5 +36,6 @@ main = do
      <> command "fk" (info fkCommand (forwardOptions <> progDesc "Forward kinematics: the tool pose, manipulability and condition number for joint values (negative values need no quoting)"))
      <> command "ik" (info ikCommand (progDesc "Inverse kinematics: joint values within the limits that reach a pose, nearest the seed first"))
      <> command "select" (info selectCommand (progDesc "Robot selection: which robots reach every target of a task in its cell, ranked, with the reason for every failure"))
+     <> command "plan" (info planCommand (failureCode 2 <> progDesc "Plan a path (RAPID .mod, CSV or TUM) for a robot: a timed, checked joint trajectory; exit 1 when the plan stops"))
      <> command "serve" (info (serveCommand service) (progDesc "Serve length-delimited Request/Response messages over TCP or --stdio"))
       ) <|> generateOptions

@@ -1,0 +1,242 @@
+{-# LANGUAGE BangPatterns, RecordWildCards #-}
+-- | The route of a plan: the polyline through the waypoints with a circular blend at every
+-- corner that has a zone (RAPID zone data: @zN@ = N mm, @fine@ = stop at the waypoint), the
+-- orientation by slerp along each segment and through each blend, and arc length s as the one
+-- coordinate. A blend is the circular arc tangent to both segments whose tangent points lie at
+-- distance t = min(zone, half of each adjacent segment) from the corner; it never leaves the
+-- zone's sphere around the waypoint, and its deviation from the corner is t·tan(θ/4) for the
+-- turning angle θ (derivation in docs/plan.md). Positions in m, angles in rad.
+module VProf.Plan.Route
+  ( Zone (..)
+  , zoneRadius
+  , Waypoint (..)
+  , waypoint
+  , PieceKind (..)
+  , Piece (..)
+  , Route (..)
+  , mkRoute
+  , routeLength
+  , pieceAt
+  , routeAt
+  , routeTfAt
+  , routeTangentAt
+  , routeRadiusAt
+  , pieceAngle
+  , routeGrid
+  , minWaypointGap
+  , reversalAngle
+  ) where
+
+import qualified Data.Vector as V
+import qualified Data.Vector.Unboxed as U
+import qualified Linear as L
+import Numeric.Units.Dimensional.Prelude (Length, (*~), (/~), metre)
+
+import VProf.Geometry.Quaternion (qangle, slerpShort)
+import VProf.Geometry.Vec (Q4 (..))
+import VProf.Kinematics.Transform (Quat (..), Tf, V3 (..), fromQuat, v3Add, v3Dot, v3Norm, v3Scale, v3Sub)
+import VProf.Validation
+
+-- | RAPID zone data of a corner: stop at the waypoint, or blend within this radius.
+data Zone = Fine | Blend !(Length Double)
+  deriving (Eq, Show)
+
+-- | The zone radius in m (0 for 'Fine').
+zoneRadius :: Zone -> Double
+zoneRadius = \case
+  Fine -> 0
+  Blend z -> z /~ metre
+
+-- | One waypoint: the TCP position and orientation (a quaternion; q and −q are the same).
+data Waypoint = Waypoint
+  { wpPosition    :: !(L.V3 (Length Double))
+  , wpOrientation :: !(L.Quaternion Double)
+  } deriving (Eq, Show)
+
+-- | A waypoint from SI numbers: position (m) and quaternion (w, x, y, z).
+waypoint :: (Double, Double, Double) -> (Double, Double, Double, Double) -> Waypoint
+waypoint (x, y, z) (w, a, b, c) =
+  Waypoint (L.V3 (x *~ metre) (y *~ metre) (z *~ metre)) (L.Quaternion w (L.V3 a b c))
+
+data PieceKind = Straight | Arc
+  deriving (Eq, Show)
+
+-- | One piece of the route. A straight piece runs from 'pcA' along the unit 'pcU'; an arc has
+-- centre 'pcA', radius 'pcRadius', and its point at angle φ is A + r·(cos φ·U + sin φ·W)
+-- (U from the centre to the start, W the direction of travel at the start). The orientation
+-- runs by slerp from 'pcQa' to 'pcQb' linearly in s.
+data Piece = Piece
+  { pcKind    :: !PieceKind
+  , pcStart   :: !Double   -- ^ s at the start (m)
+  , pcLength  :: !Double   -- ^ m
+  , pcA       :: !V3
+  , pcU       :: !V3
+  , pcW       :: !V3
+  , pcRadius  :: !Double   -- ^ m (0 for a straight piece)
+  , pcQa      :: !Q4
+  , pcQb      :: !Q4
+  , pcIndex   :: !Int      -- ^ the segment (straight: from waypoint i to i+1) or corner (arc: waypoint i)
+  } deriving (Eq, Show)
+
+data Route = Route
+  { rtPieces    :: !(V.Vector Piece)
+  , rtStarts    :: !(U.Vector Double)  -- ^ s at the start of every piece
+  , rtLength    :: !Double             -- ^ m
+  , rtWaypointS :: !(U.Vector Double)  -- ^ s of each waypoint (the middle of its blend when blended)
+  , rtStops     :: ![Double]           -- ^ s of the interior waypoints where the motion stops
+  , rtPoints    :: ![V3]               -- ^ the waypoints' positions (m)
+  , rtZones     :: !(U.Vector Double)  -- ^ per waypoint, the zone radius used (m; 0: a stop)
+  } deriving (Show)
+
+routeLength :: Route -> Double
+routeLength = rtLength
+
+-- | Consecutive waypoints closer than this (m) are refused: s would not advance.
+minWaypointGap :: Double
+minWaypointGap = 1e-4
+
+-- | A corner turning by more than this (rad) is a reversal: the motion stops there even with
+-- a zone (the blend's radius would vanish).
+reversalAngle :: Double
+reversalAngle = pi - 1e-3
+
+-- | The route through the waypoints, each corner with its zone (one zone a waypoint, missing
+-- ones 'Fine'; the first and last are ignored: the route starts and ends at rest). Errors name the waypoint (from 0).
+mkRoute :: [Zone] -> [Waypoint] -> Either [FieldError] Route
+mkRoute zones wps = validated [errors] route
+  where
+    n = length wps
+    zs = take n (zones ++ repeat Fine)
+    pts = [ V3 (x /~ metre) (y /~ metre) (z /~ metre) | Waypoint (L.V3 x y z) _ <- wps ]
+    qs = [ Q4 w a b c | Waypoint _ (L.Quaternion w (L.V3 a b c)) <- wps ]
+    nums (V3 x y z) = [x, y, z]
+    errors = concat
+      [ ensure (n >= 2) (fieldError "waypoints" (fromIntegral n) "" "a route needs at least 2 waypoints")
+      , concat [ [ fieldError ("waypoints[" ++ show i ++ "].position") v "m" "must be a finite number" | v <- nums p, not (finite v) ]
+               | (i, p) <- zip [0 :: Int ..] pts ]
+      , concat [ ensure (all finite [w, a, b, c] && nq > 0.5 && nq < 2)
+                   (fieldError ("waypoints[" ++ show i ++ "].orientation") nq ""
+                      "the quaternion's norm must be about 1")
+               | (i, Q4 w a b c) <- zip [0 :: Int ..] qs, let nq = sqrt (w*w + a*a + b*b + c*c) ]
+      , concat [ ensure (not (all finite (nums p ++ nums p')) || d >= minWaypointGap)
+                   (fieldError ("waypoints[" ++ show i ++ "].position") (d * 1000) "mm"
+                      ("is this close to waypoint " ++ show (i - 1) ++ "; consecutive waypoints must be at least "
+                       ++ showNumber (minWaypointGap * 1000) ++ " mm apart (a pure re-orientation has no route length)"))
+               | (i, p', p) <- zip3 [1 :: Int ..] pts (drop 1 pts), let d = v3Norm (v3Sub p p') ]
+      , take 1 [ fieldError "zone" (z * 1000) "mm" "must be a finite number >= 0"
+               | Blend zq <- zs, let z = zq /~ metre, not (finite z && z >= 0) ]
+      ]
+    route = buildRoute (U.fromList (map zoneRadius zs))
+                       (V.fromList pts) (V.fromList (map norm4 qs))
+    norm4 (Q4 w a b c) = let k = sqrt (w*w + a*a + b*b + c*c) in Q4 (w/k) (a/k) (b/k) (c/k)
+
+buildRoute :: U.Vector Double -> V.Vector V3 -> V.Vector Q4 -> Route
+buildRoute zs pts qs = Route (V.fromList pieces) (U.fromList (map pcStart pieces)) total wpS stops (V.toList pts) tUsedZone
+  where
+    n = V.length pts
+    nseg = n - 1
+    segLen i = v3Norm (v3Sub (pts V.! (i + 1)) (pts V.! i))
+    segDir i = v3Scale (1 / segLen i) (v3Sub (pts V.! (i + 1)) (pts V.! i))
+    -- the turning angle at interior waypoint i
+    turn i = let c = max (-1) (min 1 (v3Dot (segDir (i - 1)) (segDir i))) in acos c
+    -- tangent length at each waypoint: 0 at the ends, at stops and where the path is straight
+    tan' = U.generate n $ \i ->
+      if i == 0 || i == n - 1 then 0
+      else let z = zs U.! i; th = turn i
+           in if z <= 0 || th >= reversalAngle || th < 1e-9 then 0
+              else minimum [z, segLen (i - 1) / 2, segLen i / 2]
+    isStop i = i > 0 && i < n - 1 && (zs U.! i <= 0 || turn i >= reversalAngle)
+    tUsedZone = U.imap (\i t -> if isStop i then 0 else t) tan'
+    slerpSeg i u = slerpShort (qs V.! i) (qs V.! (i + 1)) u
+    -- pieces, built segment by segment: the straight part of segment i, then the arc at
+    -- waypoint i+1 (if any)
+    go !s i acc
+      | i >= nseg = (reverse acc, s)
+      | otherwise =
+          let l = segLen i
+              d = segDir i
+              ta = tan' U.! i; tb = tan' U.! (i + 1)
+              a = v3Add (pts V.! i) (v3Scale ta d)
+              ls = l - ta - tb
+              qa = slerpSeg i (ta / l); qb = slerpSeg i (1 - tb / l)
+              straight = Piece Straight s ls a d d 0 qa qb i
+              s1 = s + max 0 ls
+              acc1 = if ls > 1e-12 then straight : acc else acc
+          in if tb > 0 && i + 1 < nseg
+               then
+                 let d2 = segDir (i + 1)
+                     th = turn (i + 1)
+                     r = tb / tan (th / 2)
+                     nrm = let v = v3Sub d2 (v3Scale (v3Dot d2 d) d) in v3Scale (1 / v3Norm v) v
+                     t1 = v3Sub (pts V.! (i + 1)) (v3Scale tb d)
+                     c = v3Add t1 (v3Scale r nrm)
+                     l2 = segLen (i + 1)
+                     qc = slerpSeg (i + 1) (tb / l2)
+                     arc = Piece Arc s1 (r * th) c (v3Scale (-1) nrm) d r qb qc (i + 1)
+                 in go (s1 + r * th) (i + 1) (arc : acc1)
+               else go s1 (i + 1) acc1
+    (pieces, total) = go 0 0 []
+    -- waypoint s: the start of the route, each corner (blend middle or stop) and the end
+    wpS = U.fromList (0 : [ cornerS i | i <- [1 .. n - 2] ] ++ [total | n >= 2])
+    cornerS i = case [ p | p <- pieces, pcKind p == Arc, pcIndex p == i ] of
+      (p : _) -> pcStart p + pcLength p / 2
+      [] -> case [ p | p <- pieces, pcKind p == Straight, pcIndex p == i ] of
+              (p : _) -> pcStart p
+              [] -> total
+    stops = [ wpS U.! i | i <- [1 .. n - 2], isStop i ]
+
+-- | The index of the piece holding s (the last whose start is <= s; clamped).
+pieceAt :: Route -> Double -> Int
+pieceAt rt s = go 0 (U.length st - 1)
+  where
+    st = rtStarts rt
+    go lo hi
+      | lo >= hi = lo
+      | otherwise = let mid = (lo + hi + 1) `div` 2
+                    in if st U.! mid <= s then go mid hi else go lo (mid - 1)
+
+-- | Position (m) and orientation at s (clamped to [0, L]).
+routeAt :: Route -> Double -> (V3, Q4)
+routeAt rt s0 = pieceLocal (rtPieces rt V.! pieceAt rt s) s
+  where s = max 0 (min (rtLength rt) s0)
+
+pieceLocal :: Piece -> Double -> (V3, Q4)
+pieceLocal Piece{..} s =
+  let x = max 0 (min pcLength (s - pcStart))
+      f = if pcLength > 0 then x / pcLength else 0
+      q = slerpShort pcQa pcQb f
+  in case pcKind of
+       Straight -> (v3Add pcA (v3Scale x pcU), q)
+       Arc -> let ph = x / pcRadius
+              in (v3Add pcA (v3Add (v3Scale (pcRadius * cos ph) pcU) (v3Scale (pcRadius * sin ph) pcW)), q)
+
+-- | The pose at s as a rigid transform (the IK target).
+routeTfAt :: Route -> Double -> Tf
+routeTfAt rt s = let (p, Q4 w a b c) = routeAt rt s in fromQuat p (Quat w a b c)
+
+-- | The unit tangent (direction of travel) at s.
+routeTangentAt :: Route -> Double -> V3
+routeTangentAt rt s0 =
+  let s = max 0 (min (rtLength rt) s0)
+      Piece{..} = rtPieces rt V.! pieceAt rt s
+  in case pcKind of
+       Straight -> pcU
+       Arc -> let ph = max 0 (min pcLength (s - pcStart)) / pcRadius
+              in v3Add (v3Scale (negate (sin ph)) pcU) (v3Scale (cos ph) pcW)
+
+-- | The radius of curvature at s (infinite on a straight piece).
+routeRadiusAt :: Route -> Double -> Double
+routeRadiusAt rt s = let p = rtPieces rt V.! pieceAt rt s in if pcKind p == Arc then pcRadius p else 1 / 0
+
+-- | The rotation of a piece from its start to its end (rad).
+pieceAngle :: Piece -> Double
+pieceAngle p = qangle (pcQa p) (pcQb p)
+
+-- | The sample positions along the route: every piece cut into equal steps of at most
+-- @ds@ (m) and @dAngle@ (rad) of rotation; piece ends are samples; 0 and L included.
+routeGrid :: Double -> Double -> Route -> U.Vector Double
+routeGrid ds dAngle rt = U.fromList (concatMap one (V.toList (rtPieces rt)) ++ [rtLength rt])
+  where
+    one p =
+      let k = maximum [1, ceiling (pcLength p / ds), ceiling (pieceAngle p / dAngle)] :: Int
+      in [ pcStart p + pcLength p * fromIntegral j / fromIntegral k | j <- [0 .. k - 1] ]

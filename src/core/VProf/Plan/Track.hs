@@ -1,0 +1,230 @@
+{-# LANGUAGE BangPatterns, RecordWildCards #-}
+-- | The route in joint space: inverse kinematics at every sample of a fine grid along the route
+-- (steps of at most 1 mm and 0.5° by default), on one continuous branch. The first sample takes
+-- the given start configuration's nearest solution (or, without one, the solution nearest the
+-- middle of the joint ranges); every later sample the solution nearest the previous sample's
+-- (the closed forms' nearest solution, or the numerical solver seeded there without restarts).
+-- The tracking stops, naming the reason and the distance s, where the route leaves the
+-- workspace, meets a joint limit, a singularity (smallest singular value of the Jacobian below
+-- a threshold), the environment, or where the nearest solution jumps (a joint step above a
+-- bound). Joint values in rad (m for prismatic joints), s in m.
+module VProf.Plan.Track
+  ( TrackOptions (..)
+  , defaultTrackOptions
+  , Environment (..)
+  , StopReason (..)
+  , PlanStop (..)
+  , describeStop
+  , Tracked (..)
+  , trackedCount
+  , trackedQ
+  , trackedAt
+  , trackRoute
+  , smallestSingularValue
+  ) where
+
+import Data.List (minimumBy, sortOn)
+import Data.Ord (comparing)
+import qualified Data.Vector.Unboxed as U
+import Numeric (showFFloat)
+
+import VProf.Geometry.Bvh (Bvh)
+import VProf.Kinematics.Collision (Clearance (..), CollisionModel, robotClearance, robotClearanceAtLeast)
+import VProf.Kinematics.Ik
+import qualified VProf.Kinematics.ClosedForm as CF
+import VProf.Kinematics.Forward (forward)
+import VProf.Kinematics.Jacobian (jacobian, singularValues)
+import VProf.Kinematics.Model
+import VProf.Kinematics.Transform (V3 (..), toRows4)
+import VProf.Plan.Route
+
+data TrackOptions = TrackOptions
+  { toStepLength   :: !Double   -- ^ largest step between samples along the route (m)
+  , toStepAngle    :: !Double   -- ^ largest rotation of the tool between samples (rad)
+  , toMaxJointStep :: !Double   -- ^ a joint moving more than this between samples is a jump (rad or m)
+  , toMinSigma     :: !Double   -- ^ singular below this smallest singular value of the Jacobian
+  , toEnvironment  :: !(Maybe Environment)
+  }
+
+-- | 1 mm, 0.5°, a jump above 0.25 rad (14°) between samples, singular below σ_min = 1e-3
+-- (there a TCP speed of 1 mm/s asks about 1 rad/s of some joint).
+defaultTrackOptions :: TrackOptions
+defaultTrackOptions = TrackOptions 1e-3 (0.5 * pi / 180) 0.25 1e-3 Nothing
+
+-- | The scene the robot must keep clear of, with the least clearance (m).
+data Environment = Environment
+  { envModel     :: CollisionModel
+  , envBvh       :: Bvh
+  , envClearance :: !Double
+  }
+
+data StopReason
+  = OutOfReach String            -- ^ the IK's explanation
+  | JointLimit String Double     -- ^ the joint and its limit (rad or m)
+  | Singularity Double           -- ^ the smallest singular value
+  | Jump String Double           -- ^ the joint and its step (rad or m)
+  | Collision String Double      -- ^ the body and its clearance (m)
+  | NoSolution String            -- ^ any other IK failure
+  deriving (Eq, Show)
+
+-- | Where and why the tracking stopped: s (m) and the TCP position there (m).
+data PlanStop = PlanStop
+  { stopReason   :: !StopReason
+  , stopS        :: !Double
+  , stopPosition :: !V3
+  } deriving (Eq, Show)
+
+describeStop :: PlanStop -> String
+describeStop (PlanStop r s (V3 x y z)) =
+  what ++ " at s = " ++ mm s ++ " (TCP at " ++ mm x ++ ", " ++ mm y ++ ", " ++ mm z ++ ")"
+  where
+    mm v = showFFloat (Just 1) (v * 1000) "" ++ " mm"
+    what = case r of
+      OutOfReach m -> "out of reach: " ++ m
+      JointLimit j l -> "joint limit: " ++ j ++ " reaches its limit " ++ showFFloat (Just 2) (l * 180 / pi) "" ++ "°"
+      Singularity sv -> "singularity: the Jacobian's smallest singular value is " ++ showFFloat (Just 6) sv ""
+      Jump j d -> "jump: " ++ j ++ " would move " ++ showFFloat (Just 1) (d * 180 / pi) "" ++ "° between two samples"
+      Collision b c -> "collision: " ++ b ++ " at " ++ mm c ++ " from the environment"
+      NoSolution m -> "no IK solution: " ++ m
+
+-- | The tracked route: the grid s_0..s_N and the joint vectors there (row k of n values).
+data Tracked = Tracked
+  { tkS     :: !(U.Vector Double)
+  , tkQ     :: !(U.Vector Double)   -- ^ (N+1)·n, row-major
+  , tkDof   :: !Int
+  , tkSigma :: !(U.Vector Double)   -- ^ the smallest singular value at every sample
+  } deriving (Show)
+
+trackedCount :: Tracked -> Int
+trackedCount = U.length . tkS
+
+trackedQ :: Tracked -> Int -> U.Vector Double
+trackedQ t k = U.slice (k * tkDof t) (tkDof t) (tkQ t)
+
+-- | The joint vector at s by linear interpolation between the grid's samples.
+trackedAt :: Tracked -> Double -> U.Vector Double
+trackedAt t s
+  | s <= U.head ss = trackedQ t 0
+  | s >= U.last ss = trackedQ t (U.length ss - 1)
+  | otherwise =
+      let k = seg 0 (U.length ss - 1)
+          a = ss U.! k; b = ss U.! (k + 1)
+          f = if b > a then (s - a) / (b - a) else 0
+      in U.zipWith (\x y -> x + f * (y - x)) (trackedQ t k) (trackedQ t (k + 1))
+  where
+    ss = tkS t
+    seg lo hi
+      | hi - lo <= 1 = lo
+      | otherwise = let m = (lo + hi) `div` 2 in if ss U.! m <= s then seg m hi else seg lo m
+
+smallestSingularValue :: Chain -> U.Vector Double -> Double
+smallestSingularValue ch q = case singularValues (chainDof ch) (snd (jacobian ch q)) of
+  [] -> 0
+  svs -> minimum svs
+
+-- | Track the route from the start configuration (or mid-limits).
+trackRoute :: TrackOptions -> Kinematics -> Route -> Maybe (U.Vector Double) -> Either PlanStop Tracked
+trackRoute TrackOptions{..} kin rt start = do
+  q0 <- solveAt 0 (pickStart <$> solveIk defaultIkOptions kin (routeTfAt rt 0) start) Nothing Nothing
+  sg0 <- checkAt 0 q0
+  go 1 q0 Nothing [q0] [sg0]
+  where
+    ch = kinChain kin
+    n = chainDof ch
+    joints = robotJoints (chainRobot ch)
+    grid = routeGrid toStepLength toStepAngle rt
+    nGrid = U.length grid
+    contOpts = defaultIkOptions { ikMaxRestarts = 0 }
+    posAt s = fst (routeAt rt s)
+    stop :: Double -> StopReason -> Either PlanStop a
+    stop s r = Left (PlanStop r s (posAt s))
+
+    -- without a start configuration: the solution nearest the middle of the joint ranges, each
+    -- joint's distance in halves of its range (a turn for an unbounded joint)
+    pickStart sols = case start of
+      Just _ -> sols
+      Nothing -> take 1 (sortOn (\sol -> U.sum (U.imap normSq (solJoints sol))) sols)
+    normSq i x =
+      let lo = chainLo ch U.! i; hi = chainHi ch U.! i
+          (mid, half) = if isInfinite lo || isInfinite hi then (0, pi) else (0.5 * (lo + hi), 0.5 * (hi - lo))
+          d = (x - mid) / max 1e-9 half
+      in d * d
+
+    go !k prev trend qs sgs
+      | k >= nGrid = Right (Tracked grid (U.concat (reverse qs)) n (U.fromList (reverse sgs)))
+      | otherwise = do
+          let s = grid U.! k
+          q <- solveAt s (continueIk (routeTfAt rt s) prev) (Just prev) trend
+          let steps = U.zipWith (\a b -> abs (a - b)) q prev
+              j = U.maxIndex steps
+          if steps U.! j > toMaxJointStep
+            then stop s (maybe (Jump (jointName (joints !! j)) (steps U.! j)) (uncurry JointLimit) (nearLimit prev trend))
+            else do
+              sg <- checkAt s q
+              go (k + 1) q (Just (U.zipWith (-) q prev)) (q : qs) (sg : sgs)
+
+    -- the solution nearest the previous sample's: for the six-axis closed forms, each branch's
+    -- principal solution with every joint turned by whole turns to lie nearest the previous
+    -- value (within the limits), checked by forward kinematics; else the facade, seeded
+    continueIk target prev = case kinMethod kin of
+      ClosedFormSixAxis solver
+        | Just pose <- CF.poseFromRowMajor (toRows4 target)
+        , Right principal <- CF.solvePrincipal solver pose
+        , sols@(_ : _) <- [ IkSolution q pe re (seedDistance q prev) Nothing
+                          | p <- principal
+                          , Just q <- [nearestTurns prev (CF.solQ p)]
+                          , let (pe, re) = residual (forward ch q) target
+                          , pe <= ikTolPosition defaultIkOptions, re <= ikTolRotation defaultIkOptions ]
+        -> Right (sortOn solSeedDistance sols)
+      _ -> solveIk contOpts kin target (Just prev)
+    nearestTurns prev q = fmap U.fromList $ sequence $ flip map [0 .. n - 1] $ \i ->
+      let x = q U.! i; p = prev U.! i
+          lo = chainLo ch U.! i; hi = chainHi ch U.! i
+          y = x + 2 * pi * fromIntegral (round ((p - x) / (2 * pi)) :: Int)
+          cands = [ c | c <- [y, y - 2 * pi, y + 2 * pi], c >= lo - 1e-12, c <= hi + 1e-12 ]
+      in if null cands then Nothing else Just (max lo (min hi (minimumBy (comparing (\c -> abs (c - p))) cands)))
+
+    -- the solution nearest the seed, or the reason there is none
+    solveAt s res prev trend = case res of
+      Right (sol : _) -> Right (solJoints sol)
+      Right [] -> stop s (NoSolution "no solution within the joint limits")
+      Left f -> case f of
+        BeyondReach {} -> stop s (OutOfReach (describeFailure f))
+        InsideReach {} -> stop s (OutOfReach (describeFailure f))
+        Unreachable {} -> stop s (OutOfReach (describeFailure f))
+        OutsideLimits sols -> case [ (nm, limitOf nm by) | (nm, by) : _ <- sols ] of
+          ((nm, l) : _) -> stop s (JointLimit nm l)
+          [] -> stop s (NoSolution (describeFailure f))
+        _ -> case prev >>= \p -> nearLimit p trend of
+          Just (nm, l) -> stop s (JointLimit nm l)
+          Nothing
+            | Just p <- prev, smallestSingularValue ch p < 10 * toMinSigma -> stop s (Singularity (smallestSingularValue ch p))
+            | otherwise -> stop s (NoSolution (describeFailure f))
+
+    limitOf nm by = case [ jointLimits jt | jt <- joints, jointName jt == nm ] of
+      (Limits lo hi : _) -> if by < 0 then lo else hi
+      [] -> 0
+
+    -- a joint within one jump bound of a finite limit and moving toward it (by the last step's
+    -- direction): the one nearest its limit
+    nearLimit q trend =
+      let toward i dirSign = case trend of
+            Nothing -> True
+            Just t -> signum (t U.! i) == dirSign
+          cands = [ (d, (jointName jt, l))
+                  | (i, jt) <- zip [0 ..] joints
+                  , let x = q U.! i; Limits lo hi = jointLimits jt
+                  , (l, d, sg) <- [(lo, x - lo, -1), (hi, hi - x, 1)]
+                  , not (isInfinite l), d <= toMaxJointStep, toward i sg ]
+      in if null cands then Nothing else Just (snd (minimumBy (comparing fst) cands))
+
+    checkAt s q = do
+      let sg = smallestSingularValue ch q
+      if sg < toMinSigma then stop s (Singularity sg) else Right ()
+      case toEnvironment of
+        Nothing -> Right sg
+        Just Environment{..}
+          | robotClearanceAtLeast envModel envBvh q envClearance -> Right sg
+          | otherwise -> case robotClearance envModel envBvh q of
+              Just c -> stop s (Collision (clrBodyName c) (clrDistance c))
+              Nothing -> Right sg

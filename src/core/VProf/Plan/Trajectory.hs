@@ -1,0 +1,196 @@
+{-# LANGUAGE RecordWildCards #-}
+-- | The plan, end to end: the route through the waypoints ("VProf.Plan.Route"), tracked in joint
+-- space ("VProf.Plan.Track"), its speed limits as zones ("VProf.Plan.Limits"), and the timing by
+-- the velocity-profile generator: one profile request per stretch between stops (the route's
+-- end points and its @fine@ waypoints), each from rest to rest with the TCP's acceleration and
+-- jerk ranges at the controller's time step. The generator's samples s(t) give the joint
+-- values q(t) by linear interpolation of the tracked q(s) (1 mm apart by default) and the joint
+-- speeds by central differences in time. Request and result are plain records, SI inside and
+-- units at the boundary, so that a wire layer can convert them.
+module VProf.Plan.Trajectory
+  ( PlanRequest (..)
+  , planRequest
+  , defaultTimeStep
+  , defaultAcceleration
+  , defaultJerk
+  , defaultEndTolerance
+  , Trajectory (..)
+  , trajectoryCount
+  , trajectoryQ
+  , trajectoryQd
+  , Plan (..)
+  , planDuration
+  , PlanFailure (..)
+  , describePlanFailure
+  , planPath
+  , limitOptionsFor
+  ) where
+
+import qualified Data.Vector.Unboxed as U
+
+import VProf.Kinematics.Ik (kinematicsFor)
+import VProf.Kinematics.Model
+import VProf.Plan.Limits
+import VProf.Plan.Route
+import VProf.Plan.Track
+import VProf.Profile (Request (..), Result (..), SpeedZone (..), Outcome (..), defaultRequest, generatePure, resultLegal, renderFailure)
+import VProf.Profile.Sampled (Columns (..), columns)
+import VProf.Units
+import VProf.Validation
+
+data PlanRequest = PlanRequest
+  { prWaypoints    :: ![Waypoint]
+  , prZone         :: !Zone                    -- ^ every corner's zone
+  , prRobot        :: !Robot                   -- ^ with its base and tool
+  , prStart        :: !(Maybe (U.Vector Double)) -- ^ start configuration (rad, m); default: nearest mid-limits
+  , prSpeed        :: !(Velocity Double)       -- ^ the TCP speed limit
+  , prAcceleration :: !(Acceleration Double)   -- ^ the TCP acceleration range ±a
+  , prJerk         :: !(Jerk Double)           -- ^ the TCP jerk range ±j
+  , prTimeStep     :: !(Time Double)           -- ^ the controller's time step
+  , prEndTolerance :: !(Length Double)         -- ^ how close each stretch's profile ends to its end
+  , prTrack        :: !TrackOptions
+  }
+
+-- | 4 ms, the interpolation period of common robot controllers.
+defaultTimeStep :: Double
+defaultTimeStep = 0.004
+
+defaultAcceleration, defaultJerk, defaultEndTolerance :: Double
+defaultAcceleration = 2     -- m/s²
+defaultJerk = 20            -- m/s³
+defaultEndTolerance = 1e-4  -- m
+
+-- | A request with the defaults: v500 (500 mm/s), z10 (10 mm), 2 m/s², 20 m/s³, 4 ms.
+planRequest :: Robot -> [Waypoint] -> PlanRequest
+planRequest r wps = PlanRequest
+  { prWaypoints = wps, prZone = Blend (0.01 *~ meter), prRobot = r, prStart = Nothing
+  , prSpeed = 0.5 *~ mps, prAcceleration = defaultAcceleration *~ mps2, prJerk = defaultJerk *~ mps3
+  , prTimeStep = defaultTimeStep *~ second, prEndTolerance = defaultEndTolerance *~ meter
+  , prTrack = defaultTrackOptions }
+
+-- | The timed joint trajectory: per sample the profile's t, s, v, a, j and the joint values and
+-- speeds (rows of n, row-major).
+data Trajectory = Trajectory
+  { trTime, trS, trV, trA, trJ :: !(U.Vector Double)
+  , trQ   :: !(U.Vector Double)
+  , trQd  :: !(U.Vector Double)
+  , trDof :: !Int
+  } deriving (Show)
+
+trajectoryCount :: Trajectory -> Int
+trajectoryCount = U.length . trTime
+
+trajectoryQ, trajectoryQd :: Trajectory -> Int -> U.Vector Double
+trajectoryQ t k = U.slice (k * trDof t) (trDof t) (trQ t)
+trajectoryQd t k = U.slice (k * trDof t) (trDof t) (trQd t)
+
+data Plan = Plan
+  { planRoute      :: !Route
+  , planTracked    :: !Tracked
+  , planSteps      :: !StepLimits
+  , planStretches  :: ![(Double, Double)]   -- ^ [a, b] between stops (m)
+  , planZones      :: ![[LimitZone]]         -- ^ per stretch, in route coordinates
+  , planProfiles   :: ![Result]              -- ^ per stretch
+  , planTrajectory :: !Trajectory
+  , planLegal      :: !Bool                  -- ^ every stretch's profile legal by the checker
+  }
+
+planDuration :: Plan -> Double
+planDuration p = let t = trTime (planTrajectory p) in if U.null t then 0 else U.last t
+
+data PlanFailure
+  = InvalidPlan [FieldError]
+  | Stopped PlanStop
+  | ProfileFailed Int (Double, Double) String   -- ^ stretch, its [a, b] (m), the generator's failure
+
+describePlanFailure :: PlanFailure -> String
+describePlanFailure = \case
+  InvalidPlan es -> unlines (map renderFieldError es)
+  Stopped st -> "the plan stops: " ++ describeStop st
+  ProfileFailed i (a, b) m -> "no legal profile for stretch " ++ show i ++ " (s from " ++ showNumber a ++ " to "
+                              ++ showNumber b ++ " m): " ++ m
+
+-- | The limits of a robot: its joints' speeds and accelerations ('defaultJointAcceleration').
+limitOptionsFor :: PlanRequest -> LimitOptions
+limitOptionsFor PlanRequest{..} = LimitOptions
+  { loTcpSpeed = si prSpeed
+  , loTcpAcceleration = si prAcceleration
+  , loJointSpeed = U.fromList [ maybe (1 / 0) id (jointMaxVelocity j) | j <- robotJoints prRobot ]
+  , loJointAcceleration = U.fromList (map defaultJointAcceleration (robotJoints prRobot))
+  }
+
+validateRequest :: PlanRequest -> [FieldError]
+validateRequest PlanRequest{..} = concat
+  [ positive "speed" (si prSpeed) "m/s"
+  , positive "acceleration" (si prAcceleration) "m/s²"
+  , positive "jerk" (si prJerk) "m/s³"
+  , ensureFinite "dt" dt "s" $ ensure (dt > 0 && dt <= 1) (fieldError "dt" dt "s" "must be > 0 and at most 1 s")
+  , positive "end_tolerance" (si prEndTolerance) "m"
+  , case prStart of
+      Nothing -> []
+      Just q -> ensure (U.length q == dof prRobot && U.all finite q)
+                  (literalError "start" (show (U.toList q))
+                     ("must be " ++ show (dof prRobot) ++ " finite joint values for " ++ robotName prRobot))
+  , ensure (dof prRobot > 0) (literalError "robot" (robotName prRobot) "has no joints")
+  ]
+  where
+    dt = si prTimeStep
+    positive f x u = ensureFinite f x u (ensure (x > 0) (fieldError f x u "must be > 0"))
+
+planPath :: PlanRequest -> Either PlanFailure Plan
+planPath rq@PlanRequest{..} = do
+  route <- either (Left . InvalidPlan . (validateRequest rq ++)) Right
+             (mkRoute (map (const prZone) prWaypoints) prWaypoints)
+  case validateRequest rq of
+    [] -> Right ()
+    es -> Left (InvalidPlan es)
+  tracked <- either (Left . Stopped) Right (trackRoute prTrack (kinematicsFor prRobot) route prStart)
+  let steps = stepLimits (limitOptionsFor rq) route tracked
+      cuts = 0 : rtStops route ++ [rtLength route]
+      stretches = zip cuts (drop 1 cuts)
+      top = si prSpeed
+      zoness = [ limitZones top steps a b | (a, b) <- stretches ]
+      results = [ generatePure (profileRequest a b zs) | ((a, b), zs) <- zip stretches zoness ]
+  case [ (i, ab, r) | (i, ab, r) <- zip3 [0 ..] stretches results, not (resultLegal r) ] of
+    ((i, ab, r) : _) -> Left (ProfileFailed i ab (case resOutcome r of
+                                                   Failed f -> renderFailure f
+                                                   Generated -> "the profile is not legal"))
+    [] -> Right ()
+  let traj = assemble tracked (zip (map fst stretches) results)
+  pure (Plan route tracked steps stretches zoness results traj True)
+  where
+    profileRequest a b zs = defaultRequest
+      { rqRouteLength = (b - a) *~ meter
+      , rqZones = [ SpeedZone ((lzStart z - a) *~ meter) (lzSpeed z *~ mps) | z <- zs ]
+      , rqMinAcceleration = negate (si prAcceleration) *~ mps2
+      , rqMaxAcceleration = prAcceleration
+      , rqMinJerk = negate (si prJerk) *~ mps3
+      , rqMaxJerk = prJerk
+      , rqTimeStep = Just prTimeStep
+      , rqEndTolerance = Just prEndTolerance
+      }
+    dt = si prTimeStep
+    assemble tracked parts =
+      let cols = [ (a, columns p) | (a, r) <- parts, Just p <- [resProfile r] ]
+          nParts = length cols
+          -- the last row of every stretch but the last is the next one's first (both at rest)
+          trimmed = [ (a, if i < nParts - 1 then dropLast c else c) | (i, (a, c)) <- zip [0 :: Int ..] cols ]
+          dropLast c = Columns (U.init (colTime c)) (U.init (colDistance c)) (U.init (colVelocity c))
+                               (U.init (colAcceleration c)) (U.init (colJerk c))
+          offsets = scanl (+) 0 [ fromIntegral (U.length (colTime c)) * dt | (_, c) <- trimmed ]
+          ts = U.concat [ U.map (+ o) (colTime c) | ((_, c), o) <- zip trimmed offsets ]
+          ss = U.concat [ U.map (+ a) (colDistance c) | (a, c) <- trimmed ]
+          vs = U.concat [ colVelocity c | (_, c) <- trimmed ]
+          as = U.concat [ colAcceleration c | (_, c) <- trimmed ]
+          js = U.concat [ colJerk c | (_, c) <- trimmed ]
+          n = tkDof tracked
+          m = U.length ts
+          qs = U.concat [ trackedAt tracked (ss U.! k) | k <- [0 .. m - 1] ]
+          qAt k i = qs U.! (k * n + i)
+          qd k i
+            | m < 2 = 0
+            | k == 0 = (qAt 1 i - qAt 0 i) / dt
+            | k == m - 1 = (qAt k i - qAt (k - 1) i) / dt
+            | otherwise = (qAt (k + 1) i - qAt (k - 1) i) / (2 * dt)
+          qds = U.generate (m * n) (\x -> let (k, i) = x `divMod` n in qd k i)
+      in Trajectory ts ss vs as js qs qds n

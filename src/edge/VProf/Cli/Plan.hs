@@ -1,0 +1,277 @@
+{-# LANGUAGE OverloadedStrings #-}
+-- | @vprof plan@: a path (RAPID @.mod@, TUM or CSV as @vprof compress@ writes them) and a robot
+-- to a timed, checked joint trajectory.
+--
+-- > vprof plan PATH --robot NAME [--base "X Y Z [RX RY RZ]"] [--tool "X Y Z [RX RY RZ]"]
+-- >   [--speed v500] [--zone z10|fine] [--acceleration A] [--jerk J] [--dt S] [--start "Q..."]
+-- >   [--environment FILE.obj --clearance M] [--format summary|csv|json] [-o FILE] [--plot FILE.png]
+--
+-- Exit codes: 0 a legal trajectory, 1 the plan stops (the reason and s) or has no legal
+-- profile, 2 invalid input.
+module VProf.Cli.Plan
+  ( planCommand
+  , parseSpeedData
+  , parseZoneData
+  ) where
+
+import Control.Exception (IOException, try)
+import qualified Data.Aeson as A
+import qualified Data.ByteString.Builder as BB
+import qualified Data.ByteString.Char8 as B
+import qualified Data.ByteString.Lazy.Char8 as BL
+import Data.Char (toLower)
+import Data.List (intercalate)
+import qualified Data.Vector.Unboxed as U
+import GHC.Clock (getMonotonicTime)
+import Numeric (showFFloat)
+import Options.Applicative
+import System.Exit
+import System.FilePath (takeExtension)
+import System.IO
+
+import VProf.Cli.Kinematics (loadRobot)
+import VProf.Compress.Format.Csv (parseCsv)
+import VProf.Compress.Format.Rapid (parseRapid)
+import VProf.Compress.Format.Tum (parseTum)
+import VProf.Compress.Types (Track (..))
+import VProf.Geometry.Bvh (buildBvh)
+import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
+import VProf.Geometry.Vec (P3 (..), Q4 (..), ptoList)
+import VProf.Kinematics.Collision (CollisionOptions (..), collisionModel, defaultCollisionOptions)
+import VProf.Kinematics.Model
+import VProf.Kinematics.Transform (Tf, V3 (..), compose, fromRpy, identity)
+import VProf.Plan
+import VProf.Plot.Plan (plotPlan)
+import VProf.Profile.Result (resultLegal)
+import VProf.Units
+import VProf.Validation
+
+data OutFormat = Summary | Csv | Json deriving (Eq)
+
+data PlanOpts = PlanOpts
+  { poPath :: FilePath, poRobot :: String, poBase :: Maybe [Double], poTool :: Maybe [Double]
+  , poSpeed :: Double, poZone :: Zone, poAcc :: Double, poJerk :: Double, poDt :: Double
+  , poStart :: Maybe [Double], poDeg :: Bool
+  , poEnv :: Maybe FilePath, poEnvScale :: Double, poClearance :: Double, poIgnore :: [Int]
+  , poFormat :: Maybe OutFormat, poOutput :: Maybe FilePath, poPlot :: Maybe FilePath }
+
+-- | RAPID speed data: @vN@ is N mm/s (v5 … v7000, or any N); the TCP speed in m/s.
+parseSpeedData :: String -> Either String Double
+parseSpeedData s = case map toLower s of
+  'v' : num | Just v <- readD num, finite v, v > 0 -> Right (v / 1000)
+  _ -> Left ("--speed " ++ show s ++ ": expected RAPID speed data vN, N the TCP speed in mm/s > 0 (e.g. v500)")
+
+-- | RAPID zone data: @fine@ (stop at every waypoint) or @zN@, N the zone radius in mm.
+parseZoneData :: String -> Either String Zone
+parseZoneData s = case map toLower s of
+  "fine" -> Right Fine
+  'z' : num | Just z <- readD num, finite z, z >= 0 -> Right (if z == 0 then Fine else Blend ((z / 1000) *~ meter))
+  _ -> Left ("--zone " ++ show s ++ ": expected RAPID zone data zN, N the zone radius in mm >= 0 (e.g. z10), or fine")
+
+readD :: String -> Maybe Double
+readD w = case reads w of
+  [(d, "")] -> Just d
+  _ -> case reads ('0' : w) of
+    [(d, "")] | take 1 w == "." -> Just d
+    _ -> Nothing
+
+planCommand :: Parser (IO ExitCode)
+planCommand = runPlan <$> (PlanOpts
+  <$> strArgument (metavar "PATH" <> help "the path: RAPID .mod, CSV (time,x,y,z,qw,qx,qy,qz; m) or TUM (other extensions), as vprof compress writes them")
+  <*> strOption (long "robot" <> metavar "NAME" <> help "a library robot (vprof robots lists them) or a robot file (.yaml/.json)")
+  <*> optional (option (eitherReader (pose "--base")) (long "base" <> metavar "\"X Y Z [RX RY RZ]\""
+        <> help "the robot base in the path's frame: position in m, roll pitch yaw in degrees (default: the path's frame)"))
+  <*> optional (option (eitherReader (pose "--tool")) (long "tool" <> metavar "\"X Y Z [RX RY RZ]\""
+        <> help "the TCP in the flange frame: position in m, roll pitch yaw in degrees (default: the flange)"))
+  <*> option (eitherReader parseSpeedData) (long "speed" <> metavar "vN" <> value 0.5
+        <> help "the TCP speed limit as RAPID speed data, N in mm/s (default: v500)")
+  <*> option (eitherReader parseZoneData) (long "zone" <> metavar "zN|fine" <> value (Blend (0.01 *~ meter))
+        <> help "the corner zone as RAPID zone data: zN blends within N mm of each waypoint, fine stops there (default: z10)")
+  <*> option (eitherReader (positive "--acceleration")) (long "acceleration" <> metavar "A" <> value defaultAcceleration
+        <> help "the TCP acceleration range ±A, m/s² (default 2)")
+  <*> option (eitherReader (positive "--jerk")) (long "jerk" <> metavar "J" <> value defaultJerk
+        <> help "the TCP jerk range ±J, m/s³ (default 20)")
+  <*> option (eitherReader dtR) (long "dt" <> metavar "S" <> value defaultTimeStep
+        <> help "the controller's time step, s (default 0.004)")
+  <*> optional (option (eitherReader (numbers "--start" 0)) (long "start" <> metavar "\"Q...\""
+        <> help "the start configuration (rad and m; degrees with --deg); default: the first waypoint's solution nearest mid-limits"))
+  <*> switch (long "deg" <> help "--start in degrees")
+  <*> optional (strOption (long "environment" <> metavar "FILE.obj"
+        <> help "keep the robot clear of this Wavefront OBJ scene (in the path's frame)"))
+  <*> option auto (long "scale" <> metavar "S" <> value 1 <> showDefault
+        <> help "the scene's coordinates times S are metres (0.001 for millimetres)")
+  <*> option (eitherReader nonNeg) (long "clearance" <> metavar "M" <> value 0.01
+        <> help "with --environment: the least distance between the robot's capsules and the scene, m (default 0.01)")
+  <*> many (option auto (long "ignore-body" <> metavar "N"
+        <> help "with --environment: leave body N out of the scene check (1 = the first link); repeatable"))
+  <*> optional (option (eitherReader fmt) (long "format" <> metavar "summary|csv|json"
+        <> help "what to write (default: summary; with -o, from the file's extension)"))
+  <*> optional (strOption (short 'o' <> long "output" <> metavar "FILE" <> help "write the trajectory here (.csv or .json); the summary goes to stdout"))
+  <*> optional (strOption (long "plot" <> metavar "FILE.png|.svg" <> help "plot the TCP speed and its limit over s, the joint speeds against their limits over t")))
+  where
+    numbers what k s = case mapM readD (words (map (\c -> if c == ',' then ' ' else c) s)) of
+      Just xs | k == 0 || length xs == k, all finite xs -> Right xs
+      _ -> Left (what ++ " " ++ show s ++ ": expected " ++ (if k == 0 then "numbers" else show k ++ " numbers"))
+    pose what s = case numbers what 0 s of
+      Right xs | length xs `elem` [3, 6] -> Right xs
+      Right _ -> Left (what ++ " " ++ show s ++ ": expected 3 numbers X Y Z (m) or 6, X Y Z (m) RX RY RZ (degrees)")
+      Left e -> Left e
+    positive what s = case readD s of
+      Just x | finite x && x > 0 -> Right x
+      _ -> Left (what ++ " " ++ show s ++ ": expected a finite number > 0")
+    nonNeg s = case readD s of
+      Just x | finite x && x >= 0 -> Right x
+      _ -> Left ("--clearance " ++ show s ++ " m: expected a finite number >= 0")
+    dtR s = case readD s of
+      Just x | finite x && x > 0 && x <= 1 -> Right x
+      _ -> Left ("--dt " ++ show s ++ " s: expected a number > 0 and at most 1")
+    fmt s = case map toLower s of
+      "summary" -> Right Summary
+      "csv" -> Right Csv
+      "json" -> Right Json
+      _ -> Left ("--format " ++ show s ++ ": expected summary, csv or json")
+
+failWith :: String -> IO ExitCode
+failWith msg = hPutStrLn stderr ("vprof plan: " ++ msg) >> pure (ExitFailure 2)
+
+poseTf :: [Double] -> Tf
+poseTf = \case
+  [x, y, z] -> fromRpy (V3 x y z) (V3 0 0 0)
+  [x, y, z, a, b, c] -> fromRpy (V3 x y z) (V3 (rad a) (rad b) (rad c))
+  _ -> identity
+  where rad d = d * pi / 180
+
+readPath :: FilePath -> IO (Either String Track)
+readPath f = do
+  r <- try (B.readFile f) :: IO (Either IOException B.ByteString)
+  pure $ case r of
+    Left e -> Left (f ++ ": " ++ show e)
+    Right src -> either (Left . ((f ++ ": ") ++)) Right $ case map toLower (takeExtension f) of
+      ".mod" -> parseRapid src
+      ".csv" -> parseCsv src
+      _ -> parseTum src
+
+-- | The core's field names in this command's terms.
+optionName :: String -> Maybe UserField
+optionName = \case
+  "speed" -> Just (UserField "--speed" "mm/s" 1000)
+  "zone" -> Just (UserField "--zone" "mm" 1)
+  "acceleration" -> Just (UserField "--acceleration" "m/s²" 1)
+  "jerk" -> Just (UserField "--jerk" "m/s³" 1)
+  "dt" -> Just (UserField "--dt" "s" 1)
+  "start" -> Just (UserField "--start" "" 1)
+  _ -> Nothing
+
+runPlan :: PlanOpts -> IO ExitCode
+runPlan o = do
+  er <- loadRobot Nothing (poRobot o)
+  ep <- readPath (poPath o)
+  case (er, ep) of
+    (Left e, _) -> failWith ("--robot: " ++ e)
+    (_, Left e) -> failWith e
+    (Right r0, Right tr) -> do
+      env <- loadEnv r0
+      case env of
+        Left e -> failWith e
+        Right menv -> do
+          let r = r0 { robotBase = maybe identity poseTf (poBase o) `compose` robotBase r0
+                     , robotTool = robotTool r0 `compose` maybe identity poseTf (poTool o) }
+              wps = [ waypoint (x, y, z) (w, a, b, c) | (P3 x y z, Q4 w a b c) <- zip (ptoList (tPos tr)) (ptoList (tRot tr)) ]
+              start = fmap (\qs -> U.fromList [ if poDeg o && jointKind j == Revolute then q * pi / 180 else q
+                                              | (j, q) <- zip (robotJoints r ++ repeat (Joint "" Prismatic (Limits 0 0) Nothing Nothing)) qs ]) (poStart o)
+              rq = (planRequest r wps)
+                     { prZone = poZone o, prStart = start, prSpeed = poSpeed o *~ mps
+                     , prAcceleration = poAcc o *~ mps2, prJerk = poJerk o *~ mps3, prTimeStep = poDt o *~ second
+                     , prTrack = defaultTrackOptions { toEnvironment = fmap (\(cm, bvh) -> Environment cm bvh (poClearance o)) (menv r) } }
+          t0 <- getMonotonicTime
+          case planPath rq of
+            Left (InvalidPlan es) -> failWith (intercalate "; " (map renderFieldError (inUserTerms optionName es)))
+            Left f -> do
+              hPutStrLn stderr ("vprof plan: " ++ describePlanFailure f)
+              pure (ExitFailure 1)
+            Right plan -> do
+              _ <- pure $! U.sum (trQd (planTrajectory plan))
+              t1 <- getMonotonicTime
+              let outFmt = case (poFormat o, poOutput o) of
+                    (Just f, _) -> f
+                    (Nothing, Just file) | map toLower (takeExtension file) == ".json" -> Json
+                                         | otherwise -> Csv
+                    (Nothing, Nothing) -> Summary
+                  summary = renderSummary r plan (t1 - t0)
+                  body = case outFmt of
+                    Summary -> BL.pack summary
+                    Csv -> renderTrajectoryCsv (planTrajectory plan)
+                    Json -> A.encode (planJson r plan)
+              case poOutput o of
+                Just file -> BL.writeFile file body >> putStr summary
+                Nothing -> do
+                  BL.putStr body
+                  if outFmt == Summary then pure () else hPutStr stderr summary
+              mapM_ (\f -> plotPlan f r plan) (poPlot o)
+              pure (if planLegal plan && all resultLegal (planProfiles plan) then ExitSuccess else ExitFailure 1)
+  where
+    loadEnv _ = case poEnv o of
+      Nothing -> pure (Right (const Nothing))
+      Just path -> do
+        sc <- loadScene [SceneFile path (poEnvScale o) identity]
+        pure $ case sc of
+          Left e -> Left ("--environment: " ++ e)
+          Right tris -> let bvh = buildBvh tris
+                        in Right (\r -> Just (collisionModel defaultCollisionOptions { coSceneIgnore = poIgnore o } r, bvh))
+
+num :: Int -> Double -> String
+num d x = showFFloat (Just d) x ""
+
+renderSummary :: Robot -> Plan -> Double -> String
+renderSummary r p secs = unlines $
+  [ "robot:         " ++ robotName r
+  , "route:         " ++ num 1 (routeLength rt * 1000) ++ " mm through " ++ show (length (rtPoints rt)) ++ " waypoints, "
+      ++ show (length (rtStops rt)) ++ " stop(s) between the ends"
+  , "duration:      " ++ num 3 (planDuration p) ++ " s"
+  , "samples:       " ++ show (trajectoryCount tr) ++ " (dt " ++ showNumber dt ++ " s)"
+  , "IK samples:    " ++ show (trackedCount (planTracked p)) ++ " along the route"
+  , "peak speed:    " ++ num 1 (1000 * U.maximum (trV tr)) ++ " mm/s"
+  , "zones:         " ++ show (length zs)
+  , "  " ++ pad 12 "from [mm]" ++ pad 12 "to [mm]" ++ pad 14 "limit [mm/s]" ++ "binding" ]
+  ++ [ "  " ++ pad 12 (num 1 (1000 * lzStart z)) ++ pad 12 (num 1 (1000 * lzEnd z)) ++ pad 14 (num 1 (1000 * lzSpeed z))
+       ++ describeBinding r (lzBinding z)
+     | z <- shown ]
+  ++ [ "  ... " ++ show (length zs - length shown) ++ " more (the JSON output lists every zone)" | length zs > length shown ]
+  ++ [ "legal:         " ++ (if planLegal p && all resultLegal (planProfiles p) then "yes" else "no")
+     , "compute time:  " ++ num 1 (secs * 1000) ++ " ms" ]
+  where
+    rt = planRoute p
+    tr = planTrajectory p
+    dt = if trajectoryCount tr > 1 then trTime tr U.! 1 - trTime tr U.! 0 else 0
+    zs = concat (planZones p)
+    shown = take 30 zs
+    pad n s = s ++ replicate (max 1 (n - length s)) ' '
+
+renderTrajectoryCsv :: Trajectory -> BL.ByteString
+renderTrajectoryCsv tr = BB.toLazyByteString $
+  BB.string7 (intercalate "," (["t", "s", "v", "a", "j"] ++ [ "q" ++ show i | i <- [1 .. n] ] ++ [ "qd" ++ show i | i <- [1 .. n] ]))
+  <> BB.char7 '\n'
+  <> mconcat [ row k | k <- [0 .. trajectoryCount tr - 1] ]
+  where
+    n = trDof tr
+    row k = BB.string7 (intercalate "," (map show' ([trTime tr U.! k, trS tr U.! k, trV tr U.! k, trA tr U.! k, trJ tr U.! k]
+                                                    ++ U.toList (trajectoryQ tr k) ++ U.toList (trajectoryQd tr k))))
+            <> BB.char7 '\n'
+    show' x = showFFloat Nothing x ""
+
+planJson :: Robot -> Plan -> A.Value
+planJson r p = A.object
+  [ "robot" A..= robotName r
+  , "route_length_m" A..= routeLength (planRoute p)
+  , "duration_s" A..= planDuration p
+  , "legal" A..= (planLegal p && all resultLegal (planProfiles p))
+  , "stops_m" A..= rtStops (planRoute p)
+  , "zones" A..= [ A.object [ "start_m" A..= lzStart z, "end_m" A..= lzEnd z, "speed_mps" A..= lzSpeed z
+                            , "binding" A..= describeBinding r (lzBinding z) ]
+                 | z <- concat (planZones p) ]
+  , "samples" A..= [ A.object [ "t" A..= (trTime tr U.! k), "s" A..= (trS tr U.! k), "v" A..= (trV tr U.! k)
+                              , "a" A..= (trA tr U.! k), "j" A..= (trJ tr U.! k)
+                              , "q" A..= U.toList (trajectoryQ tr k), "qd" A..= U.toList (trajectoryQd tr k) ]
+                   | k <- [0 .. trajectoryCount tr - 1] ]
+  ]
+  where tr = planTrajectory p

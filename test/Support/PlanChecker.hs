@@ -1,0 +1,102 @@
+-- | An independent checker of a planned joint trajectory, written apart from VProf.Plan: it
+-- reads only the trajectory's samples, the robot's published limits and DH table, the waypoints
+-- and the zone, and recomputes everything itself:
+--
+-- * every joint value within its position limits (to 1e-9);
+-- * every joint speed, by forward differences of q over the time step, within its published
+--   limit, with a tolerance of 0.1 % (the plan interpolates q linearly between IK samples);
+-- * the TCP, by a textbook forward kinematics ("Support.FkOracle": one 4×4 matrix a DH step),
+--   within the zone of the waypoint polyline: its distance to the nearest segment at most the
+--   zone radius + 0.1 mm;
+-- * every stretch's profile legal for its zones by the profile legality checker.
+module Support.PlanChecker
+  ( checkTrajectory
+  , oracleTcp
+  , polylineDistance
+  , speedTolerance
+  , tcpTolerance
+  ) where
+
+import qualified Data.Vector.Unboxed as U
+
+import Support.FkOracle
+import VProf.Kinematics.Model
+import VProf.Kinematics.Transform (toRows4)
+import VProf.Plan (LimitZone (..), Plan (..), Trajectory (..))
+import VProf.Profile (Request (..), SpeedZone (..), check, defaultRequest, renderViolation, resProfile, validate)
+import VProf.Units
+
+speedTolerance, tcpTolerance :: Double
+speedTolerance = 1e-3
+tcpTolerance = 1e-4
+
+-- | The TCP position (m) at joint values q by the textbook matrices.
+oracleTcp :: Robot -> [Double] -> (Double, Double, Double)
+oracleTcp r qs =
+  let m = foldl mmul (rows4 (robotBase r)) [ linkMat l (var (linkDrive l)) | l <- robotLinks r ] `mmul` rows4 (robotTool r)
+  in (m !! 0 !! 3, m !! 1 !! 3, m !! 2 !! 3)
+  where
+    rows4 t = let xs = toRows4 t in [take 4 xs, take 4 (drop 4 xs), take 4 (drop 8 xs), drop 12 xs]
+    var (Drive off terms) = off + sum [ c * (qs !! j) | (j, c) <- terms ]
+    linkMat l v = case (linkGeometry l, linkJointKind l) of
+      (DhStandard th d a al, Just Revolute) -> dhStd (th + v) d a al
+      (DhStandard th d a al, Just Prismatic) -> dhStd th (d + v) a al
+      (DhStandard th d a al, Nothing) -> dhStd th d a al
+      (DhModified al a th d, Just Revolute) -> dhMod al a (th + v) d
+      (DhModified al a th d, Just Prismatic) -> dhMod al a th (d + v)
+      (DhModified al a th d, Nothing) -> dhMod al a th d
+      (FixedTransform t, _) -> rows4 t
+      (UrdfJoint {}, _) -> error "PlanChecker: URDF robots are not covered"
+
+-- | The distance of a point to a polyline.
+polylineDistance :: [(Double, Double, Double)] -> (Double, Double, Double) -> Double
+polylineDistance ps p = minimum (zipWith seg ps (drop 1 ps))
+  where
+    seg (ax, ay, az) (bx, by, bz) =
+      let (px, py, pz) = p
+          (dx, dy, dz) = (bx - ax, by - ay, bz - az)
+          l2 = dx * dx + dy * dy + dz * dz
+          u = if l2 <= 0 then 0 else max 0 (min 1 (((px - ax) * dx + (py - ay) * dy + (pz - az) * dz) / l2))
+          (cx, cy, cz) = (ax + u * dx - px, ay + u * dy - py, az + u * dz - pz)
+      in sqrt (cx * cx + cy * cy + cz * cz)
+
+-- | Every problem found (empty: the trajectory passes). The zone radius in m (0 for fine).
+checkTrajectory :: Robot -> [(Double, Double, Double)] -> Double -> Double -> Double -> Double -> Plan -> [String]
+checkTrajectory r wps zone acc jerk dt plan = concat
+  [ [ "sample " ++ show k ++ ": " ++ jointName j ++ " = " ++ show x ++ " outside [" ++ show lo ++ ", " ++ show hi ++ "]"
+    | k <- [0 .. m - 1], (i, j) <- zip [0 ..] joints, let x = q k i; Limits lo hi = jointLimits j
+    , x < lo - 1e-9 || x > hi + 1e-9 ]
+  , take 5 [ "step " ++ show k ++ ": " ++ jointName j ++ " speed " ++ show sp ++ " above its limit " ++ show vmax
+           | k <- [0 .. m - 2], (i, j) <- zip [0 ..] joints, Just vmax <- [jointMaxVelocity j]
+           , let sp = abs (q (k + 1) i - q k i) / (t (k + 1) - t k)
+           , sp > vmax * (1 + speedTolerance) + 1e-9 ]
+  , take 5 [ "sample " ++ show k ++ ": the TCP is " ++ show (d * 1000) ++ " mm from the waypoint polyline (zone "
+             ++ show (zone * 1000) ++ " mm)"
+           | k <- [0 .. m - 1], let d = polylineDistance wps (oracleTcp r [ q k i | i <- [0 .. n - 1] ])
+           , d > zone + tcpTolerance ]
+  , [ "the time step is " ++ show (t (k + 1) - t k) ++ " s at sample " ++ show k | k <- take 1 [ k | k <- [0 .. m - 2], abs (t (k + 1) - t k - dt) > 1e-9 ] ]
+  , concat [ profileProblems i zs res | (i, zs, res) <- zip3 [0 :: Int ..] (planZones plan) (planProfiles plan) ]
+  , [ "the trajectory is empty" | m == 0 ]
+  ]
+  where
+    tr = planTrajectory plan
+    joints = robotJoints r
+    n = trDof tr
+    m = U.length (trTime tr)
+    q k i = trQ tr U.! (k * n + i)
+    t k = trTime tr U.! k
+    profileProblems i zs res = case zs of
+      [] -> ["stretch " ++ show i ++ " has no zones"]
+      (z0 : _) ->
+        let a = lzStart z0
+            b = lzEnd (last zs)
+            rq = defaultRequest
+              { rqRouteLength = (b - a) *~ meter
+              , rqZones = [ SpeedZone ((lzStart z - a) *~ meter) (lzSpeed z *~ mps) | z <- zs ]
+              , rqMinAcceleration = negate acc *~ mps2, rqMaxAcceleration = acc *~ mps2
+              , rqMinJerk = negate jerk *~ mps3, rqMaxJerk = jerk *~ mps3
+              , rqTimeStep = Just (dt *~ second), rqEndTolerance = Just (1e-4 *~ meter) }
+        in case (validate rq, resProfile res) of
+             (Left es, _) -> ["stretch " ++ show i ++ ": its zones are not a valid request: " ++ show es]
+             (_, Nothing) -> ["stretch " ++ show i ++ " has no profile"]
+             (Right pb, Just p) -> [ "stretch " ++ show i ++ ": " ++ renderViolation v | v <- take 5 (check pb p) ]

@@ -1,0 +1,49 @@
+{-# LANGUAGE OverloadedStrings #-}
+-- | The edges of @vprof plan@: RAPID speed and zone data as options, and the CSV path reader
+-- reading back what @vprof compress@ writes.
+module VProf.Cli.PlanSpec (spec) where
+
+import qualified Data.ByteString.Lazy as BL
+import qualified Data.Vector.Unboxed as U
+import Test.Hspec
+import Test.QuickCheck
+
+import VProf.Cli.Plan (parseSpeedData, parseZoneData)
+import VProf.Compress.Format.Csv (parseCsv, renderCsv)
+import VProf.Compress.Types (Track (..), recordingFromArrays, Recording (..))
+import VProf.Geometry.Vec (P3 (..), Q4 (..), pfromList, ptoList)
+import VProf.Plan (Zone (..), zoneRadius)
+
+spec :: Spec
+spec = do
+  it "reads RAPID speed data vN as N mm/s and refuses anything else" $ do
+    parseSpeedData "v500" `shouldBe` Right 0.5
+    parseSpeedData "V7000" `shouldBe` Right 7
+    mapM_ (\s -> parseSpeedData s `shouldSatisfy` either (const True) (const False)) ["500", "v0", "v-5", "vx", "z10"]
+  it "reads RAPID zone data zN as N mm and fine as a stop" $ do
+    fmap zoneRadius (parseZoneData "z10") `shouldBe` Right 0.01
+    parseZoneData "fine" `shouldBe` Right Fine
+    parseZoneData "z0" `shouldBe` Right Fine
+    mapM_ (\s -> fmap zoneRadius (parseZoneData s) `shouldSatisfy` either (const True) (const False)) ["10", "z-1", "zq", "v500"]
+  it "reads back the CSV it writes (times to 1 µs, positions and quaternions to 1e-9)" $
+    property $ forAll (choose (2, 30)) $ \n -> forAll (vectorOf n row) $ \rows ->
+      let ts = U.fromList (scanl1 (+) [ dt | (dt, _, _) <- rows ])
+          Right (Recording tr) = recordingFromArrays ts (pfromList [ p | (_, p, _) <- rows ]) (pfromList [ q | (_, _, q) <- rows ])
+      in case parseCsv (BL.toStrict (renderCsv tr)) of
+           Left e -> counterexample e False
+           Right tr' -> conjoin
+             [ U.maximum (U.zipWith (\a b -> abs (a - b)) (tTime tr) (tTime tr')) <= 1e-6
+             , and [ abs (a - x) <= 1e-9 && abs (b - y) <= 1e-9 && abs (c - z) <= 1e-9
+                   | (P3 a b c, P3 x y z) <- zip (ptoList (tPos tr)) (ptoList (tPos tr')) ]
+             , and [ maximum (zipWith (\u v -> abs (u - v)) [a, b, c, d] [w, x, y, z]) <= 1e-8
+                   | (Q4 a b c d, Q4 w x y z) <- zip (ptoList (tRot tr)) (ptoList (tRot tr')) ] ]
+  it "names the line and column of a bad number" $
+    parseCsv (BL.toStrict "time,x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n1,0,abc,0,1,0,0,0\n")
+      `shouldSatisfy` either (\e -> "line 3" `elem` [take 6 (drop i e) | i <- [0 .. length e]] ) (const False)
+  where
+    row = do
+      dt <- choose (0.01, 2)
+      p <- P3 <$> choose (-2, 2) <*> choose (-2, 2) <*> choose (-2, 2)
+      (w, x, y, z) <- (,,,) <$> choose (-1, 1) <*> choose (-1, 1) <*> choose (-1, 1) <*> choose (-1, 1)
+      let k = sqrt (w * w + x * x + y * y + z * z)
+      pure (dt, p, if k < 0.1 then Q4 1 0 0 0 else Q4 (w / k) (x / k) (y / k) (z / k))

@@ -1,0 +1,157 @@
+-- | Plans checked end to end by the independent checker (Support.PlanChecker): random short
+-- paths of a UR5, an IRB 140 and a Panda (7 joints, numerical IK), failures that must stop with
+-- their reason and distance, and a real recording compressed by the library and placed in a
+-- UR5's workspace.
+module VProf.Plan.PlanSpec (spec) where
+
+import qualified Data.Vector.Unboxed as U
+import qualified Linear as L
+import Test.Hspec
+import Test.QuickCheck
+
+import Support.PlanChecker
+import Support.Recordings (loadTum)
+import VProf.Compress (Compressed (..), Path (..), Settings (..), Track (..), compress, defaultSettings)
+import VProf.Geometry.Quaternion (qmul, qconj)
+import VProf.Geometry.Vec (P3 (..), Q4 (..), ptoList)
+import VProf.Kinematics.Forward (Pose (..), forwardPose)
+import VProf.Kinematics.Ik (solveIk, kinematicsFor, defaultIkOptions)
+import VProf.Kinematics.Library (lookupRobot)
+import VProf.Kinematics.Model
+import VProf.Kinematics.Transform (Quat (..), V3 (..))
+import VProf.Plan
+import VProf.Units
+import VProf.Validation (FieldError (..))
+
+robot :: String -> Robot
+robot name = either (error . show) id (lookupRobot name)
+
+-- | A comfortable configuration of each robot (rad), away from limits and singularities.
+comfortable :: String -> [Double]
+comfortable = \case
+  "ur5" -> [0, -1.4, -2.0, -1.3, 1.57, 0]
+  "abb-irb140" -> [0, 0.3, -0.3, 0, 0.9, 0]
+  _ -> [0, -0.6, 0, -2.2, 0, 1.7, 0.8]
+
+-- | A random path near the comfortable configuration's TCP: 2–5 waypoints within ±6 cm of it,
+-- the orientation turned by up to ±8° about random axes, a zone of 0–20 mm, a speed of
+-- 100–800 mm/s.
+genPlan :: String -> Gen ([Waypoint], Zone, Double)
+genPlan name = do
+  dq <- vectorOf (length (comfortable name)) (choose (-0.2, 0.2))
+  let r = robot name
+      q0 = U.fromList (zipWith (+) (comfortable name) dq)
+      Pose (V3 x y z) (Quat w a b c) = forwardPose (compile r) q0
+  k <- choose (2, 5)
+  offs <- vectorOf k ((,,) <$> o <*> o <*> o) `suchThat` apart
+  rots <- vectorOf k ((,,) <$> t <*> t <*> t)
+  zone <- oneof [pure Fine, (\mm -> Blend ((mm / 1000) *~ meter)) <$> choose (1, 20)]
+  v <- choose (0.1, 0.8)
+  let wp (dx, dy, dz) (rx, ry, rz) =
+        let Q4 qw qx qy qz = qmul (Q4 w a b c) (small rx ry rz)
+        in waypoint (x + dx, y + dy, z + dz) (qw, qx, qy, qz)
+  pure (zipWith wp offs rots, zone, v)
+  where
+    o = choose (-0.06, 0.06)
+    t = choose (-0.07, 0.07)
+    apart ps = and (zipWith (\(a, b, c) (d, e, f) -> (a - d) ^ (2 :: Int) + (b - e) ^ (2 :: Int) + (c - f) ^ (2 :: Int) > 1e-4) ps (drop 1 ps))
+    small rx ry rz = let th = sqrt (rx * rx + ry * ry + rz * rz); s = if th < 1e-12 then 0.5 else sin (th / 2) / th
+                     in Q4 (cos (th / 2)) (s * rx) (s * ry) (s * rz)
+
+positions :: [Waypoint] -> [(Double, Double, Double)]
+positions wps = [ (si x, si y, si z) | Waypoint (L.V3 x y z) _ <- wps ]
+
+planAndCheck :: Robot -> [Waypoint] -> Zone -> Double -> Property
+planAndCheck r wps zone v =
+  let rq = (planRequest r wps) { prZone = zone, prSpeed = v *~ mps }
+  in case planPath rq of
+       Left f -> counterexample (describePlanFailure f) False
+       Right plan ->
+         let problems = checkTrajectory r (positions wps) (zoneRadius zone) defaultAcceleration defaultJerk defaultTimeStep plan
+         in counterexample (unlines problems) (null problems && planLegal plan && planDuration plan > 0)
+
+spec :: Spec
+spec = describe "VProf.Plan" $ do
+  describe "random short paths pass the independent checker" $
+    mapM_ (\name -> it name $ withMaxSuccess 20 $ forAll (genPlan name) $ \(wps, zone, v) -> planAndCheck (robot name) wps zone v)
+      ["ur5", "abb-irb140", "franka-panda"]
+
+  it "stops with out of reach, at the distance where the route leaves the workspace" $ do
+    let r = robot "ur5"
+        wps = [waypoint (0.4, 0, 0.3) (0, 1, 0, 0), waypoint (1.2, 0, 0.3) (0, 1, 0, 0)]
+    case planPath (planRequest r wps) of
+      Left (Stopped (PlanStop (OutOfReach _) s (V3 px _ _))) -> do
+        s `shouldSatisfy` (\x -> x > 0.3 && x < 0.8)
+        px `shouldSatisfy` (\x -> abs (x - (0.4 + s)) < 1e-9)
+        -- the oracle: IK reaches the route 2 mm before the stop and not at it
+        let kin = kinematicsFor r
+            target d = (routeTfAt (either (error . show) id (mkRoute [Fine, Fine] wps))) d
+        either (const False) (not . null) (solveIk defaultIkOptions kin (target (s - 0.002)) Nothing) `shouldBe` True
+        either (const False) (not . null) (solveIk defaultIkOptions kin (target s) Nothing) `shouldBe` False
+      Left f -> expectationFailure ("stopped otherwise: " ++ describePlanFailure f)
+      Right _ -> expectationFailure "planned a path out of reach"
+
+  it "stops at a joint limit: an IRB 140 passing behind its base runs J1 into ±180°" $ do
+    let r = robot "abb-irb140"
+        wps = [waypoint (-0.4, 0.3, 0.3) (0, 1, 0, 0), waypoint (-0.4, -0.3, 0.3) (0, 1, 0, 0)]
+        start = U.fromList (map (* (pi / 180)) [143, 20, 30, 0, 30, 0])
+    case planPath (planRequest r wps) { prStart = Just start } of
+      Left (Stopped (PlanStop (JointLimit j l) s _)) -> do
+        j `shouldBe` "J1"
+        abs l `shouldSatisfy` (\x -> abs (x - pi) < 1e-9)
+        -- y crosses 0 (the base angle 180°) at s = 0.3 m
+        s `shouldSatisfy` (\x -> abs (x - 0.3) <= 0.0015)
+      Left f -> expectationFailure ("stopped otherwise: " ++ describePlanFailure f)
+      Right _ -> expectationFailure "planned through a joint limit"
+
+  it "the checker rejects a trajectory run twice as fast, and one moved off the route" $ do
+    let r = robot "ur5"
+        wps = [waypoint (0.4, -0.1, 0.3) (0, 1, 0, 0), waypoint (0.5, 0.1, 0.3) (0, 1, 0, 0), waypoint (0.4, 0.1, 0.25) (0, 1, 0, 0)]
+        -- a TCP speed that makes joints run near their limits
+        rq = (planRequest r wps) { prSpeed = 3 *~ mps, prAcceleration = 20 *~ mps2, prJerk = 400 *~ mps3 }
+    case planPath rq of
+      Left f -> expectationFailure (describePlanFailure f)
+      Right plan -> do
+        let check' = checkTrajectory r (positions wps) 0.01 20 400 defaultTimeStep
+            tr = planTrajectory plan
+            fast = plan { planTrajectory = tr { trTime = U.map (/ 2) (trTime tr) } }
+            n = trDof tr
+            -- the first joint turned by 0.05 rad everywhere: the TCP leaves the route
+            moved = plan { planTrajectory = tr { trQ = U.imap (\k x -> if k `mod` n == 0 then x + 0.05 else x) (trQ tr) } }
+        check' plan `shouldBe` []
+        check' fast `shouldSatisfy` any (\m -> "speed" `elem` words m)
+        check' moved `shouldSatisfy` any (\m -> "polyline" `elem` words m)
+
+  it "refuses bad input naming the field and the value" $ do
+    let r = robot "ur5"
+        wps = [waypoint (0.4, 0, 0.3) (0, 1, 0, 0), waypoint (0.5, 0, 0.3) (0, 1, 0, 0)]
+    case planPath (planRequest r wps) { prSpeed = (-1) *~ mps, prTimeStep = 0 *~ second } of
+      Left (InvalidPlan es) -> do
+        map feField es `shouldContain` ["speed"]
+        map feField es `shouldContain` ["dt"]
+      _ -> expectationFailure "accepted a negative speed"
+
+  it "plans a real recording (freiburg1_xyz, compressed, scaled by 0.5 and placed in front of a UR5)" $ do
+    rec <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let Right c = compress defaultSettings { sPoints = Just 40 } rec
+        Path tr = oPath c
+        wps = placeRecording (ptoList (tPos tr)) (ptoList (tRot tr))
+        r = robot "ur5"
+    let rq = (planRequest r wps) { prSpeed = 0.25 *~ mps }
+    case planPath rq of
+      Left f -> expectationFailure (describePlanFailure f)
+      Right plan -> do
+        checkTrajectory r (positions wps) 0.01 defaultAcceleration defaultJerk defaultTimeStep plan `shouldBe` []
+        planDuration plan `shouldSatisfy` (> routeLength (planRoute plan) / 0.25)
+
+-- | A recording placed in the UR5's workspace: positions relative to the first sample, scaled
+-- by 0.5, from (0.45, 0, 0.30) m; orientations the tool-down orientation turned by the
+-- recording's rotation relative to its first sample.
+placeRecording :: [P3] -> [Q4] -> [Waypoint]
+placeRecording ps qs =
+  [ waypoint (0.45 + 0.5 * (x - x0), 0.5 * (y - y0), 0.30 + 0.5 * (z - z0)) (w, a, b, c)
+  | (P3 x y z, q) <- zip ps qs
+  , let Q4 w a b c = qmul (Q4 0 1 0 0) (qmul (qconj q0) q) ]
+  where
+    P3 x0 y0 z0 = head ps
+    q0 = head qs
