@@ -11,7 +11,7 @@ STACK ?= stack
 VPROF_SEED ?= 42
 SEED_ARG := $(if $(filter random,$(VPROF_SEED)),,--seed $(VPROF_SEED))
 
-.PHONY: all deps build run test test-fast hspec check-examples bench compare compare-kinematics clean
+.PHONY: all deps build run test test-fast test-metamorphic hspec check-examples bench compare compare-kinematics clean
 all: build
 
 deps:
@@ -30,6 +30,11 @@ hspec: deps
 # without the daemon's robustness suites (their sockets dominate the time) and clients
 test-fast: deps
 	VPROF_PROPERTY_CASES=50 $(STACK) test --test-arguments='$(SEED_ARG) --skip Robustness --skip VProf.Server --skip VProf.Service'
+
+# the metamorphic properties of the generator over the wide world of requests (default never
+# slower than thesis mode; lower limits never faster): known counterexamples, so not in `make test`
+test-metamorphic: deps
+	VPROF_METAMORPHIC=1 $(STACK) test --test-arguments='$(SEED_ARG) --match "wide world"'
 
 # every example through the CLI as CSV, checked by an independent Python checker; and the
 # checker itself must reject a profile broken on purpose
