@@ -10,6 +10,7 @@ import System.Exit
 import VProf.Cli.Compress (compressCommand)
 import VProf.Cli.Kinematics (fkCommand, ikCommand, robotsCommand)
 import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
+import VProf.Cli.Select (selectCommand)
 import VProf.Cli.Serve (serveCommand)
 import VProf.Service (service)
 import VProf.Version (versionString)
@@ -33,5 +34,6 @@ main = do
      <> command "robots" (info robotsCommand (progDesc "List the built-in robot library, or show one robot (library name, robot file or URDF)"))
      <> command "fk" (info fkCommand (forwardOptions <> progDesc "Forward kinematics: the tool pose, manipulability and condition number for joint values (negative values need no quoting)"))
      <> command "ik" (info ikCommand (progDesc "Inverse kinematics: joint values within the limits that reach a pose, nearest the seed first"))
+     <> command "select" (info selectCommand (progDesc "Robot selection: which robots reach every target of a task in its cell, ranked, with the reason for every failure"))
      <> command "serve" (info (serveCommand service) (progDesc "Serve length-delimited Request/Response messages over TCP or --stdio"))
       ) <|> generateOptions

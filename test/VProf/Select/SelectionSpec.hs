@@ -1,0 +1,155 @@
+-- | Selection's invariants over random inputs: the payload filter runs before any IK, the counts
+-- add up and every failure has a reason, the score puts more reached targets first and the
+-- ranking is sorted; the cycle time of a joint move against the bounds of its limits; a path
+-- task followed sample by sample in the work cell, and one through the table stopped at the
+-- table.
+module VProf.Select.SelectionSpec (spec) where
+
+import Data.List (isInfixOf)
+import Data.Maybe (isJust, isNothing)
+import qualified Data.Vector.Unboxed as U
+import System.FilePath ((</>))
+import Test.Hspec
+import Test.QuickCheck
+
+import Support.Arbitrary (shared)
+import VProf.Geometry.Bvh
+import VProf.Geometry.Format.Obj
+import VProf.Kinematics.Collision
+import VProf.Kinematics.Forward (forward)
+import VProf.Kinematics.Library
+import VProf.Kinematics.Model
+import VProf.Kinematics.Transform
+import VProf.Select.CycleTime
+import VProf.Select.Selection
+import VProf.Select.Task
+
+library :: [(String, Robot)]
+library = [(k, r) | (k, Right r) <- libraryRobots]
+
+task0 :: Double -> [Tf] -> Task
+task0 payload poses = Task
+  { taskEnvironment = [], taskBase = identity, taskTool = identity, taskToolCapsule = Nothing
+  , taskPayload = payload, taskClearance = 0.01, taskIgnoreBodies = [1]
+  , taskTargets = [Target ("targets[" ++ show i ++ "]") p | (i, p) <- zip [0 :: Int ..] poses]
+  , taskPath = False, taskPathStep = defaultPathStep }
+
+-- | A pose within a 1.5 m box around the base, any orientation.
+genPose :: Gen Tf
+genPose = do
+  x <- choose (-1.5, 1.5)
+  y <- choose (-1.5, 1.5)
+  z <- choose (-0.5, 1.5)
+  r <- choose (-pi, pi)
+  p <- choose (-pi, pi)
+  w <- choose (-pi, pi)
+  pure (fromRpy (V3 x y z) (V3 r p w))
+
+genResult :: Int -> Gen RobotResult
+genResult total = do
+  key <- elements ["a", "b", "c", "d", "e", "f"]
+  rejected <- frequency [(1, Just <$> pure "payload"), (5, pure Nothing)]
+  n <- choose (0, total)
+  let complete = isNothing rejected && n == total
+  cyc <- if complete then Just <$> choose (0.1, 30) else pure Nothing
+  clr <- oneof [pure Nothing, (\c -> Just (c, "link")) <$> choose (-0.05, 0.3)]
+  w <- oneof [pure Nothing, Just <$> choose (0, 0.2)]
+  pure RobotResult { rrKey = key, rrName = key, rrRejected = rejected, rrTargets = [], rrSegments = []
+                   , rrReached = if isJust rejected then 0 else n, rrTotal = total
+                   , rrMinClearance = clr, rrMinManipulability = w, rrCycleTime = cyc
+                   , rrCycleNote = Nothing, rrScore = 0 }
+
+spec :: Spec
+spec = do
+  dir <- runIO shared
+  cellE <- runIO (readObj (dir </> "data" </> "cell" </> "cell.obj"))
+  let bvh = buildBvh (either error id cellE)
+  describe "the filters and the counts (random robots, payloads and targets in the cell)" $ do
+    it "a robot whose rated payload is below the task's gets no IK at all; the others are not rejected for payload" $
+      withMaxSuccess 60 $ forAll (elements library) $ \(k, r) -> forAll (choose (0, 25)) $ \p ->
+        forAll (resize 3 (listOf1 genPose)) $ \poses ->
+          let res = evaluateRobot defaultSelectOptions (task0 p poses) bvh k r
+              rated = robotPayload r
+          in counterexample (show (k, rated, p, rrRejected res)) $
+               case rated of
+                 Just c | c < p -> isJust (rrRejected res) && null (rrTargets res) && rrReached res == 0
+                                   && isNothing (rrMinClearance res) && isNothing (rrCycleTime res)
+                 _ -> isNothing (rrRejected res) && length (rrTargets res) == length poses
+    it "reached ≤ N; a target has joints exactly when it has no failure; the cycle time only when all are reached" $
+      withMaxSuccess 60 $ forAll (elements library) $ \(k, r) -> forAll (resize 4 (listOf1 genPose)) $ \poses ->
+        let res = evaluateRobot defaultSelectOptions (task0 0 poses) bvh k r
+        in counterexample (show (k, map trFailure (rrTargets res))) $ conjoin
+             [ property (rrReached res <= rrTotal res)
+             , rrTotal res === length poses
+             , rrReached res === length [t | t <- rrTargets res, isJust (trJoints t)]
+             , conjoin [isJust (trJoints t) =/= isJust (trFailure t) | t <- rrTargets res]
+             , isJust (rrCycleTime res) === (rrReached res == rrTotal res)
+             , property (and [ maybe False (>= 0.01) (trClearance t) | t <- rrTargets res, isJust (trJoints t) ])
+             ]
+    it "the reach filter fails a target beyond the stretched arm without IK, naming both distances" $ do
+      let ur5 = either error id (lookupRobot "ur5")
+          res = evaluateRobot defaultSelectOptions (task0 0 [trans 2.5 0 0.3]) bvh "ur5" ur5
+      map trFailure (rrTargets res) `shouldSatisfy` \case
+        [Just f] -> "beyond reach: 2.51" `isInfixOf` f && "reaches at most" `isInfixOf` f
+        _ -> False
+  describe "score and ranking" $ do
+    it "is sorted by score, scores lie in [0, 100], and more targets reached always scores higher" $
+      property $ forAll (choose (1, 300)) $ \total -> forAll (resize 12 (listOf (genResult total))) $ \rs ->
+        let ranked = scoreAndRank rs
+            ss = map rrScore ranked
+        in conjoin
+             [ property (and (zipWith (>=) ss (drop 1 ss)))
+             , property (all (\s -> s >= 0 && s <= 100) ss)
+             , conjoin [ counterexample (show (rrReached a, rrScore a, rrReached b, rrScore b)) (rrScore a > rrScore b)
+                       | a <- ranked, b <- ranked, isNothing (rrRejected a), isNothing (rrRejected b), rrReached a > rrReached b ]
+             , length ranked === length rs
+             , conjoin [ rrScore r === 0 | r <- ranked, isJust (rrRejected r) ]
+             ]
+  describe "the cycle time of a joint move (the jerk-limited generator)" $ do
+    let ur5 = either error id (lookupRobot "ur5")
+        rates = jointRates ur5
+        genQ = U.fromList <$> vectorOf 6 (choose (-2 * pi, 2 * pi))
+    it "is at least the time at full speed and the bang-bang time at the acceleration limit, and the same both ways" $
+      withMaxSuccess 100 $ forAll genQ $ \a -> forAll genQ $ \b ->
+        let d = U.map abs (U.zipWith (-) b a)
+            len = U.maximum (U.zipWith (/) d (jrVelocity rates))
+            acc = U.minimum (U.zipWith (\ai di -> if di > 1e-12 then ai * len / di else 1 / 0) (jrAcceleration rates) d)
+        in case (moveTime rates a b, moveTime rates b a) of
+             (Right t, Right t') -> counterexample (show (t, t', len, acc)) $ conjoin
+               [ t >= len * (1 - 1e-3) - 1e-9
+               , t >= 2 * sqrt (len * (1 - 1e-3) / acc) - 1e-9
+               , abs (t - t') <= profileTimeStep + 1e-9
+                 -- the trapezoid with jerk ramps, L/v + v/A + A/J (v = 1, A/J = jerkTime), plus a few steps
+               , t <= 1.05 * (len + 1 / acc + jerkTime) + 4 * profileTimeStep
+               ]
+             other -> counterexample (show other) False
+    it "is 0 for no move, and a cycle is the sum of its moves" $ do
+      let a = U.fromList [0, -1, 1, 0, 1, 0]; b = U.fromList [1, -1.5, 0.5, 0, 1, 0.3]; c = U.fromList [0.2, -0.4, 1.2, 0.1, 0.5, 0]
+      moveTime rates a a `shouldBe` Right 0
+      let Right ab = moveTime rates a b; Right bc = moveTime rates b c
+      cycleTime rates [a, b, c] `shouldBe` Right (ab + bc)
+  describe "path tasks (IK continuation every 5 mm)" $ do
+    let ur5 = either error id (lookupRobot "ur5")
+        down x y z = trans x y z `compose` rotX pi
+        pathTask poses = (task0 0 poses) {taskPath = True, taskEnvironment = [MeshPlacement "cell.obj" 1 identity]}
+    it "follows straight segments above the table on one branch, every sample clear" $ do
+      let poses = [down 0.5 0.2 0.35, down 0.5 (-0.2) 0.35, down 0.35 (-0.2) 0.25]
+          res = evaluateRobot defaultSelectOptions (pathTask poses) bvh "ur5" ur5
+          cm = collisionModel defaultCollisionOptions {coSceneIgnore = [1]} ur5
+      map sgFailure (rrSegments res) `shouldBe` [Nothing, Nothing]
+      map sgSamples (rrSegments res) `shouldBe` [80, 37]
+      rrReached res `shouldBe` 3
+      -- the solutions at the targets are the continuation's: FK reproduces each target
+      sequence_ [ case trJoints t of
+                    Just q -> do
+                      v3Norm (v3Sub (translation (forward (compile ur5) q)) (translation p)) `shouldSatisfy` (< 1e-6)
+                      robotClearanceAtLeast cm bvh q 0.01 `shouldBe` True
+                    Nothing -> expectationFailure (trLabel t)
+                | (t, p) <- zip (rrTargets res) poses ]
+    it "stops a segment that dives through the table top at the table, saying where" $ do
+      let poses = [down 0.5 (-0.3) 0.3, down 1.2 (-0.3) (-0.2)]
+          res = evaluateRobot defaultSelectOptions (pathTask poses) bvh "ur5" ur5
+      map sgFailure (rrSegments res) `shouldSatisfy` \case
+        [Just f] -> "segment 0 -> 1" `isInfixOf` f && "along" `isInfixOf` f
+        _ -> False
+      rrReached res `shouldSatisfy` (< 2)
