@@ -61,6 +61,14 @@ if [ "$stub" != 1 ]; then
   else
     echo "kinematics responses differ between the Python and the C++ client"; status=1
   fi
+  echo "== Robot selection: Python and C++ examples, responses compared byte for byte"
+  python3 "$here/python/select_example.py" --port "$port" --out "$tmp/sel-py.bin" || status=1
+  "$here/cpp/build/vprof_select" --port "$port" --out "$tmp/sel-cpp.bin" || status=1
+  if cmp -s "$tmp/sel-py.bin" "$tmp/sel-cpp.bin"; then
+    echo "selection responses identical ($(wc -c < "$tmp/sel-py.bin") bytes)"
+  else
+    echo "selection responses differ between the Python and the C++ client"; status=1
+  fi
 fi
 echo "== C++ checker self test"
 "$here/cpp/build/vprof_check" --selftest >/dev/null || { echo "checker self test failed"; status=1; }

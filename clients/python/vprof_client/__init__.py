@@ -160,6 +160,10 @@ class Client:
         """Inverse kinematics: an IkRequest in, its IkResponse out (check .error)."""
         return self._body("ik", ik_request, "ik")
 
+    def select(self, select_request):
+        """Robot selection: a SelectRequest in, its SelectResponse out (check .error)."""
+        return self._body("select", select_request, "select")
+
 
 def request_from_json(obj, request_id=0):
     """A ProfileRequest from a dict with proto3 JSON field names; other keys (name, note,

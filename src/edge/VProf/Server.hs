@@ -177,6 +177,7 @@ outcomeOf r
   | Just _ <- getField (rspPong r) = ("ok", Nothing, Nothing, Nothing)
   | Just f <- getField (rspFk r) = (maybe "ok" codeOf (getField (fksError f)), Nothing, Nothing, Nothing)
   | Just k <- getField (rspIk r) = (maybe "ok" codeOf (getField (ikrError k)), Nothing, Nothing, Nothing)
+  | Just s <- getField (rspSelect r) = (maybe "ok" codeOf (getField (slrError s)), Nothing, Nothing, Nothing)
   | otherwise = ("empty", Nothing, Nothing, Nothing)
   where codeOf e = errorCodeName (getEnum (getField (errCode e)))
 

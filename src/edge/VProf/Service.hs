@@ -1,6 +1,6 @@
 {-# LANGUAGE OverloadedStrings #-}
--- | The daemon's request handler: one classified request body (profile, compress, ping, fk or ik)
--- to one response, and how long each kind may take. Never throws: every failure,
+-- | The daemon's request handler: one classified request body (profile, compress, ping, fk, ik or
+-- select) to one response, and how long each kind may take. Never throws: every failure,
 -- including a bug, becomes an 'ErrorMsg' in the response.
 module VProf.Service
   ( service
@@ -17,6 +17,7 @@ import VProf.Server (Handler (..))
 import VProf.Service.Compress
 import VProf.Service.Kinematics
 import VProf.Service.Profile
+import VProf.Service.Select
 import VProf.Version (versionString)
 import VProf.Wire.Envelope
 import VProf.Wire.Messages
@@ -25,7 +26,7 @@ import VProf.Wire.Messages
 service :: Handler
 service = Handler answer timeLimit
 
--- | Answer one body; the envelope's request_id is also the profile, FK and IK response's.
+-- | Answer one body; the envelope's request_id is also the profile, FK, IK and select response's.
 answer :: Word64 -> Incoming -> IO ResponseMsg
 answer rid inc = do
   r <- try $ case inc of
@@ -33,6 +34,7 @@ answer rid inc = do
     InCompress c -> compressedResponse rid <$> serveCompress c
     InFk f -> fkResponse rid <$> serveFk f { fkqRequestId = putField (nonDefault rid) }
     InIk k -> ikResponse rid <$> serveIk k { ikqRequestId = putField (nonDefault rid) }
+    InSelect sq -> selectResponse rid <$> serveSelect sq { slqRequestId = putField (nonDefault rid) }
     InPing pg -> pure (emptyResponse rid)
       { rspPong = putField (Just (PongMsg (putField (getField (pingPayload pg))) (putField (nonDefault (T.pack versionString))))) }
   pure $ case r of
@@ -47,3 +49,4 @@ timeLimit = \case
   InPing _ -> 0
   InFk _ -> fkTimeLimit
   InIk k -> ikTimeLimit k
+  InSelect sq -> selectTimeLimit sq

@@ -61,7 +61,7 @@ viaEnvelope req = do
   either fail pure (decodeBare out)
 
 envelope :: Maybe FkRequestMsg -> Maybe IkRequestMsg -> RequestMsg
-envelope f k = RequestMsg (putField (Just 99)) (putField Nothing) (putField Nothing) (putField Nothing) (putField f) (putField k)
+envelope f k = RequestMsg (putField (Just 99)) (putField Nothing) (putField Nothing) (putField Nothing) (putField f) (putField k) (putField Nothing)
 
 ------------------------------------------------------------------------------ reading responses
 

@@ -152,12 +152,14 @@ request :: Obj -> Parser RequestMsg
 request o = RequestMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msg profileRequest o "profile")
   <*> (putField <$> msg compressRequest o "compress") <*> (putField <$> msg ping o "ping")
   <*> (putField <$> msg fkRequest o "fk") <*> (putField <$> msg ikRequest o "ik")
+  <*> (putField <$> msg selectRequest o "select")
 
 response :: Obj -> Parser ResponseMsg
 response o = ResponseMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msg profileResponse o "profile")
   <*> (putField <$> msg compressedPath o "compressed") <*> (putField <$> msg pong o "pong")
   <*> (putField <$> msg errorMsg o "error")
   <*> (putField <$> msg fkResponse o "fk") <*> (putField <$> msg ikResponse o "ik")
+  <*> (putField <$> msg selectResponse o "select")
 
 ping :: Obj -> Parser PingMsg
 ping o = PingMsg . putField <$> str o "payload"
@@ -266,3 +268,43 @@ ikResponse :: Obj -> Parser IkResponseMsg
 ikResponse o = IkResponseMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msgs ikSolution o "solutions")
   <*> (putField <$> str o "solver") <*> (putField <$> dbl o "compute_time")
   <*> (putField <$> msg errorMsg o "error") <*> (putField <$> u32 o "dof")
+
+selectFailureNames :: [Text]
+selectFailureNames = [ "SELECT_FAILURE_NONE", "SELECT_FAILURE_REACH", "SELECT_FAILURE_JOINT_LIMITS"
+                     , "SELECT_FAILURE_ORIENTATION", "SELECT_FAILURE_COLLISION", "SELECT_FAILURE_SINGULAR"
+                     , "SELECT_FAILURE_BUDGET", "SELECT_FAILURE_PATH", "SELECT_FAILURE_OTHER" ]
+
+capsule :: Obj -> Parser CapsuleMsg
+capsule o = CapsuleMsg <$> d "ax" <*> d "ay" <*> d "az" <*> d "bx" <*> d "by" <*> d "bz" <*> d "radius"
+  where d k = putField <$> dbl o k
+
+selectRequest :: Obj -> Parser SelectRequestMsg
+selectRequest o = SelectRequestMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msgs mesh o "environment")
+  <*> (putField <$> msg pose o "base") <*> (putField <$> msg pose o "tool") <*> (putField <$> msg capsule o "tool_capsule")
+  <*> d "payload" <*> d "clearance" <*> (putField <$> msgs pose o "targets") <*> (putField <$> bool o "path")
+  <*> d "path_step" <*> (putField <$> msgs robot o "robots") <*> (putField <$> u32s o "ignore_bodies")
+  where d k = putField <$> dbl o k
+
+selectTarget :: Obj -> Parser SelectTargetMsg
+selectTarget o = SelectTargetMsg <$> s "label" <*> (putField <$> bool o "reached") <*> (putField <$> dbls o "joints")
+  <*> s "branch" <*> d "clearance" <*> s "clearance_body" <*> d "manipulability" <*> s "failure"
+  <*> (putField <$> enum selectFailureNames o "failure_code")
+  where d k = putField <$> dbl o k
+        s k = putField <$> str o k
+
+selectSegment :: Obj -> Parser SelectSegmentMsg
+selectSegment o = SelectSegmentMsg <$> (putField <$> u32 o "from") <*> (putField <$> u32 o "to")
+  <*> (putField <$> u32 o "samples") <*> (putField <$> str o "failure")
+
+selectRobotResult :: Obj -> Parser SelectRobotResultMsg
+selectRobotResult o = SelectRobotResultMsg <$> s "robot" <*> s "name" <*> (putField <$> u32 o "rank") <*> s "rejected"
+  <*> (putField <$> msgs selectTarget o "targets") <*> (putField <$> msgs selectSegment o "segments")
+  <*> (putField <$> u32 o "reached") <*> (putField <$> u32 o "total") <*> (putField <$> bool o "complete")
+  <*> d "min_clearance" <*> s "min_clearance_body" <*> d "min_manipulability" <*> d "cycle_time"
+  <*> s "cycle_time_note" <*> d "score" <*> (putField <$> u32 o "dof")
+  where d k = putField <$> dbl o k
+        s k = putField <$> str o k
+
+selectResponse :: Obj -> Parser SelectResponseMsg
+selectResponse o = SelectResponseMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msgs selectRobotResult o "robots")
+  <*> (putField <$> dbl o "compute_time") <*> (putField <$> msg errorMsg o "error") <*> (putField <$> msgs errorMsg o "errors")

@@ -13,6 +13,7 @@ module VProf.Select.Selection
   ( SelectOptions (..)
   , defaultSelectOptions
   , TargetResult (..)
+  , FailureKind (..)
   , SegmentResult (..)
   , RobotResult (..)
   , robotComplete
@@ -63,14 +64,34 @@ data TargetResult = TargetResult
   , trClearanceBody :: Maybe String
   , trManipulability :: Maybe Double
   , trFailure :: Maybe String
+  , trFailureKind :: Maybe FailureKind    -- ^ the kind of trFailure, for a program
   }
   deriving (Eq, Show)
+
+-- | Why a target is not reached, as a kind: beyond (or inside) the reach, every solution outside a
+-- joint limit, an orientation the arm cannot take, every solution in collision (with the cell or
+-- itself), a singularity, the numerical solver's budget, anything else (a bad request).
+data FailureKind
+  = FailReach | FailJointLimits | FailOrientation | FailCollision | FailSingular | FailBudget | FailOther
+  deriving (Eq, Show, Enum, Bounded)
+
+ikFailureKind :: IkFailure -> FailureKind
+ikFailureKind = \case
+  BeyondReach {} -> FailReach
+  InsideReach {} -> FailReach
+  Unreachable {} -> FailReach
+  OutsideLimits {} -> FailJointLimits
+  OrientationUnreachable {} -> FailOrientation
+  Singular {} -> FailSingular
+  NotConverged {} -> FailBudget
+  InvalidRequest {} -> FailOther
 
 -- | Path tasks: the segment from target sgFrom to the next.
 data SegmentResult = SegmentResult
   { sgFrom :: Int
   , sgSamples :: Int               -- ^ poses checked
   , sgFailure :: Maybe String
+  , sgTo :: Int                    -- ^ the target the segment leads to
   }
   deriving (Eq, Show)
 
@@ -142,10 +163,10 @@ evaluateRobot opts task bvh key robot0
         go prev ((i, t) : rest) =
           let (res, seg) = case (taskPath task, prev) of
                 (True, Just (j, q0, p0)) -> case walk q0 p0 (tgPose t) of
-                  Right (k, qEnd) -> (describe t qEnd Nothing, Just (SegmentResult j k Nothing))
+                  Right (k, qEnd) -> (describe t qEnd Nothing, Just (SegmentResult j k Nothing i))
                   Left (k, why) ->
                     ( solveTarget (Just q0) t
-                    , Just (SegmentResult j k (Just ("segment " ++ show j ++ " -> " ++ show i ++ " " ++ why))) )
+                    , Just (SegmentResult j k (Just ("segment " ++ show j ++ " -> " ++ show i ++ " " ++ why)) i) )
                 _ -> (solveTarget (if soSeeded opts then (\(_, q, _) -> q) <$> prev else Nothing) t, Nothing)
               next = case trJoints res of
                 Just q -> Just (i, q, tgPose t)
@@ -155,12 +176,12 @@ evaluateRobot opts task bvh key robot0
     distanceOf t = v3Norm (v3Sub (translation (tgPose t)) centre)
     solveTarget seed t
       | distanceOf t > bound + 1e-9 =
-          failed t ("beyond reach: " ++ showM (distanceOf t) ++ " from the first joint, the arm with its tool reaches at most " ++ showM bound)
+          failed t FailReach ("beyond reach: " ++ showM (distanceOf t) ++ " from the first joint, the arm with its tool reaches at most " ++ showM bound)
       | otherwise = case fastPath seed (tgPose t) of
           Just c -> describe t (solJoints (cdSolution c)) (solBranch (cdSolution c))
           Nothing -> case solveCollisionFree sopts kin cm bvh (tgPose t) seed of
-            Left (IkFailed f) -> failed t (describeFailure f)
-            Left f -> failed t (describeSelectIkFailure sopts f)
+            Left (IkFailed f) -> failed t (ikFailureKind f) (describeFailure f)
+            Left f -> failed t FailCollision (describeSelectIkFailure sopts f)
             Right cs ->
               let pick = case seed of
                     Nothing -> head cs
@@ -193,8 +214,8 @@ evaluateRobot opts task bvh key robot0
       let cl = robotClearance cm bvh q
           (_, jac) = jacobian ch q
       in TargetResult (tgLabel t) (Just q) br (clrDistance <$> cl) (clrBodyName <$> cl)
-                      (Just (manipulability (chainDof ch) jac)) Nothing
-    failed t why = TargetResult (tgLabel t) Nothing Nothing Nothing Nothing Nothing (Just why)
+                      (Just (manipulability (chainDof ch) jac)) Nothing Nothing
+    failed t kind why = TargetResult (tgLabel t) Nothing Nothing Nothing Nothing Nothing (Just why) (Just kind)
 
     -- IK continuation along the straight segment: each sample's solution nearest the previous
     -- one, no joint stepping more than maxJointStep, clear of the cell and of itself

@@ -17,6 +17,7 @@ module VProf.Wire.Envelope
   , compressedResponse
   , fkResponse
   , ikResponse
+  , selectResponse
   , responseKind
   , errorCodeName
   ) where
@@ -34,9 +35,10 @@ data Incoming
   | InPing PingMsg
   | InFk FkRequestMsg
   | InIk IkRequestMsg
+  | InSelect SelectRequestMsg
   deriving (Eq, Show)
 
--- | "profile", "compress", "ping", "fk" or "ik" (as logged).
+-- | "profile", "compress", "ping", "fk", "ik" or "select" (as logged).
 incomingKind :: Incoming -> Text
 incomingKind = \case
   InProfile _ -> "profile"
@@ -44,6 +46,7 @@ incomingKind = \case
   InPing _ -> "ping"
   InFk _ -> "fk"
   InIk _ -> "ik"
+  InSelect _ -> "select"
 
 requestIdOf :: RequestMsg -> Word64
 requestIdOf = orDefault . getField . reqRequestId
@@ -53,17 +56,18 @@ classify :: RequestMsg -> Either ErrorMsg Incoming
 classify r = case bodies of
   [b] -> Right b
   [] -> Left (mkError ErrInvalidArgument "body"
-               "Request.body is empty: set exactly one of profile, compress, ping, fk, ik")
+               "Request.body is empty: set exactly one of profile, compress, ping, fk, ik, select")
   bs -> Left (mkError ErrInvalidArgument "body"
                ("Request.body has " <> T.pack (show (length bs)) <> " bodies ("
                 <> T.intercalate ", " (map incomingKind bs)
-                <> "): set exactly one of profile, compress, ping, fk, ik"))
+                <> "): set exactly one of profile, compress, ping, fk, ik, select"))
   where
     bodies = maybe [] (pure . InProfile) (getField (reqProfile r))
           ++ maybe [] (pure . InCompress) (getField (reqCompress r))
           ++ maybe [] (pure . InPing) (getField (reqPing r))
           ++ maybe [] (pure . InFk) (getField (reqFk r))
           ++ maybe [] (pure . InIk) (getField (reqIk r))
+          ++ maybe [] (pure . InSelect) (getField (reqSelect r))
 
 mkError :: ErrorCodeEnum -> Text -> Text -> ErrorMsg
 mkError code field msg = ErrorMsg
@@ -82,6 +86,7 @@ emptyResponse rid = ResponseMsg
   , rspError = putField Nothing
   , rspFk = putField Nothing
   , rspIk = putField Nothing
+  , rspSelect = putField Nothing
   }
 
 -- | A Response whose body is an Error.
@@ -106,7 +111,11 @@ fkResponse rid p = (emptyResponse rid) { rspFk = putField (Just p) }
 ikResponse :: Word64 -> IkResponseMsg -> ResponseMsg
 ikResponse rid p = (emptyResponse rid) { rspIk = putField (Just p) }
 
--- | The body a response carries: "profile", "compressed", "pong", "error", "fk", "ik" or "empty".
+selectResponse :: Word64 -> SelectResponseMsg -> ResponseMsg
+selectResponse rid p = (emptyResponse rid) { rspSelect = putField (Just p) }
+
+-- | The body a response carries: "profile", "compressed", "pong", "error", "fk", "ik", "select" or
+-- "empty".
 responseKind :: ResponseMsg -> Text
 responseKind r
   | Just _ <- getField (rspProfile r) = "profile"
@@ -115,6 +124,7 @@ responseKind r
   | Just _ <- getField (rspError r) = "error"
   | Just _ <- getField (rspFk r) = "fk"
   | Just _ <- getField (rspIk r) = "ik"
+  | Just _ <- getField (rspSelect r) = "select"
   | otherwise = "empty"
 
 -- | The lower-case name of an error code as logged (@invalid_argument@, ...).

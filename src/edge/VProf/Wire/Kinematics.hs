@@ -15,6 +15,7 @@ module VProf.Wire.Kinematics
   , ikFromMsg
   , robotFromMsg
   , poseFromMsg
+  , meshFromMsg
     -- * Responses
   , fkToMsg
   , ikToMsg

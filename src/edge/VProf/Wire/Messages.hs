@@ -32,6 +32,14 @@ module VProf.Wire.Messages
   , IkRequestMsg (..)
   , IkSolutionMsg (..)
   , IkResponseMsg (..)
+    -- * Robot selection
+  , CapsuleMsg (..)
+  , SelectRequestMsg (..)
+  , SelectFailureEnum (..)
+  , SelectTargetMsg (..)
+  , SelectSegmentMsg (..)
+  , SelectRobotResultMsg (..)
+  , SelectResponseMsg (..)
     -- * Daemon envelope
   , PingMsg (..)
   , PongMsg (..)
@@ -354,6 +362,120 @@ data IkResponseMsg = IkResponseMsg
 instance Encode IkResponseMsg
 instance Decode IkResponseMsg
 
+----------------------------------------------------------------------------- selection
+
+data CapsuleMsg = CapsuleMsg
+  { cslMsgAx     :: Optional 1 (Value Double)
+  , cslMsgAy     :: Optional 2 (Value Double)
+  , cslMsgAz     :: Optional 3 (Value Double)
+  , cslMsgBx     :: Optional 4 (Value Double)
+  , cslMsgBy     :: Optional 5 (Value Double)
+  , cslMsgBz     :: Optional 6 (Value Double)
+  , cslMsgRadius :: Optional 7 (Value Double)
+  } deriving (Generic, Show, Eq)
+instance Encode CapsuleMsg
+instance Decode CapsuleMsg
+
+data SelectRequestMsg = SelectRequestMsg
+  { slqRequestId    :: Optional 1 (Value Word64)
+  , slqEnvironment  :: Repeated 2 (Message MeshMsg)
+  , slqBase         :: Optional 3 (Message PoseMsg)
+  , slqTool         :: Optional 4 (Message PoseMsg)
+  , slqToolCapsule  :: Optional 5 (Message CapsuleMsg)
+  , slqPayload      :: Optional 6 (Value Double)
+  , slqClearance    :: Optional 7 (Value Double)
+  , slqTargets      :: Repeated 8 (Message PoseMsg)
+  , slqPath         :: Optional 9 (Value Bool)
+  , slqPathStep     :: Optional 10 (Value Double)
+  , slqRobots       :: Repeated 11 (Message RobotMsg)
+  , slqIgnoreBodies :: Packed 12 (Value Word32)
+  } deriving (Generic, Show, Eq)
+instance Encode SelectRequestMsg
+instance Decode SelectRequestMsg
+
+-- | Constructors in wire-number order; an unknown number decodes to 'SelectFailureOther'.
+data SelectFailureEnum
+  = SelectFailureNone | SelectFailureReach | SelectFailureJointLimits | SelectFailureOrientation
+  | SelectFailureCollision | SelectFailureSingular | SelectFailureBudget | SelectFailurePath
+  | SelectFailureOther
+  deriving (Eq, Show, Bounded)
+
+instance Enum SelectFailureEnum where
+  fromEnum = \case
+    SelectFailureNone -> 0
+    SelectFailureReach -> 1
+    SelectFailureJointLimits -> 2
+    SelectFailureOrientation -> 3
+    SelectFailureCollision -> 4
+    SelectFailureSingular -> 5
+    SelectFailureBudget -> 6
+    SelectFailurePath -> 7
+    SelectFailureOther -> 8
+  toEnum = \case
+    0 -> SelectFailureNone
+    1 -> SelectFailureReach
+    2 -> SelectFailureJointLimits
+    3 -> SelectFailureOrientation
+    4 -> SelectFailureCollision
+    5 -> SelectFailureSingular
+    6 -> SelectFailureBudget
+    7 -> SelectFailurePath
+    _ -> SelectFailureOther
+
+data SelectTargetMsg = SelectTargetMsg
+  { stLabel          :: Optional 1 (Value Text)
+  , stReached        :: Optional 2 (Value Bool)
+  , stJoints         :: Packed 3 (Value Double)
+  , stBranch         :: Optional 4 (Value Text)
+  , stClearance      :: Optional 5 (Value Double)
+  , stClearanceBody  :: Optional 6 (Value Text)
+  , stManipulability :: Optional 7 (Value Double)
+  , stFailure        :: Optional 8 (Value Text)
+  , stFailureCode    :: Optional 9 (Enumeration SelectFailureEnum)
+  } deriving (Generic, Show, Eq)
+instance Encode SelectTargetMsg
+instance Decode SelectTargetMsg
+
+data SelectSegmentMsg = SelectSegmentMsg
+  { ssFrom    :: Optional 1 (Value Word32)
+  , ssTo      :: Optional 2 (Value Word32)
+  , ssSamples :: Optional 3 (Value Word32)
+  , ssFailure :: Optional 4 (Value Text)
+  } deriving (Generic, Show, Eq)
+instance Encode SelectSegmentMsg
+instance Decode SelectSegmentMsg
+
+data SelectRobotResultMsg = SelectRobotResultMsg
+  { srRobot             :: Optional 1 (Value Text)
+  , srName              :: Optional 2 (Value Text)
+  , srRank              :: Optional 3 (Value Word32)
+  , srRejected          :: Optional 4 (Value Text)
+  , srTargets           :: Repeated 5 (Message SelectTargetMsg)
+  , srSegments          :: Repeated 6 (Message SelectSegmentMsg)
+  , srReached           :: Optional 7 (Value Word32)
+  , srTotal             :: Optional 8 (Value Word32)
+  , srComplete          :: Optional 9 (Value Bool)
+  , srMinClearance      :: Optional 10 (Value Double)
+  , srMinClearanceBody  :: Optional 11 (Value Text)
+  , srMinManipulability :: Optional 12 (Value Double)
+  , srCycleTime         :: Optional 13 (Value Double)
+  , srCycleTimeNote     :: Optional 14 (Value Text)
+  , srScore             :: Optional 15 (Value Double)
+  , srDof               :: Optional 16 (Value Word32)
+  } deriving (Generic, Show, Eq)
+instance Encode SelectRobotResultMsg
+instance Decode SelectRobotResultMsg
+
+data SelectResponseMsg = SelectResponseMsg
+  { slrRequestId   :: Optional 1 (Value Word64)
+  , slrRobots      :: Repeated 2 (Message SelectRobotResultMsg)
+  , slrComputeTime :: Optional 3 (Value Double)
+  , slrError       :: Optional 4 (Message ErrorMsg)
+  , slrErrors      :: Repeated 5 (Message ErrorMsg)
+  } deriving (Generic, Show, Eq)
+instance Encode SelectResponseMsg
+instance Decode SelectResponseMsg
+
 ----------------------------------------------------------------------------- envelope
 
 data PingMsg = PingMsg
@@ -379,7 +501,8 @@ data RequestMsg = RequestMsg
   , reqPing      :: Optional 4 (Message PingMsg)
   , reqFk        :: Optional 5 (Message FkRequestMsg)
   , reqIk        :: Optional 6 (Message IkRequestMsg)
-    -- 7 and 8 are reserved for the select and plan requests
+  , reqSelect    :: Optional 7 (Message SelectRequestMsg)
+    -- 8 is reserved for the plan request
   } deriving (Generic, Show, Eq)
 instance Encode RequestMsg
 instance Decode RequestMsg
@@ -392,7 +515,8 @@ data ResponseMsg = ResponseMsg
   , rspError      :: Optional 5 (Message ErrorMsg)
   , rspFk         :: Optional 6 (Message FkResponseMsg)
   , rspIk         :: Optional 7 (Message IkResponseMsg)
-    -- 8 and 9 are reserved for the select and plan responses
+  , rspSelect     :: Optional 8 (Message SelectResponseMsg)
+    -- 9 is reserved for the plan response
   } deriving (Generic, Show, Eq)
 instance Encode ResponseMsg
 instance Decode ResponseMsg

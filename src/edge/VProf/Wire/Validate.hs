@@ -26,6 +26,7 @@ data MsgType
   = TRequest | TResponse | TProfileRequest | TSpeedLimit | TProfileResponse | TViolation
   | TError | TPoses | TCompressRequest | TCompressMetrics | TCompressedPath | TPing | TPong
   | TRobot | TPose | TFkRequest | TFkResponse | TMesh | TIkRequest | TIkSolution | TIkResponse
+  | TCapsule | TSelectRequest | TSelectTarget | TSelectSegment | TSelectRobotResult | TSelectResponse
   deriving (Eq, Show, Enum, Bounded)
 
 data Kind = KVarint | KF64 | KStr | KMsg MsgType | KPackedF64 | KPackedVarint
@@ -33,9 +34,9 @@ data Kind = KVarint | KF64 | KStr | KMsg MsgType | KPackedF64 | KPackedVarint
 fields :: MsgType -> Word64 -> Maybe Kind
 fields t n = case t of
   TRequest -> lookup n [ (1, KVarint), (2, KMsg TProfileRequest), (3, KMsg TCompressRequest), (4, KMsg TPing)
-                       , (5, KMsg TFkRequest), (6, KMsg TIkRequest) ]
+                       , (5, KMsg TFkRequest), (6, KMsg TIkRequest), (7, KMsg TSelectRequest) ]
   TResponse -> lookup n [ (1, KVarint), (2, KMsg TProfileResponse), (3, KMsg TCompressedPath), (4, KMsg TPong), (5, KMsg TError)
-                        , (6, KMsg TFkResponse), (7, KMsg TIkResponse) ]
+                        , (6, KMsg TFkResponse), (7, KMsg TIkResponse), (8, KMsg TSelectResponse) ]
   TProfileRequest
     | n == 1 || n == 14 || n == 17 -> Just KVarint
     | n == 3 -> Just (KMsg TSpeedLimit)
@@ -74,6 +75,16 @@ fields t n = case t of
                          , (7, KF64), (8, KF64), (9, KMsg TMesh), (10, KF64), (11, KPackedVarint) ]
   TIkSolution -> lookup n [(1, KPackedF64), (2, KF64), (3, KF64), (4, KStr), (5, KF64), (6, KF64), (7, KF64)]
   TIkResponse -> lookup n [(1, KVarint), (2, KMsg TIkSolution), (3, KStr), (4, KF64), (5, KMsg TError), (6, KVarint)]
+  TCapsule -> if n >= 1 && n <= 7 then Just KF64 else Nothing
+  TSelectRequest -> lookup n [ (1, KVarint), (2, KMsg TMesh), (3, KMsg TPose), (4, KMsg TPose), (5, KMsg TCapsule), (6, KF64)
+                             , (7, KF64), (8, KMsg TPose), (9, KVarint), (10, KF64), (11, KMsg TRobot), (12, KPackedVarint) ]
+  TSelectTarget -> lookup n [ (1, KStr), (2, KVarint), (3, KPackedF64), (4, KStr), (5, KF64), (6, KStr), (7, KF64)
+                            , (8, KStr), (9, KVarint) ]
+  TSelectSegment -> lookup n [(1, KVarint), (2, KVarint), (3, KVarint), (4, KStr)]
+  TSelectRobotResult -> lookup n [ (1, KStr), (2, KStr), (3, KVarint), (4, KStr), (5, KMsg TSelectTarget)
+                                 , (6, KMsg TSelectSegment), (7, KVarint), (8, KVarint), (9, KVarint), (10, KF64)
+                                 , (11, KStr), (12, KF64), (13, KF64), (14, KStr), (15, KF64), (16, KVarint) ]
+  TSelectResponse -> lookup n [(1, KVarint), (2, KMsg TSelectRobotResult), (3, KF64), (4, KMsg TError), (5, KMsg TError)]
 
 -- | @Right ()@ when the bytes are a well-formed encoding of the message type; otherwise a
 -- message saying where (byte offset, field path) and what is wrong.
