@@ -1,7 +1,7 @@
 """Write bare ProfileRequest files (NAME.pb) from a request JSON file (one request or
 {"cases": [...]}, proto3 JSON names, extra keys ignored), with protoc-generated code.
 
-    python3 clients/make_examples.py /work/shared/reference/velocity-cases.json OUTDIR
+    python3 clients/make_examples.py ../shared/reference/velocity-cases.json OUTDIR
 """
 import os
 import re

@@ -23,7 +23,8 @@ from vprof_client import Client, load_cases, pb, request_from_json, write_frame,
 
 DAEMON = os.environ.get("VPROF_DAEMON", "vprof")
 REAL = os.environ.get("VPROF_REAL") == "1"
-CASES = os.environ.get("VPROF_CASES", "/work/shared/reference/velocity-cases.json")
+SHARED = os.environ.get("VPROF_SHARED", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "..", "shared"))
+CASES = os.environ.get("VPROF_CASES", os.path.join(SHARED, "reference", "velocity-cases.json"))
 
 
 def start_daemon(*extra):
