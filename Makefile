@@ -5,13 +5,14 @@
 # and for the figures:
 #   make bench  criterion benchmarks (bench/), and bench/compare against Ruckig
 #   make compare-kinematics  closed-form and numerical IK beside EAIK, roboticstoolbox, TRAC-IK
+#   make compare-compress  path compression beside TD-TR, the optimal subset, a free LS fit and the floor
 
 STACK ?= stack
 # a fixed QuickCheck seed keeps CI reproducible; VPROF_SEED=random explores new cases
 VPROF_SEED ?= 42
 SEED_ARG := $(if $(filter random,$(VPROF_SEED)),,--seed $(VPROF_SEED))
 
-.PHONY: all deps build run test test-fast hspec check-examples bench compare compare-kinematics clean
+.PHONY: all deps build run test test-fast hspec check-examples bench compare compare-kinematics compare-compress clean
 all: build
 
 deps:
@@ -64,6 +65,9 @@ compare: build
 # own bench/.venv and an -O2 build of its driver under .stack-work-bench; no test depends on it
 compare-kinematics:
 	python3 bench/compare-kinematics
+
+compare-compress:
+	python3 bench/compare-compress
 
 clean:
 	$(STACK) clean
