@@ -12,7 +12,7 @@ STACK ?= stack
 VPROF_SEED ?= 42
 SEED_ARG := $(if $(filter random,$(VPROF_SEED)),,--seed $(VPROF_SEED))
 
-.PHONY: all deps build run test test-fast hspec check-examples bench compare compare-kinematics compare-compress clean
+.PHONY: all deps build run test test-fast hspec check-examples bench compare compare-kinematics clean
 all: build
 
 deps:
@@ -66,6 +66,7 @@ compare: build
 compare-kinematics:
 	python3 bench/compare-kinematics
 
+.PHONY: compare-compress
 compare-compress:
 	python3 bench/compare-compress
 
