@@ -5,6 +5,7 @@
 # and for the figures:
 #   make bench  criterion benchmarks (bench/), and bench/compare against Ruckig
 #   make compare-kinematics  closed-form and numerical IK beside EAIK, roboticstoolbox, TRAC-IK
+#   make compare-compress  path compression beside TD-TR, the optimal subset, a free LS fit and the floor
 
 STACK ?= stack
 # a fixed QuickCheck seed keeps CI reproducible; VPROF_SEED=random explores new cases
@@ -69,6 +70,10 @@ compare: build
 # own bench/.venv and an -O2 build of its driver under .stack-work-bench; no test depends on it
 compare-kinematics:
 	python3 bench/compare-kinematics
+
+.PHONY: compare-compress
+compare-compress:
+	python3 bench/compare-compress
 
 clean:
 	$(STACK) clean
