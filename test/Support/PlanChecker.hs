@@ -4,7 +4,10 @@
 --
 -- * every joint value within its position limits (to 1e-9);
 -- * every joint speed, by forward differences of q over the time step, within its published
---   limit, with a tolerance of 0.1 % (the plan interpolates q linearly between IK samples);
+--   limit, with a tolerance of 0.1 %;
+-- * every joint acceleration, by second differences (q_{k+1} − 2·q_k + q_{k−1}) / dt², within its
+--   limit — the robot file's max_acceleration, else the documented default 2·q̇max per second —
+--   with a tolerance of 1 %;
 -- * the TCP, by a textbook forward kinematics ("Support.FkOracle": one 4×4 matrix a DH step),
 --   within the zone of the waypoint polyline: its distance to the nearest segment at most the
 --   zone radius + 0.1 mm;
@@ -14,6 +17,8 @@ module Support.PlanChecker
   , oracleTcp
   , polylineDistance
   , speedTolerance
+  , accelerationTolerance
+  , jointAccelerationLimit
   , tcpTolerance
   ) where
 
@@ -26,8 +31,16 @@ import VProf.Plan (LimitZone (..), Plan (..), Trajectory (..))
 import VProf.Profile (Request (..), SpeedZone (..), check, defaultRequest, renderViolation, resProfile, validate)
 import VProf.Units
 
-speedTolerance, tcpTolerance :: Double
+speedTolerance, tcpTolerance, accelerationTolerance :: Double
 speedTolerance = 1e-3
+accelerationTolerance = 1e-2
+
+-- | A joint's acceleration limit: the published one, else twice its speed limit per second.
+jointAccelerationLimit :: Joint -> Maybe Double
+jointAccelerationLimit j = case (jointMaxAcceleration j, jointMaxVelocity j) of
+  (Just a, _) -> Just a
+  (Nothing, Just v) -> Just (2 * v)
+  _ -> Nothing
 tcpTolerance = 1e-4
 
 -- | The TCP position (m) at joint values q by the textbook matrices.
@@ -70,6 +83,11 @@ checkTrajectory r wps zone acc jerk dt plan = concat
            | k <- [0 .. m - 2], (i, j) <- zip [0 ..] joints, Just vmax <- [jointMaxVelocity j]
            , let sp = abs (q (k + 1) i - q k i) / (t (k + 1) - t k)
            , sp > vmax * (1 + speedTolerance) + 1e-9 ]
+  , take 5 [ "sample " ++ show k ++ ": " ++ jointName j ++ " acceleration " ++ show ac ++ " above its limit " ++ show amax
+           | k <- [1 .. m - 2], (i, j) <- zip [0 ..] joints, Just amax <- [jointAccelerationLimit j]
+           , let h = t (k + 1) - t k
+           , let ac = abs (q (k + 1) i - 2 * q k i + q (k - 1) i) / (h * h)
+           , ac > amax * (1 + accelerationTolerance) + 1e-6 ]
   , take 5 [ "sample " ++ show k ++ ": the TCP is " ++ show (d * 1000) ++ " mm from the waypoint polyline (zone "
              ++ show (zone * 1000) ++ " mm)"
            | k <- [0 .. m - 1], let d = polylineDistance wps (oracleTcp r [ q k i | i <- [0 .. n - 1] ])

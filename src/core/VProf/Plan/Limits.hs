@@ -2,13 +2,16 @@
 -- | The TCP speed limit along the route, from the robot and the route's geometry, and the
 -- piecewise-constant speed zones of a profile request that never exceed it.
 --
--- On every step [s_k, s_{k+1}] of the tracked grid the limit is the least of: the TCP speed
--- limit; every joint's speed limit over its slope, q̇max_i / |Δq_i/Δs|; every joint's
--- acceleration limit through the conservative rule v²·|d²q_i/ds²| ≤ q̈max_i at both ends of the
--- step; and on a blend of radius r the centripetal bound √(a_max·r). The zones take the minimum
--- over their steps, rounded down to a geometric ladder of speeds (so that zones are not tiny),
--- and zones shorter than a minimum length are merged into their neighbour, again by the minimum:
--- a zone's limit is never above the limit of any step it touches. See docs/plan.md.
+-- The joint path q(s) is the smooth interpolant of the tracked samples ('JointPath'). On every
+-- step [s_k, s_{k+1}] of the grid the limit is the least of: the TCP speed limit; every joint's
+-- speed limit over its largest slope on the step, q̇max_i / max|q_i'|; every joint's share
+-- (1 − 'loAccelerationShare') of its acceleration limit over its largest curvature on the step,
+-- √((1 − share)·q̈max_i / max|q_i''|); and on a blend of radius r the centripetal bound √(a_max·r).
+-- The other share bounds the tangential part q_i'·a of the joint acceleration through the TCP
+-- acceleration of each stretch ('tangentialLimit'). The zones take the minimum over their steps,
+-- rounded down to a geometric ladder of speeds (so that zones are not tiny), and zones shorter
+-- than a minimum length are merged into their neighbour, again by the minimum: a zone's limit is
+-- never above the limit of any step it touches. See docs/plan.md.
 module VProf.Plan.Limits
   ( Binding (..)
   , describeBinding
@@ -16,6 +19,9 @@ module VProf.Plan.Limits
   , defaultJointAcceleration
   , StepLimits (..)
   , stepLimits
+  , stepLimitsOn
+  , defaultAccelerationShare
+  , tangentialLimit
   , LimitZone (..)
   , limitZones
   , quantiseDown
@@ -51,7 +57,13 @@ data LimitOptions = LimitOptions
   , loTcpAcceleration  :: !Double            -- ^ m/s², the centripetal bound in blends
   , loJointSpeed       :: !(U.Vector Double) -- ^ per joint, rad/s or m/s (infinite: none)
   , loJointAcceleration :: !(U.Vector Double) -- ^ per joint, rad/s² or m/s² (infinite: none)
+  , loAccelerationShare :: !Double            -- ^ the share of q̈max_i for the tangential part q_i'·a
   }
+
+-- | Half of every joint's acceleration limit for the tangential part q_i'·a, half for the
+-- curvature part q_i''·v².
+defaultAccelerationShare :: Double
+defaultAccelerationShare = 0.5
 
 -- | The joint acceleration limit used when the robot file publishes none: twice the speed
 -- limit per second (full speed within half a second); no limit when no speed is published.
@@ -69,31 +81,42 @@ data StepLimits = StepLimits
   } deriving (Show)
 
 stepLimits :: LimitOptions -> Route -> Tracked -> StepLimits
-stepLimits LimitOptions{..} rt tk = StepLimits ss (U.fromList (map fst lims)) (V.fromList (map snd lims))
+stepLimits lo rt tk = stepLimitsOn lo rt (jointPath (rtStops rt) tk)
+
+stepLimitsOn :: LimitOptions -> Route -> JointPath -> StepLimits
+stepLimitsOn LimitOptions{..} rt jp = StepLimits ss (U.fromList (map fst lims)) (V.fromList (map snd lims))
   where
+    tk = jpTracked jp
     ss = tkS tk
     nS = U.length ss
     n = tkDof tk
-    q k i = tkQ tk U.! (k * n + i)
-    -- signed slope of joint i on step k
-    slope k i = (q (k + 1) i - q k i) / (ss U.! (k + 1) - ss U.! k)
-    -- |d²q_i/ds²| at sample k (0 at the ends): the change of slope over the mean step
-    curv k i
-      | k <= 0 || k >= nS - 1 = 0
-      | otherwise = abs (2 * (slope k i - slope (k - 1) i) / (ss U.! (k + 1) - ss U.! (k - 1)))
+    curvShare = 1 - loAccelerationShare
     lims = [ step k | k <- [0 .. nS - 2] ]
     step k =
       let mid = 0.5 * (ss U.! k + ss U.! (k + 1))
           r = routeRadiusAt rt mid
+          bounds = [ stepBounds jp k i | i <- [0 .. n - 1] ]
           cands = (loTcpSpeed, ByTcp)
                 : [ (sqrt (loTcpAcceleration * r), ByCorner) | not (isInfinite r) ]
-               ++ [ (vi / abs d, ByJointSpeed i)
-                  | i <- [0 .. n - 1], let vi = loJointSpeed U.! i, not (isInfinite vi)
-                  , let d = slope k i, abs d > 0 ]
-               ++ [ (sqrt (ai / c), ByJointAcceleration i)
-                  | i <- [0 .. n - 1], let ai = loJointAcceleration U.! i, not (isInfinite ai)
-                  , let c = max (curv k i) (curv (k + 1) i), c > 0 ]
+               ++ [ (vi / d, ByJointSpeed i)
+                  | (i, (d, _)) <- zip [0 ..] bounds, let vi = loJointSpeed U.! i, not (isInfinite vi), d > 0 ]
+               ++ [ (sqrt (curvShare * ai / c), ByJointAcceleration i)
+                  | (i, (_, c)) <- zip [0 ..] bounds, let ai = loJointAcceleration U.! i, not (isInfinite ai), c > 0 ]
       in foldl' (\a b -> if fst b < fst a then b else a) (head cands) (tail cands)
+
+-- | The TCP acceleration that keeps the tangential part of every joint's acceleration within its
+-- share on the stretch [a, b]: the least of share·q̈max_i / max|q_i'| over the steps in it and the
+-- joints (infinite when nothing bounds it). The caller takes the lesser of this and the asked
+-- acceleration.
+tangentialLimit :: LimitOptions -> JointPath -> Double -> Double -> Double
+tangentialLimit LimitOptions{..} jp a b = foldl' min (1 / 0)
+  [ loAccelerationShare * ai / d
+  | k <- [0 .. U.length ss - 2], ss U.! k >= a - 1e-12, ss U.! (k + 1) <= b + 1e-12
+  , i <- [0 .. n - 1], let ai = loJointAcceleration U.! i, not (isInfinite ai)
+  , let (d, _) = stepBounds jp k i, d > 0 ]
+  where
+    ss = tkS (jpTracked jp)
+    n = tkDof (jpTracked jp)
 
 -- | One zone of the profile request: [start, end) at a speed, with what binds it.
 data LimitZone = LimitZone

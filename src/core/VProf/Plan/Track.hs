@@ -19,6 +19,10 @@ module VProf.Plan.Track
   , trackedCount
   , trackedQ
   , trackedAt
+  , JointPath (..)
+  , jointPath
+  , jointPathAt
+  , stepBounds
   , trackRoute
   , smallestSingularValue
   ) where
@@ -116,6 +120,78 @@ trackedAt t s
     seg lo hi
       | hi - lo <= 1 = lo
       | otherwise = let m = (lo + hi) `div` 2 in if ss U.! m <= s then seg m hi else seg lo m
+
+-- | The smooth joint path q(s) through the tracked samples: on every step the cubic Hermite
+-- interpolant of the two samples with slopes dq/ds there, so q(s) is continuous with a continuous
+-- slope (its second derivative only jumps, and stays bounded, at the samples). A sample's slope
+-- is the derivative of the parabola through it and its two neighbours,
+-- (h_{k−1}·d_k + h_k·d_{k−1}) / (h_{k−1} + h_k) for the steps' slopes d and lengths h; at the ends of
+-- the route and at its stops (given as s, where the route may turn without a blend and the
+-- profile is at rest) the slope is one-sided, so the path keeps its corner there.
+data JointPath = JointPath
+  { jpTracked :: !Tracked
+  , jpLeft    :: !(U.Vector Double)   -- ^ (N+1)·n: the slope at each sample, seen from the step before it
+  , jpRight   :: !(U.Vector Double)   -- ^ (N+1)·n: the slope at each sample, seen from the step after it
+  }
+
+jointPath :: [Double] -> Tracked -> JointPath
+jointPath stops tk = JointPath tk (U.generate (nS * n) (slopeAt fst)) (U.generate (nS * n) (slopeAt snd))
+  where
+    ss = tkS tk
+    nS = U.length ss
+    n = tkDof tk
+    h k = ss U.! (k + 1) - ss U.! k
+    d k i = let hk = h k in if hk > 0 then (tkQ tk U.! ((k + 1) * n + i) - tkQ tk U.! (k * n + i)) / hk else 0
+    isStop k = any (\x -> abs (x - ss U.! k) < 1e-9) stops
+    slopeAt side x =
+      let (k, i) = x `divMod` n
+      in if nS < 2 then 0
+         else if k == 0 then d 0 i
+         else if k == nS - 1 then d (k - 1) i
+         else if isStop k then side (d (k - 1) i, d k i)
+         else let a = h (k - 1); b = h k in (a * d k i + b * d (k - 1) i) / (a + b)
+
+-- | The joint vector at s on the smooth path.
+jointPathAt :: JointPath -> Double -> U.Vector Double
+jointPathAt (JointPath t ml mr) s
+  | s <= U.head ss = trackedQ t 0
+  | s >= U.last ss = trackedQ t (U.length ss - 1)
+  | otherwise =
+      let k = seg 0 (U.length ss - 1)
+          a = ss U.! k; b = ss U.! (k + 1)
+          hk = b - a
+          u = if hk > 0 then (s - a) / hk else 0
+          h00 = (2 * u - 3) * u * u + 1
+          h10 = ((u - 2) * u + 1) * u
+          h01 = (3 - 2 * u) * u * u
+          h11 = (u - 1) * u * u
+      in U.generate n $ \i ->
+           h00 * q k i + h10 * hk * mr U.! (k * n + i) + h01 * q (k + 1) i + h11 * hk * ml U.! ((k + 1) * n + i)
+  where
+    ss = tkS t
+    n = tkDof t
+    q k i = tkQ t U.! (k * n + i)
+    seg lo hi
+      | hi - lo <= 1 = lo
+      | otherwise = let m = (lo + hi) `div` 2 in if ss U.! m <= s then seg m hi else seg lo m
+
+-- | On step k (0 ≤ k < N), joint i: the largest |dq/ds| and the largest |d²q/ds²| of the cubic,
+-- exactly (its second derivative is linear on the step, its slope a parabola).
+stepBounds :: JointPath -> Int -> Int -> (Double, Double)
+stepBounds (JointPath t ml mr) k i
+  | hk <= 0 = (0, 0)
+  | otherwise = (maximum (abs m0 : abs m1 : vertex), max (abs c0) (abs c1))
+  where
+    ss = tkS t
+    n = tkDof t
+    hk = ss U.! (k + 1) - ss U.! k
+    dlt = (tkQ t U.! ((k + 1) * n + i) - tkQ t U.! (k * n + i)) / hk
+    m0 = mr U.! (k * n + i)
+    m1 = ml U.! ((k + 1) * n + i)
+    c0 = (6 * dlt - 4 * m0 - 2 * m1) / hk
+    c1 = (2 * m0 + 4 * m1 - 6 * dlt) / hk
+    -- the slope's extremum where the second derivative crosses zero inside the step
+    vertex = [ m0 + 0.5 * c0 * u | c0 * c1 < 0, let u = hk * c0 / (c0 - c1) ]
 
 smallestSingularValue :: Chain -> U.Vector Double -> Double
 smallestSingularValue ch q = case singularValues (chainDof ch) (snd (jacobian ch q)) of

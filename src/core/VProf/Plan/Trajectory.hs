@@ -3,9 +3,10 @@
 -- space ("VProf.Plan.Track"), its speed limits as zones ("VProf.Plan.Limits"), and the timing by
 -- the velocity-profile generator: one profile request per stretch between stops (the route's
 -- end points and its @fine@ waypoints), each from rest to rest with the TCP's acceleration and
--- jerk ranges at the controller's time step. The generator's samples s(t) give the joint
--- values q(t) by linear interpolation of the tracked q(s) (1 mm apart by default) and the joint
--- speeds by central differences in time. Request and result are plain records, SI inside and
+-- jerk ranges at the controller's time step (the acceleration lowered where the joints need it,
+-- 'tangentialLimit'). The generator's samples s(t) give the joint values q(t) on the smooth
+-- joint path through the tracked samples (cubic Hermite, 'jointPathAt'; 1 mm apart by default)
+-- and the joint speeds by central differences in time. Request and result are plain records, SI inside and
 -- units at the boundary, so that a wire layer can convert them.
 module VProf.Plan.Trajectory
   ( PlanRequest (..)
@@ -90,6 +91,7 @@ data Plan = Plan
   , planSteps      :: !StepLimits
   , planStretches  :: ![(Double, Double)]   -- ^ [a, b] between stops (m)
   , planZones      :: ![[LimitZone]]         -- ^ per stretch, in route coordinates
+  , planAccelerations :: ![Double]           -- ^ per stretch, the TCP acceleration range ±a used (m/s²)
   , planProfiles   :: ![Result]              -- ^ per stretch
   , planTrajectory :: !Trajectory
   , planLegal      :: !Bool                  -- ^ every stretch's profile legal by the checker
@@ -117,6 +119,7 @@ limitOptionsFor PlanRequest{..} = LimitOptions
   , loTcpAcceleration = si prAcceleration
   , loJointSpeed = U.fromList [ maybe (1 / 0) id (jointMaxVelocity j) | j <- robotJoints prRobot ]
   , loJointAcceleration = U.fromList (map defaultJointAcceleration (robotJoints prRobot))
+  , loAccelerationShare = defaultAccelerationShare
   }
 
 validateRequest :: PlanRequest -> [FieldError]
@@ -145,33 +148,47 @@ planPath rq@PlanRequest{..} = do
     [] -> Right ()
     es -> Left (InvalidPlan es)
   tracked <- either (Left . Stopped) Right (trackRoute prTrack (kinematicsFor prRobot) route prStart)
-  let steps = stepLimits (limitOptionsFor rq) route tracked
+  let lo = limitOptionsFor rq
+      jp = jointPath (rtStops route) tracked
+      steps = stepLimitsOn lo route jp
       cuts = 0 : rtStops route ++ [rtLength route]
       stretches = zip cuts (drop 1 cuts)
       top = si prSpeed
       zoness = [ limitZones top steps a b | (a, b) <- stretches ]
-      results = [ generatePure (profileRequest a b zs) | ((a, b), zs) <- zip stretches zoness ]
+      accs = [ min (si prAcceleration) (tangentialLimit lo jp a b) | (a, b) <- stretches ]
+      results = [ generatePure (profileRequest a b acc zs) | ((a, b), acc, zs) <- zip3 stretches accs zoness ]
   case [ (i, ab, r) | (i, ab, r) <- zip3 [0 ..] stretches results, not (resultLegal r) ] of
     ((i, ab, r) : _) -> Left (ProfileFailed i ab (case resOutcome r of
                                                    Failed f -> renderFailure f
                                                    Generated -> "the profile is not legal"))
     [] -> Right ()
-  let traj = assemble tracked (zip (map fst stretches) results)
-  pure (Plan route tracked steps stretches zoness results traj True)
+  let traj = assemble jp (zip stretches results)
+  pure (Plan route tracked steps stretches zoness accs results traj True)
   where
-    profileRequest a b zs = defaultRequest
+    -- The generator ends within the end tolerance of the stretch's end, not on it; the
+    -- trajectory stretches each profile's s by f = (b − a) / s_end so that it stops exactly there
+    -- (a jump to the end would be a joint acceleration spike). f ≤ 1 + tolerance / (b − a), so
+    -- the request asks for speeds, acceleration and jerk lowered by that factor: once stretched,
+    -- the profile keeps the zones, acceleration and jerk of the plan.
+    margin a b = 1 / (1 + si prEndTolerance / (b - a))
+    profileRequest a b acc zs = defaultRequest
       { rqRouteLength = (b - a) *~ meter
-      , rqZones = [ SpeedZone ((lzStart z - a) *~ meter) (lzSpeed z *~ mps) | z <- zs ]
-      , rqMinAcceleration = negate (si prAcceleration) *~ mps2
-      , rqMaxAcceleration = prAcceleration
-      , rqMinJerk = negate (si prJerk) *~ mps3
-      , rqMaxJerk = prJerk
+      , rqZones = [ SpeedZone ((lzStart z - a) *~ meter) ((margin a b * lzSpeed z) *~ mps) | z <- zs ]
+      , rqMinAcceleration = negate (margin a b * acc) *~ mps2
+      , rqMaxAcceleration = (margin a b * acc) *~ mps2
+      , rqMinJerk = negate (margin a b * si prJerk) *~ mps3
+      , rqMaxJerk = (margin a b * si prJerk) *~ mps3
       , rqTimeStep = Just prTimeStep
       , rqEndTolerance = Just prEndTolerance
       }
     dt = si prTimeStep
-    assemble tracked parts =
-      let cols = [ (a, columns p) | (a, r) <- parts, Just p <- [resProfile r] ]
+    assemble jp parts =
+      let cols = [ (a, stretchTo (b - a) (columns p)) | ((a, b), r) <- parts, Just p <- [resProfile r] ]
+          stretchTo l c =
+            let e = if U.null (colDistance c) then 0 else U.last (colDistance c)
+                f = if e > 0 then l / e else 1
+            in c { colDistance = U.map (* f) (colDistance c), colVelocity = U.map (* f) (colVelocity c)
+                 , colAcceleration = U.map (* f) (colAcceleration c), colJerk = U.map (* f) (colJerk c) }
           nParts = length cols
           -- the last row of every stretch but the last is the next one's first (both at rest)
           trimmed = [ (a, if i < nParts - 1 then dropLast c else c) | (i, (a, c)) <- zip [0 :: Int ..] cols ]
@@ -183,9 +200,9 @@ planPath rq@PlanRequest{..} = do
           vs = U.concat [ colVelocity c | (_, c) <- trimmed ]
           as = U.concat [ colAcceleration c | (_, c) <- trimmed ]
           js = U.concat [ colJerk c | (_, c) <- trimmed ]
-          n = tkDof tracked
+          n = tkDof (jpTracked jp)
           m = U.length ts
-          qs = U.concat [ trackedAt tracked (ss U.! k) | k <- [0 .. m - 1] ]
+          qs = U.concat [ jointPathAt jp (ss U.! k) | k <- [0 .. m - 1] ]
           qAt k i = qs U.! (k * n + i)
           qd k i
             | m < 2 = 0
