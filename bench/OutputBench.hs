@@ -11,7 +11,7 @@ import qualified Data.ByteString as B
 import qualified Data.ByteString.Lazy as BL
 import qualified Data.Vector.Unboxed as U
 
-import VProf.Profile.Format.Json (profileToJson)
+import VProf.Profile.Format.Json (profileJson, profileToJson)
 import VProf.Profile.Format.Text (csv)
 import VProf.Profile.Generate
 import VProf.Profile.Request (Algorithm (..))
@@ -35,7 +35,8 @@ outputBenchmarks = do
   pure
     [ bgroup "output-1e6-samples"
         [ bench "csv" (nf (BL.length . maybe BL.empty csv . resProfile) r)
-        , bench "json" (nf (BL.length . A.encode . profileToJson) r)
+        , bench "json" (nf (BL.length . profileJson) r)
+        , bench "json-through-aeson-value" (nf (BL.length . A.encode . profileToJson) r)
         , bench "protobuf" (nf (B.length . encodeBare . resultToMsg 0) r)
         ]
     ]

@@ -13,7 +13,6 @@ module VProf.Cli.Profile
   , encodeCommand
   ) where
 
-import qualified Data.Aeson as A
 import qualified Data.ByteString as B
 import qualified Data.ByteString.Lazy as BL
 import qualified Data.ByteString.Lazy.Char8 as BLC
@@ -113,7 +112,7 @@ formatFromExt path = case map toLower (takeExtension path) of
 writeProfile :: Format -> Maybe FilePath -> Result -> IO ()
 writeProfile f out res = case f of
   FPb -> let bytes = encodeBare (resultToMsg 0 res) in maybe (B.hPut stdout bytes) (`B.writeFile` bytes) out
-  FJson -> let bytes = A.encode (profileToJson res) in maybe (BLC.putStrLn bytes) (`BL.writeFile` bytes) out
+  FJson -> let bytes = profileJson res in maybe (BLC.putStrLn bytes) (`BL.writeFile` bytes) out
   FCsv -> let bytes = maybe BL.empty csv (resProfile res) in maybe (BL.hPut stdout bytes) (`BL.writeFile` bytes) out
   FTable -> text (maybe "" table (resProfile res))
   where text s = maybe (putStr s) (`writeFile` s) out

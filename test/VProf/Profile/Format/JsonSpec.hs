@@ -9,7 +9,12 @@ import Data.List (intercalate, isInfixOf)
 import Test.Hspec
 import Test.QuickCheck
 
-import VProf.Profile.Format.Json (requestFromJson)
+import qualified Data.Aeson as A
+import Data.Scientific (fromFloatDigits, toRealFloat)
+import VProf.Profile.Format.Json (profileJson, profileToJson, requestFromJson)
+import VProf.Profile.Generate (generatePure)
+
+import Support.Arbitrary (RandomRequest (..))
 import VProf.Profile.Request
 import VProf.Units
 
@@ -43,3 +48,15 @@ spec = do
     case requestFromJson (withField "end_tolerance" "\"ten\"") of
       Left e -> e `shouldSatisfy` ("end_tolerance" `isInfixOf`)
       Right rq -> expectationFailure (show rq)
+  it "the CLI's fast JSON of a profile reads back as the same value as the aeson rendering (every number the same double)" $
+    withMaxSuccess 100 $ property $ \(RandomRequest rq) ->
+      let r = generatePure rq in fmap asDoubles (A.decode (profileJson r)) === Just (asDoubles (profileToJson r))
+
+-- | Numbers as the doubles they read back to: two shortest digit strings of one double are
+-- different decimals but the same number to a reader.
+asDoubles :: A.Value -> A.Value
+asDoubles = \case
+  A.Number n -> A.Number (fromFloatDigits (toRealFloat n :: Double))
+  A.Array xs -> A.Array (fmap asDoubles xs)
+  A.Object o -> A.Object (fmap asDoubles o)
+  v -> v
