@@ -16,17 +16,16 @@ import Test.Hspec
 import Test.QuickCheck hiding (classify)
 import Test.QuickCheck.Monadic (assert, monadicIO, monitor, run)
 
+import Support.Envelope (viaEnvelope)
 import Support.Gen (genQ)
 import Support.Reference (sharedDir)
 import VProf.Kinematics
 import VProf.Kinematics.Format.Urdf (UrdfOptions (..), defaultUrdfOptions, readUrdfFile)
 import VProf.Kinematics.Library (lookupRobot)
-import VProf.Service (answer)
 import VProf.Service.Kinematics (serveFk, serveIk)
 import VProf.Wire.Envelope
 import VProf.Wire.Kinematics (poseToMsg)
 import VProf.Wire.Messages
-import VProf.Wire.Validate (MsgType (..), validateWire)
 
 ------------------------------------------------------------------------------ building requests
 
@@ -47,18 +46,6 @@ ikReq r t = let allOf = maybe False (`elem` ["ur5", "abb-irb140", "dobot-magicia
   , ikqRotationTolerance = putField Nothing, ikqTimeBudget = putField Nothing, ikqEnvironment = putField []
   , ikqClearance = putField Nothing, ikqIgnoreBodies = putField [] }
 
--- | Through the envelope: encode a Request, decode it as the server does, answer, encode and
--- decode the Response.
-viaEnvelope :: RequestMsg -> IO ResponseMsg
-viaEnvelope req = do
-  let bytes = encodeBare req
-  validateWire TRequest bytes `shouldBe` Right ()
-  decoded <- either fail pure (decodeBare bytes)
-  inc <- either (fail . show) pure (classify decoded)
-  rsp <- answer (requestIdOf decoded) inc
-  let out = encodeBare rsp
-  validateWire TResponse out `shouldBe` Right ()
-  either fail pure (decodeBare out)
 
 envelope :: Maybe FkRequestMsg -> Maybe IkRequestMsg -> RequestMsg
 envelope f k = RequestMsg (putField (Just 99)) (putField Nothing) (putField Nothing) (putField Nothing) (putField f) (putField k) (putField Nothing)

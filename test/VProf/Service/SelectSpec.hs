@@ -27,6 +27,7 @@ import Test.QuickCheck.Gen (unGen)
 import Test.QuickCheck.Random (mkQCGen)
 
 import Support.DistanceOracle (Pt)
+import Support.Envelope (viaEnvelope)
 import Support.RobotOracle (oracleClearance, oracleTool, poseGap)
 import VProf.Geometry.Bvh (Bvh, buildBvh)
 import VProf.Geometry.Mesh (ScenePart (..), composeScene, fromTriangles)
@@ -35,12 +36,10 @@ import VProf.Kinematics.Collision
 import VProf.Kinematics.Library (lookupRobot)
 import VProf.Select.Selection
 import VProf.Select.Task
-import VProf.Service (answer)
 import VProf.Service.Select (serveSelect)
 import VProf.Wire.Envelope
 import VProf.Wire.Kinematics (poseToMsg)
 import VProf.Wire.Messages
-import VProf.Wire.Validate (MsgType (..), validateWire)
 
 ------------------------------------------------------------------------------ the cell
 
@@ -166,16 +165,6 @@ coreSelection path =
 
 ------------------------------------------------------------------------------ reading responses
 
-viaEnvelope :: RequestMsg -> IO ResponseMsg
-viaEnvelope req = do
-  let bytes = encodeBare req
-  validateWire TRequest bytes `shouldBe` Right ()
-  decoded <- either fail pure (decodeBare bytes)
-  inc <- either (fail . show) pure (classify decoded)
-  rsp <- answer (requestIdOf decoded) inc
-  let out = encodeBare rsp
-  validateWire TResponse out `shouldBe` Right ()
-  either fail pure (decodeBare out)
 
 envelope :: SelectRequestMsg -> RequestMsg
 envelope s = RequestMsg (putField (Just 77)) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
