@@ -154,20 +154,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "vprof_kinematics: %s\n", e.what());
     return 1;
   }
-  if (!out_path.empty()) {
-    std::ofstream f(out_path, std::ios::binary);
-    for (const std::string& b : frames) {
-      // the same length-delimited framing as the daemon's
-      std::string prefix;
-      size_t n = b.size();
-      do {
-        unsigned char byte = n & 0x7f;
-        n >>= 7;
-        if (n) byte |= 0x80;
-        prefix.push_back((char)byte);
-      } while (n);
-      f << prefix << b;
-    }
-  }
+  if (!out_path.empty()) vprofwire::write_frames(out_path, frames);
   return failures ? 1 : 0;
 }

@@ -14,6 +14,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <google/protobuf/io/zero_copy_stream_impl.h>
 #include <google/protobuf/util/delimited_message_util.h>
@@ -72,6 +73,23 @@ class Connection {
   int fd_ = -1;
   std::unique_ptr<google::protobuf::io::FileInputStream> in_;
 };
+
+// Serialized messages to a file, each preceded by its length as a varint: the daemon's framing.
+inline void write_frames(const std::string& path, const std::vector<std::string>& frames) {
+  std::ofstream f(path, std::ios::binary);
+  if (!f) throw std::runtime_error("cannot write " + path);
+  for (const std::string& b : frames) {
+    std::string prefix;
+    size_t n = b.size();
+    do {
+      unsigned char byte = n & 0x7f;
+      n >>= 7;
+      if (n) byte |= 0x80;
+      prefix.push_back((char)byte);
+    } while (n);
+    f << prefix << b;
+  }
+}
 
 inline std::string read_file(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
