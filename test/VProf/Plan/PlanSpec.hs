@@ -4,18 +4,28 @@
 -- UR5's workspace.
 module VProf.Plan.PlanSpec (spec) where
 
+import Data.List (nubBy)
 import qualified Data.Vector.Unboxed as U
 import qualified Linear as L
+import System.FilePath ((</>))
 import Test.Hspec
 import Test.QuickCheck
 
+import Support.Arbitrary (shared)
 import Support.PlanChecker
+import Support.RobotOracle (oracleClearance)
 import Support.Recordings (loadTum)
 import VProf.Compress (Compressed (..), Path (..), Settings (..), Track (..), compress, defaultSettings)
 import VProf.Geometry.Quaternion (qmul, qconj)
 import VProf.Geometry.Vec (P3 (..), Q4 (..), ptoList)
+import VProf.Geometry.Bvh (buildBvh)
+import VProf.Geometry.Format.Obj (readObj)
+import VProf.Geometry.Mesh (triangles)
 import VProf.Kinematics.Forward (Pose (..), forwardPose)
-import VProf.Kinematics.Ik (solveIk, kinematicsFor, defaultIkOptions)
+import VProf.Kinematics.Collision (CollisionOptions (..), collisionModel, defaultCollisionOptions)
+import VProf.Kinematics.Ik (IkOptions (..), IkSolution (..), solveIk, kinematicsFor, defaultIkOptions, kinChain)
+import VProf.Kinematics.Jacobian (jacobian, manipulability)
+import qualified VProf.Kinematics.Transform as T
 import VProf.Kinematics.Library (lookupRobot)
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform (Quat (..), V3 (..))
@@ -162,6 +172,45 @@ spec = describe "VProf.Plan" $ do
       Right plan -> do
         checkTrajectory r (positions wps) 0.01 defaultAcceleration defaultJerk defaultTimeStep plan `shouldBe` []
         planDuration plan `shouldSatisfy` (> routeLength (planRoute plan) / 0.25)
+
+  -- the README's workflow: freiburg1_xyz compressed, turned by 180° about z and moved over the
+  -- table of cell.obj (examples/freiburg-task.yaml), planned for a UR10 holding a camera
+  it "in the work cell, without a start: the most dexterous first solution that keeps the clearance, and a clear trajectory (brute force over every triangle)" $ do
+    dir <- shared
+    Right mesh <- readObj (dir </> "data" </> "cell" </> "cell.obj")
+    rec <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let Right c = compress defaultSettings { sPoints = Just 40 } rec
+        Path tr = oPath c
+        wps = take 6 [ waypoint (1.80 - x, 0.36 - y, z - 1.10) (w', a', b', c')
+                     | (P3 x y z, q) <- zip (ptoList (tPos tr)) (ptoList (tRot tr))
+                     , let Q4 w' a' b' c' = qmul (Q4 0 0 0 1) q ]
+        r0 = robot "ur10"
+        r = r0 { robotTool = robotTool r0 `T.compose` T.fromRpy (V3 0 0 0.10) (V3 0 0 0) }
+        cm = collisionModel defaultCollisionOptions { coTool = Just (Capsule (V3 0 0 (-0.10)) (V3 0 0 (-0.02)) 0.04), coSceneIgnore = [1] } r
+        bvh = buildBvh mesh
+        tris = [ (pt a, pt b, pt c') | (a, b, c') <- triangles mesh ]
+        pt (V3 x y z) = (x, y, z)
+        rq = (planRequest r wps) { prSpeed = 0.25 *~ mps, prTrack = defaultTrackOptions { toEnvironment = Just (Environment cm bvh 0.01) } }
+        kin = kinematicsFor r
+        ch = kinChain kin
+        manip q = manipulability (U.length q) (snd (jacobian ch q))
+        Waypoint (L.V3 x0 y0 z0) (L.Quaternion qw0 (L.V3 qx0 qy0 qz0)) = head wps
+        target0 = T.fromQuat (V3 (si x0) (si y0) (si z0)) (Quat qw0 qx0 qy0 qz0)
+        -- one solution per geometry (whole turns apart are one), each with the oracle's clearance
+        sameGeometry a b = U.all (\d -> abs (d - 2 * pi * fromIntegral (round (d / (2 * pi)) :: Int)) < 1e-6) (U.zipWith (-) a b)
+        sols = nubBy sameGeometry (map solJoints (either (const []) id (solveIk defaultIkOptions { ikAllSolutions = True } kin target0 Nothing)))
+        clear = [ q | q <- sols, oracleClearance cm tris (U.toList q) >= 0.01 ]
+    length clear `shouldSatisfy` (> 1)
+    case planPath rq of
+      Left f -> expectationFailure (describePlanFailure f)
+      Right plan -> do
+        let traj = planTrajectory plan
+            q0 = trajectoryQ traj 0
+            n = trajectoryCount traj
+        oracleClearance cm tris (U.toList q0) `shouldSatisfy` (>= 0.01 - 1e-9)
+        manip q0 `shouldSatisfy` (>= maximum (map manip clear) - 1e-9)
+        mapM_ (\k -> oracleClearance cm tris (U.toList (trajectoryQ traj k)) `shouldSatisfy` (>= 0.01 - 1e-6)) [0, n `div` 10 .. n - 1]
+        checkTrajectory r (positions wps) 0.01 defaultAcceleration defaultJerk defaultTimeStep plan `shouldBe` []
 
 -- | A recording placed in the UR5's workspace: positions relative to the first sample, scaled
 -- by 0.5, from (0.45, 0, 0.30) m; orientations the tool-down orientation turned by the

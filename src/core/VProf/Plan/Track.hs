@@ -2,7 +2,7 @@
 -- | The route in joint space: inverse kinematics at every sample of a fine grid along the route
 -- (steps of at most 1 mm and 0.5° by default), on one continuous branch. The first sample takes
 -- the given start configuration's nearest solution (or, without one, the solution nearest the
--- middle of the joint ranges); every later sample the solution nearest the previous sample's
+-- middle of the joint ranges; with an environment, the most dexterous that keeps the clearance); every later sample the solution nearest the previous sample's
 -- (the closed forms' nearest solution, or the numerical solver seeded there without restarts).
 -- The tracking stops, naming the reason and the distance s, where the route leaves the
 -- workspace, meets a joint limit, a singularity (smallest singular value of the Jacobian below
@@ -37,7 +37,7 @@ import VProf.Kinematics.Collision (Clearance (..), CollisionModel, robotClearanc
 import VProf.Kinematics.Ik
 import qualified VProf.Kinematics.ClosedForm as CF
 import VProf.Kinematics.Forward (forward)
-import VProf.Kinematics.Jacobian (jacobian, singularValues)
+import VProf.Kinematics.Jacobian (jacobian, manipulability, singularValues)
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform (V3 (..), toRows4)
 import VProf.Plan.Route
@@ -216,10 +216,18 @@ trackRoute TrackOptions{..} kin rt start = do
     stop s r = Left (PlanStop r s (posAt s))
 
     -- without a start configuration: the solution nearest the middle of the joint ranges, each
-    -- joint's distance in halves of its range (a turn for an unbounded joint)
+    -- joint's distance in halves of its range (a turn for an unbounded joint); with an
+    -- environment, of the solutions that keep the clearance the most dexterous (largest
+    -- manipulability), as robot selection picks a first target's, the nearest mid-limits among
+    -- equals (whole turns apart)
     pickStart sols = case start of
       Just _ -> sols
-      Nothing -> take 1 (sortOn (\sol -> U.sum (U.imap normSq (solJoints sol))) sols)
+      Nothing -> take 1 (sortOn (\sol -> (startRank (solJoints sol), U.sum (U.imap normSq (solJoints sol)))) sols)
+    startRank q = case toEnvironment of
+      Nothing -> (False, 0)
+      Just Environment{..} ->
+        ( not (robotClearanceAtLeast envModel envBvh q envClearance)
+        , negate (fromIntegral (round (1e9 * manipulability n (snd (jacobian ch q))) :: Integer) :: Double) )
     normSq i x =
       let lo = chainLo ch U.! i; hi = chainHi ch U.! i
           (mid, half) = if isInfinite lo || isInfinite hi then (0, pi) else (0.5 * (lo + hi), 0.5 * (hi - lo))
