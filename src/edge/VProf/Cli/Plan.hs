@@ -1,8 +1,10 @@
 {-# LANGUAGE OverloadedStrings #-}
--- | @vprof plan@: a path (RAPID @.mod@, TUM or CSV as @vprof compress@ writes them) and a robot
--- to a timed, checked joint trajectory.
+-- | @vprof plan@: a path (RAPID @.mod@, TUM or CSV as @vprof compress@ writes them, or the targets
+-- of a selection task file) and a robot to a timed, checked joint trajectory. A task file also
+-- gives the cell, the base, the tool with its capsule, the clearance and the bodies left out of
+-- the cell check, so that the task a user checked with @vprof select@ is planned as it stands.
 --
--- > vprof plan PATH --robot NAME [--base "X Y Z [RX RY RZ]"] [--tool "X Y Z [RX RY RZ]"]
+-- > vprof plan PATH|TASK.yaml --robot NAME [--base "X Y Z [RX RY RZ]"] [--tool "X Y Z [RX RY RZ]"]
 -- >   [--speed v500] [--zone z10|fine] [--acceleration A] [--jerk J] [--dt S] [--start "Q..."]
 -- >   [--environment FILE.obj --clearance M] [--format summary|csv|json] [-o FILE] [--plot FILE.png]
 --
@@ -39,10 +41,12 @@ import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
 import VProf.Geometry.Vec (P3 (..), Q4 (..), ptoList)
 import VProf.Kinematics.Collision (CollisionOptions (..), collisionModel, defaultCollisionOptions)
 import VProf.Kinematics.Model
-import VProf.Kinematics.Transform (Tf, V3 (..), compose, fromRpy, identity)
+import VProf.Kinematics.Transform (Quat (..), Tf, V3 (..), compose, fromRpy, identity, toQuat, translation)
 import VProf.Plan
 import VProf.Plot.Plan (plotPlan)
 import VProf.Profile.Result (resultLegal)
+import VProf.Select.Format.Task (readTaskFile)
+import VProf.Select.Task (MeshPlacement (..), Target (..), Task (..))
 import VProf.Units
 import VProf.Validation
 
@@ -52,7 +56,7 @@ data PlanOpts = PlanOpts
   { poPath :: FilePath, poRobot :: String, poBase :: Maybe [Double], poTool :: Maybe [Double]
   , poSpeed :: Double, poZone :: Zone, poAcc :: Double, poJerk :: Double, poDt :: Double
   , poStart :: Maybe [Double], poDeg :: Bool
-  , poEnv :: Maybe FilePath, poEnvScale :: Double, poClearance :: Double, poIgnore :: [Int]
+  , poEnv :: Maybe FilePath, poEnvScale :: Double, poClearance :: Maybe Double, poIgnore :: [Int]
   , poFormat :: Maybe OutFormat, poOutput :: Maybe FilePath, poPlot :: Maybe FilePath }
 
 -- | RAPID speed data: @vN@ is N mm/s (v5 … v7000, or any N); the TCP speed in m/s.
@@ -77,7 +81,7 @@ readD w = case reads w of
 
 planCommand :: Parser (IO ExitCode)
 planCommand = runPlan <$> (PlanOpts
-  <$> strArgument (metavar "PATH" <> help "the path: RAPID .mod, CSV (time,x,y,z,qw,qx,qy,qz; m) or TUM (other extensions), as vprof compress writes them")
+  <$> strArgument (metavar "PATH|TASK" <> help "the path: RAPID .mod, CSV (time,x,y,z,qw,qx,qy,qz; m) or TUM (other extensions), as vprof compress writes them; or a selection task file (.yaml/.yml/.json), whose targets are the waypoints and whose cell, base, tool, tool capsule, clearance and ignored bodies are used (the options below replace them)")
   <*> strOption (long "robot" <> metavar "NAME" <> help "a library robot (vprof robots lists them) or a robot file (.yaml/.json)")
   <*> optional (option (eitherReader (pose "--base")) (long "base" <> metavar "\"X Y Z [RX RY RZ]\""
         <> help "the robot base in the path's frame: position in m, roll pitch yaw in degrees (default: the path's frame)"))
@@ -100,8 +104,8 @@ planCommand = runPlan <$> (PlanOpts
         <> help "keep the robot clear of this Wavefront OBJ scene (in the path's frame)"))
   <*> option auto (long "scale" <> metavar "S" <> value 1 <> showDefault
         <> help "the scene's coordinates times S are metres (0.001 for millimetres)")
-  <*> option (eitherReader nonNeg) (long "clearance" <> metavar "M" <> value 0.01
-        <> help "with --environment: the least distance between the robot's capsules and the scene, m (default 0.01)")
+  <*> optional (option (eitherReader nonNeg) (long "clearance" <> metavar "M"
+        <> help "with --environment: the least distance between the robot's capsules and the scene, m (default: the task's, else 0.01)"))
   <*> many (option auto (long "ignore-body" <> metavar "N"
         <> help "with --environment: leave body N out of the scene check (1 = the first link); repeatable"))
   <*> optional (option (eitherReader fmt) (long "format" <> metavar "summary|csv|json"
@@ -162,27 +166,48 @@ optionName = \case
   "start" -> Just (UserField "--start" "" 1)
   _ -> Nothing
 
+-- | What the path argument gives: the waypoints in the world and, from a task file, the task.
+data PathInput = PathInput [Waypoint] (Maybe Task)
+
+isTaskFile :: FilePath -> Bool
+isTaskFile f = map toLower (takeExtension f) `elem` [".yaml", ".yml", ".json"]
+
+readPathInput :: FilePath -> IO (Either String PathInput)
+readPathInput f
+  | isTaskFile f = do
+      et <- readTaskFile f
+      pure $ case et of
+        Left es -> Left (intercalate "; " es)
+        Right t -> Right (PathInput [ tfWaypoint (tgPose g) | g <- taskTargets t ] (Just t))
+  | otherwise = fmap (\tr -> PathInput [ waypoint (x, y, z) (w, a, b, c)
+                                       | (P3 x y z, Q4 w a b c) <- zip (ptoList (tPos tr)) (ptoList (tRot tr)) ] Nothing)
+                  <$> readPath f
+  where
+    tfWaypoint p = let V3 x y z = translation p; Quat w a b c = toQuat p in waypoint (x, y, z) (w, a, b, c)
+
 runPlan :: PlanOpts -> IO ExitCode
 runPlan o = do
   er <- loadRobot Nothing (poRobot o)
-  ep <- readPath (poPath o)
+  ep <- readPathInput (poPath o)
   case (er, ep) of
     (Left e, _) -> failWith ("--robot: " ++ e)
     (_, Left e) -> failWith e
-    (Right r0, Right tr) -> do
-      env <- loadEnv r0
+    (Right r0, Right (PathInput wps mtask)) -> do
+      env <- loadEnv mtask
       case env of
         Left e -> failWith e
         Right menv -> do
-          let r = r0 { robotBase = maybe identity poseTf (poBase o) `compose` robotBase r0
-                     , robotTool = robotTool r0 `compose` maybe identity poseTf (poTool o) }
-              wps = [ waypoint (x, y, z) (w, a, b, c) | (P3 x y z, Q4 w a b c) <- zip (ptoList (tPos tr)) (ptoList (tRot tr)) ]
+          -- the options replace the task's base and tool; without a task they default to identity
+          let base = maybe (maybe identity taskBase mtask) poseTf (poBase o)
+              tool = maybe (maybe identity taskTool mtask) poseTf (poTool o)
+              r = r0 { robotBase = base `compose` robotBase r0, robotTool = robotTool r0 `compose` tool }
+              clearance = maybe (maybe 0.01 taskClearance mtask) id (poClearance o)
               start = fmap (\qs -> U.fromList [ if poDeg o && jointKind j == Revolute then q * pi / 180 else q
                                               | (j, q) <- zip (robotJoints r ++ repeat (Joint "" Prismatic (Limits 0 0) Nothing Nothing)) qs ]) (poStart o)
               rq = (planRequest r wps)
                      { prZone = poZone o, prStart = start, prSpeed = poSpeed o *~ mps
                      , prAcceleration = poAcc o *~ mps2, prJerk = poJerk o *~ mps3, prTimeStep = poDt o *~ second
-                     , prTrack = defaultTrackOptions { toEnvironment = fmap (\(cm, bvh) -> Environment cm bvh (poClearance o)) (menv r) } }
+                     , prTrack = defaultTrackOptions { toEnvironment = fmap (\(cm, bvh) -> Environment cm bvh clearance) (menv r) } }
           t0 <- getMonotonicTime
           case planPath rq of
             Left (InvalidPlan es) -> failWith (intercalate "; " (map renderFieldError (inUserTerms optionName es)))
@@ -210,14 +235,20 @@ runPlan o = do
               mapM_ (\f -> plotPlan f r plan) (poPlot o)
               pure (if planLegal plan && all resultLegal (planProfiles plan) then ExitSuccess else ExitFailure 1)
   where
-    loadEnv _ = case poEnv o of
-      Nothing -> pure (Right (const Nothing))
-      Just path -> do
-        sc <- loadScene [SceneFile path (poEnvScale o) identity]
-        pure $ case sc of
-          Left e -> Left ("--environment: " ++ e)
-          Right tris -> let bvh = buildBvh tris
-                        in Right (\r -> Just (collisionModel defaultCollisionOptions { coSceneIgnore = poIgnore o } r, bvh))
+    -- --environment replaces the task's cell; the ignored bodies of both are left out
+    loadEnv mtask = case (poEnv o, maybe [] taskEnvironment mtask) of
+      (Nothing, []) -> pure (Right (const Nothing))
+      (Just path, _) -> scene [SceneFile path (poEnvScale o) identity] "--environment: "
+      (Nothing, meshes) -> scene [SceneFile (mpFile m) (mpScale m) (mpPose m) | m <- meshes] (poPath o ++ ": environment: ")
+      where
+        ignore = poIgnore o ++ maybe [] taskIgnoreBodies mtask
+        capsule = mtask >>= taskToolCapsule
+        scene files what = do
+          sc <- loadScene files
+          pure $ case sc of
+            Left e -> Left (what ++ e)
+            Right tris -> let bvh = buildBvh tris
+                          in Right (\r -> Just (collisionModel defaultCollisionOptions { coSceneIgnore = ignore, coTool = capsule } r, bvh))
 
 num :: Int -> Double -> String
 num d x = showFFloat (Just d) x ""
