@@ -71,6 +71,14 @@ if [ "$stub" != 1 ]; then
   else
     echo "selection responses differ between the Python and the C++ client"; status=1
   fi
+  echo "== Path planning: Python and C++ examples, responses compared byte for byte"
+  python3 "$here/python/plan_example.py" --port "$port" --out "$tmp/plan-py.bin" || status=1
+  "$here/cpp/build/vprof_plan" --port "$port" --square "$root/examples/plan-square.csv" --out "$tmp/plan-cpp.bin" || status=1
+  if cmp -s "$tmp/plan-py.bin" "$tmp/plan-cpp.bin"; then
+    echo "plan responses identical ($(wc -c < "$tmp/plan-py.bin") bytes)"
+  else
+    echo "plan responses differ between the Python and the C++ client"; status=1
+  fi
 fi
 echo "== C++ checker self test"
 "$here/cpp/build/vprof_check" --selftest >/dev/null || { echo "checker self test failed"; status=1; }

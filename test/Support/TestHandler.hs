@@ -62,7 +62,7 @@ testAnswer rid = \case
 -- | An envelope with the given bodies set.
 requestWith :: Word64 -> Maybe ProfileRequestMsg -> Maybe CompressRequestMsg -> Maybe PingMsg -> RequestMsg
 requestWith rid p c g = RequestMsg (putField (nonDefault rid)) (putField p) (putField c) (putField g)
-                                   (putField Nothing) (putField Nothing) (putField Nothing)
+                                   (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
 
 pingMsg :: Word64 -> Text -> RequestMsg
 pingMsg rid payload = requestWith rid Nothing Nothing (Just (PingMsg (putField (nonDefault payload))))

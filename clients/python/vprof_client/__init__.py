@@ -164,6 +164,10 @@ class Client:
         """Robot selection: a SelectRequest in, its SelectResponse out (check .error)."""
         return self._body("select", select_request, "select")
 
+    def plan(self, plan_request):
+        """Path planning: a PlanRequest in, its PlanResponse out (check .status and .error)."""
+        return self._body("plan", plan_request, "plan")
+
 
 def request_from_json(obj, request_id=0):
     """A ProfileRequest from a dict with proto3 JSON field names; other keys (name, note,

@@ -178,6 +178,7 @@ outcomeOf r
   | Just f <- getField (rspFk r) = (maybe "ok" codeOf (getField (fksError f)), Nothing, Nothing, Nothing)
   | Just k <- getField (rspIk r) = (maybe "ok" codeOf (getField (ikrError k)), Nothing, Nothing, Nothing)
   | Just s <- getField (rspSelect r) = (maybe "ok" codeOf (getField (slrError s)), Nothing, Nothing, Nothing)
+  | Just p <- getField (rspPlan r) = (maybe "ok" codeOf (getField (plrError p)), Nothing, Nothing, Nothing)
   | otherwise = ("empty", Nothing, Nothing, Nothing)
   where codeOf e = errorCodeName (getEnum (getField (errCode e)))
 

@@ -1,6 +1,6 @@
 {-# LANGUAGE OverloadedStrings #-}
--- | The daemon's request handler: one classified request body (profile, compress, ping, fk, ik or
--- select) to one response, and how long each kind may take. Never throws: every failure,
+-- | The daemon's request handler: one classified request body (profile, compress, ping, fk, ik,
+-- select or plan) to one response, and how long each kind may take. Never throws: every failure,
 -- including a bug, becomes an 'ErrorMsg' in the response.
 module VProf.Service
   ( service
@@ -16,6 +16,7 @@ import Data.Word (Word64)
 import VProf.Server (Handler (..))
 import VProf.Service.Compress
 import VProf.Service.Kinematics
+import VProf.Service.Plan
 import VProf.Service.Profile
 import VProf.Service.Select
 import VProf.Version (versionString)
@@ -26,7 +27,8 @@ import VProf.Wire.Messages
 service :: Handler
 service = Handler answer timeLimit
 
--- | Answer one body; the envelope's request_id is also the profile, FK, IK and select response's.
+-- | Answer one body; the envelope's request_id is also the profile, FK, IK, select and plan
+-- response's.
 answer :: Word64 -> Incoming -> IO ResponseMsg
 answer rid inc = do
   r <- try $ case inc of
@@ -35,6 +37,7 @@ answer rid inc = do
     InFk f -> fkResponse rid <$> serveFk f { fkqRequestId = putField (nonDefault rid) }
     InIk k -> ikResponse rid <$> serveIk k { ikqRequestId = putField (nonDefault rid) }
     InSelect sq -> selectResponse rid <$> serveSelect sq { slqRequestId = putField (nonDefault rid) }
+    InPlan pq -> planResponse rid <$> servePlan pq { plqRequestId = putField (nonDefault rid) }
     InPing pg -> pure (emptyResponse rid)
       { rspPong = putField (Just (PongMsg (putField (getField (pingPayload pg))) (putField (nonDefault (T.pack versionString))))) }
   pure $ case r of
@@ -50,3 +53,4 @@ timeLimit = \case
   InFk _ -> fkTimeLimit
   InIk k -> ikTimeLimit k
   InSelect sq -> selectTimeLimit sq
+  InPlan pq -> planTimeLimit pq

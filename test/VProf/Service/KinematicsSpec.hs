@@ -49,6 +49,7 @@ ikReq r t = let allOf = maybe False (`elem` ["ur5", "abb-irb140", "dobot-magicia
 
 envelope :: Maybe FkRequestMsg -> Maybe IkRequestMsg -> RequestMsg
 envelope f k = RequestMsg (putField (Just 99)) (putField Nothing) (putField Nothing) (putField Nothing) (putField f) (putField k) (putField Nothing)
+                        (putField Nothing)
 
 ------------------------------------------------------------------------------ reading responses
 

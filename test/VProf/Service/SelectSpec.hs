@@ -168,7 +168,7 @@ coreSelection path =
 
 envelope :: SelectRequestMsg -> RequestMsg
 envelope s = RequestMsg (putField (Just 77)) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
-                        (putField Nothing) (putField (Just s))
+                        (putField Nothing) (putField (Just s)) (putField Nothing)
 
 txt :: Maybe T.Text -> String
 txt = maybe "" T.unpack

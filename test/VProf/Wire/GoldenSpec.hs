@@ -152,14 +152,14 @@ request :: Obj -> Parser RequestMsg
 request o = RequestMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msg profileRequest o "profile")
   <*> (putField <$> msg compressRequest o "compress") <*> (putField <$> msg ping o "ping")
   <*> (putField <$> msg fkRequest o "fk") <*> (putField <$> msg ikRequest o "ik")
-  <*> (putField <$> msg selectRequest o "select")
+  <*> (putField <$> msg selectRequest o "select") <*> (putField <$> msg planRequest o "plan")
 
 response :: Obj -> Parser ResponseMsg
 response o = ResponseMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msg profileResponse o "profile")
   <*> (putField <$> msg compressedPath o "compressed") <*> (putField <$> msg pong o "pong")
   <*> (putField <$> msg errorMsg o "error")
   <*> (putField <$> msg fkResponse o "fk") <*> (putField <$> msg ikResponse o "ik")
-  <*> (putField <$> msg selectResponse o "select")
+  <*> (putField <$> msg selectResponse o "select") <*> (putField <$> msg planResponse o "plan")
 
 ping :: Obj -> Parser PingMsg
 ping o = PingMsg . putField <$> str o "payload"
@@ -308,3 +308,31 @@ selectRobotResult o = SelectRobotResultMsg <$> s "robot" <*> s "name" <*> (putFi
 selectResponse :: Obj -> Parser SelectResponseMsg
 selectResponse o = SelectResponseMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msgs selectRobotResult o "robots")
   <*> (putField <$> dbl o "compute_time") <*> (putField <$> msg errorMsg o "error") <*> (putField <$> msgs errorMsg o "errors")
+
+planStatusNames :: [Text]
+planStatusNames = [ "PLAN_STATUS_UNSPECIFIED", "PLAN_STATUS_OK", "PLAN_STATUS_INVALID_ARGUMENT", "PLAN_STATUS_OUT_OF_REACH"
+                  , "PLAN_STATUS_JOINT_LIMIT", "PLAN_STATUS_SINGULARITY", "PLAN_STATUS_JUMP", "PLAN_STATUS_COLLISION"
+                  , "PLAN_STATUS_NO_SOLUTION", "PLAN_STATUS_NO_PROFILE", "PLAN_STATUS_BUDGET", "PLAN_STATUS_INTERNAL" ]
+
+planRequest :: Obj -> Parser PlanRequestMsg
+planRequest o = PlanRequestMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msg poses o "waypoints")
+  <*> (putField <$> msg robot o "robot") <*> (putField <$> msg pose o "base") <*> (putField <$> msg pose o "tool")
+  <*> (putField <$> msgs mesh o "environment") <*> d "clearance" <*> (putField <$> u32s o "ignore_bodies")
+  <*> d "speed" <*> d "acceleration" <*> d "jerk" <*> d "zone" <*> d "time_step"
+  <*> (putField <$> dbls o "start") <*> d "time_budget"
+  where d k = putField <$> dbl o k
+
+planZone :: Obj -> Parser PlanZoneMsg
+planZone o = PlanZoneMsg <$> d "start_distance" <*> d "velocity" <*> d "end_distance" <*> (putField <$> str o "binding")
+  where d k = putField <$> dbl o k
+
+planResponse :: Obj -> Parser PlanResponseMsg
+planResponse o = PlanResponseMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> enum planStatusNames o "status")
+  <*> (putField <$> u32 o "dof") <*> d "time_step"
+  <*> ds "time" <*> ds "distance" <*> ds "velocity" <*> ds "acceleration" <*> ds "jerk" <*> ds "q" <*> ds "qd"
+  <*> d "duration" <*> d "route_length" <*> ds "stops" <*> (putField <$> msgs planZone o "zones")
+  <*> d "stop_distance" <*> (putField <$> msg pose o "stop_pose") <*> (putField <$> str o "stop_joint")
+  <*> (putField <$> str o "stop_body") <*> d "stop_value" <*> d "compute_time"
+  <*> (putField <$> msg errorMsg o "error") <*> (putField <$> msgs errorMsg o "errors")
+  where d k = putField <$> dbl o k
+        ds k = putField <$> dbls o k

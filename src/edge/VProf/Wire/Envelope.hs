@@ -18,6 +18,7 @@ module VProf.Wire.Envelope
   , fkResponse
   , ikResponse
   , selectResponse
+  , planResponse
   , responseKind
   , errorCodeName
   ) where
@@ -36,9 +37,10 @@ data Incoming
   | InFk FkRequestMsg
   | InIk IkRequestMsg
   | InSelect SelectRequestMsg
+  | InPlan PlanRequestMsg
   deriving (Eq, Show)
 
--- | "profile", "compress", "ping", "fk", "ik" or "select" (as logged).
+-- | "profile", "compress", "ping", "fk", "ik", "select" or "plan" (as logged).
 incomingKind :: Incoming -> Text
 incomingKind = \case
   InProfile _ -> "profile"
@@ -47,6 +49,7 @@ incomingKind = \case
   InFk _ -> "fk"
   InIk _ -> "ik"
   InSelect _ -> "select"
+  InPlan _ -> "plan"
 
 requestIdOf :: RequestMsg -> Word64
 requestIdOf = orDefault . getField . reqRequestId
@@ -56,11 +59,11 @@ classify :: RequestMsg -> Either ErrorMsg Incoming
 classify r = case bodies of
   [b] -> Right b
   [] -> Left (mkError ErrInvalidArgument "body"
-               "Request.body is empty: set exactly one of profile, compress, ping, fk, ik, select")
+               "Request.body is empty: set exactly one of profile, compress, ping, fk, ik, select, plan")
   bs -> Left (mkError ErrInvalidArgument "body"
                ("Request.body has " <> T.pack (show (length bs)) <> " bodies ("
                 <> T.intercalate ", " (map incomingKind bs)
-                <> "): set exactly one of profile, compress, ping, fk, ik, select"))
+                <> "): set exactly one of profile, compress, ping, fk, ik, select, plan"))
   where
     bodies = maybe [] (pure . InProfile) (getField (reqProfile r))
           ++ maybe [] (pure . InCompress) (getField (reqCompress r))
@@ -68,6 +71,7 @@ classify r = case bodies of
           ++ maybe [] (pure . InFk) (getField (reqFk r))
           ++ maybe [] (pure . InIk) (getField (reqIk r))
           ++ maybe [] (pure . InSelect) (getField (reqSelect r))
+          ++ maybe [] (pure . InPlan) (getField (reqPlan r))
 
 mkError :: ErrorCodeEnum -> Text -> Text -> ErrorMsg
 mkError code field msg = ErrorMsg
@@ -87,6 +91,7 @@ emptyResponse rid = ResponseMsg
   , rspFk = putField Nothing
   , rspIk = putField Nothing
   , rspSelect = putField Nothing
+  , rspPlan = putField Nothing
   }
 
 -- | A Response whose body is an Error.
@@ -114,8 +119,11 @@ ikResponse rid p = (emptyResponse rid) { rspIk = putField (Just p) }
 selectResponse :: Word64 -> SelectResponseMsg -> ResponseMsg
 selectResponse rid p = (emptyResponse rid) { rspSelect = putField (Just p) }
 
--- | The body a response carries: "profile", "compressed", "pong", "error", "fk", "ik", "select" or
--- "empty".
+planResponse :: Word64 -> PlanResponseMsg -> ResponseMsg
+planResponse rid p = (emptyResponse rid) { rspPlan = putField (Just p) }
+
+-- | The body a response carries: "profile", "compressed", "pong", "error", "fk", "ik", "select",
+-- "plan" or "empty".
 responseKind :: ResponseMsg -> Text
 responseKind r
   | Just _ <- getField (rspProfile r) = "profile"
@@ -125,6 +133,7 @@ responseKind r
   | Just _ <- getField (rspFk r) = "fk"
   | Just _ <- getField (rspIk r) = "ik"
   | Just _ <- getField (rspSelect r) = "select"
+  | Just _ <- getField (rspPlan r) = "plan"
   | otherwise = "empty"
 
 -- | The lower-case name of an error code as logged (@invalid_argument@, ...).

@@ -15,6 +15,7 @@ module VProf.Wire.Kinematics
   , ikFromMsg
   , robotFromMsg
   , poseFromMsg
+  , jointsFromMsg
   , meshFromMsg
     -- * Responses
   , fkToMsg

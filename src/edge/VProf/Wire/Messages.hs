@@ -40,6 +40,11 @@ module VProf.Wire.Messages
   , SelectSegmentMsg (..)
   , SelectRobotResultMsg (..)
   , SelectResponseMsg (..)
+    -- * Path planning
+  , PlanZoneMsg (..)
+  , PlanRequestMsg (..)
+  , PlanStatusEnum (..)
+  , PlanResponseMsg (..)
     -- * Daemon envelope
   , PingMsg (..)
   , PongMsg (..)
@@ -476,6 +481,100 @@ data SelectResponseMsg = SelectResponseMsg
 instance Encode SelectResponseMsg
 instance Decode SelectResponseMsg
 
+----------------------------------------------------------------------------- planning
+
+data PlanZoneMsg = PlanZoneMsg
+  { pzStartDistance :: Optional 1 (Value Double)
+  , pzVelocity      :: Optional 2 (Value Double)
+  , pzEndDistance   :: Optional 3 (Value Double)
+  , pzBinding       :: Optional 4 (Value Text)
+  } deriving (Generic, Show, Eq)
+instance Encode PlanZoneMsg
+instance Decode PlanZoneMsg
+
+data PlanRequestMsg = PlanRequestMsg
+  { plqRequestId    :: Optional 1 (Value Word64)
+  , plqWaypoints    :: Optional 2 (Message PosesMsg)
+  , plqRobot        :: Optional 3 (Message RobotMsg)
+  , plqBase         :: Optional 4 (Message PoseMsg)
+  , plqTool         :: Optional 5 (Message PoseMsg)
+  , plqEnvironment  :: Repeated 6 (Message MeshMsg)
+  , plqClearance    :: Optional 7 (Value Double)
+  , plqIgnoreBodies :: Packed 8 (Value Word32)
+  , plqSpeed        :: Optional 9 (Value Double)
+  , plqAcceleration :: Optional 10 (Value Double)
+  , plqJerk         :: Optional 11 (Value Double)
+  , plqZone         :: Optional 12 (Value Double)
+  , plqTimeStep     :: Optional 13 (Value Double)
+  , plqStart        :: Packed 14 (Value Double)
+  , plqTimeBudget   :: Optional 15 (Value Double)
+  } deriving (Generic, Show, Eq)
+instance Encode PlanRequestMsg
+instance Decode PlanRequestMsg
+
+-- | Constructors in wire-number order; an unknown number decodes to 'PlanStatusUnspecified'.
+data PlanStatusEnum
+  = PlanStatusUnspecified | PlanStatusOk | PlanStatusInvalidArgument | PlanStatusOutOfReach
+  | PlanStatusJointLimit | PlanStatusSingularity | PlanStatusJump | PlanStatusCollision
+  | PlanStatusNoSolution | PlanStatusNoProfile | PlanStatusBudget | PlanStatusInternal
+  deriving (Eq, Show, Bounded)
+
+instance Enum PlanStatusEnum where
+  fromEnum = \case
+    PlanStatusUnspecified -> 0
+    PlanStatusOk -> 1
+    PlanStatusInvalidArgument -> 2
+    PlanStatusOutOfReach -> 3
+    PlanStatusJointLimit -> 4
+    PlanStatusSingularity -> 5
+    PlanStatusJump -> 6
+    PlanStatusCollision -> 7
+    PlanStatusNoSolution -> 8
+    PlanStatusNoProfile -> 9
+    PlanStatusBudget -> 10
+    PlanStatusInternal -> 11
+  toEnum = \case
+    1 -> PlanStatusOk
+    2 -> PlanStatusInvalidArgument
+    3 -> PlanStatusOutOfReach
+    4 -> PlanStatusJointLimit
+    5 -> PlanStatusSingularity
+    6 -> PlanStatusJump
+    7 -> PlanStatusCollision
+    8 -> PlanStatusNoSolution
+    9 -> PlanStatusNoProfile
+    10 -> PlanStatusBudget
+    11 -> PlanStatusInternal
+    _ -> PlanStatusUnspecified
+
+data PlanResponseMsg = PlanResponseMsg
+  { plrRequestId    :: Optional 1 (Value Word64)
+  , plrStatus       :: Optional 2 (Enumeration PlanStatusEnum)
+  , plrDof          :: Optional 3 (Value Word32)
+  , plrTimeStep     :: Optional 4 (Value Double)
+  , plrTime         :: Packed 5 (Value Double)
+  , plrDistance     :: Packed 6 (Value Double)
+  , plrVelocity     :: Packed 7 (Value Double)
+  , plrAcceleration :: Packed 8 (Value Double)
+  , plrJerk         :: Packed 9 (Value Double)
+  , plrQ            :: Packed 10 (Value Double)
+  , plrQd           :: Packed 11 (Value Double)
+  , plrDuration     :: Optional 12 (Value Double)
+  , plrRouteLength  :: Optional 13 (Value Double)
+  , plrStops        :: Packed 14 (Value Double)
+  , plrZones        :: Repeated 15 (Message PlanZoneMsg)
+  , plrStopDistance :: Optional 16 (Value Double)
+  , plrStopPose     :: Optional 17 (Message PoseMsg)
+  , plrStopJoint    :: Optional 18 (Value Text)
+  , plrStopBody     :: Optional 19 (Value Text)
+  , plrStopValue    :: Optional 20 (Value Double)
+  , plrComputeTime  :: Optional 21 (Value Double)
+  , plrError        :: Optional 22 (Message ErrorMsg)
+  , plrErrors       :: Repeated 23 (Message ErrorMsg)
+  } deriving (Generic, Show, Eq)
+instance Encode PlanResponseMsg
+instance Decode PlanResponseMsg
+
 ----------------------------------------------------------------------------- envelope
 
 data PingMsg = PingMsg
@@ -502,7 +601,7 @@ data RequestMsg = RequestMsg
   , reqFk        :: Optional 5 (Message FkRequestMsg)
   , reqIk        :: Optional 6 (Message IkRequestMsg)
   , reqSelect    :: Optional 7 (Message SelectRequestMsg)
-    -- 8 is reserved for the plan request
+  , reqPlan      :: Optional 8 (Message PlanRequestMsg)
   } deriving (Generic, Show, Eq)
 instance Encode RequestMsg
 instance Decode RequestMsg
@@ -516,7 +615,7 @@ data ResponseMsg = ResponseMsg
   , rspFk         :: Optional 6 (Message FkResponseMsg)
   , rspIk         :: Optional 7 (Message IkResponseMsg)
   , rspSelect     :: Optional 8 (Message SelectResponseMsg)
-    -- 9 is reserved for the plan response
+  , rspPlan       :: Optional 9 (Message PlanResponseMsg)
   } deriving (Generic, Show, Eq)
 instance Encode ResponseMsg
 instance Decode ResponseMsg

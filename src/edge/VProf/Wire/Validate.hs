@@ -27,6 +27,7 @@ data MsgType
   | TError | TPoses | TCompressRequest | TCompressMetrics | TCompressedPath | TPing | TPong
   | TRobot | TPose | TFkRequest | TFkResponse | TMesh | TIkRequest | TIkSolution | TIkResponse
   | TCapsule | TSelectRequest | TSelectTarget | TSelectSegment | TSelectRobotResult | TSelectResponse
+  | TPlanZone | TPlanRequest | TPlanResponse
   deriving (Eq, Show, Enum, Bounded)
 
 data Kind = KVarint | KF64 | KStr | KMsg MsgType | KPackedF64 | KPackedVarint
@@ -34,9 +35,9 @@ data Kind = KVarint | KF64 | KStr | KMsg MsgType | KPackedF64 | KPackedVarint
 fields :: MsgType -> Word64 -> Maybe Kind
 fields t n = case t of
   TRequest -> lookup n [ (1, KVarint), (2, KMsg TProfileRequest), (3, KMsg TCompressRequest), (4, KMsg TPing)
-                       , (5, KMsg TFkRequest), (6, KMsg TIkRequest), (7, KMsg TSelectRequest) ]
+                       , (5, KMsg TFkRequest), (6, KMsg TIkRequest), (7, KMsg TSelectRequest), (8, KMsg TPlanRequest) ]
   TResponse -> lookup n [ (1, KVarint), (2, KMsg TProfileResponse), (3, KMsg TCompressedPath), (4, KMsg TPong), (5, KMsg TError)
-                        , (6, KMsg TFkResponse), (7, KMsg TIkResponse), (8, KMsg TSelectResponse) ]
+                        , (6, KMsg TFkResponse), (7, KMsg TIkResponse), (8, KMsg TSelectResponse), (9, KMsg TPlanResponse) ]
   TProfileRequest
     | n == 1 || n == 14 || n == 17 -> Just KVarint
     | n == 3 -> Just (KMsg TSpeedLimit)
@@ -85,6 +86,19 @@ fields t n = case t of
                                  , (6, KMsg TSelectSegment), (7, KVarint), (8, KVarint), (9, KVarint), (10, KF64)
                                  , (11, KStr), (12, KF64), (13, KF64), (14, KStr), (15, KF64), (16, KVarint) ]
   TSelectResponse -> lookup n [(1, KVarint), (2, KMsg TSelectRobotResult), (3, KF64), (4, KMsg TError), (5, KMsg TError)]
+  TPlanZone -> lookup n [(1, KF64), (2, KF64), (3, KF64), (4, KStr)]
+  TPlanRequest -> lookup n [ (1, KVarint), (2, KMsg TPoses), (3, KMsg TRobot), (4, KMsg TPose), (5, KMsg TPose), (6, KMsg TMesh)
+                           , (7, KF64), (8, KPackedVarint), (9, KF64), (10, KF64), (11, KF64), (12, KF64), (13, KF64)
+                           , (14, KPackedF64), (15, KF64) ]
+  TPlanResponse
+    | n == 1 || n == 2 || n == 3 -> Just KVarint
+    | n == 4 || n == 12 || n == 13 || n == 16 || n == 20 || n == 21 -> Just KF64
+    | (n >= 5 && n <= 11) || n == 14 -> Just KPackedF64
+    | n == 15 -> Just (KMsg TPlanZone)
+    | n == 17 -> Just (KMsg TPose)
+    | n == 18 || n == 19 -> Just KStr
+    | n == 22 || n == 23 -> Just (KMsg TError)
+    | otherwise -> Nothing
 
 -- | @Right ()@ when the bytes are a well-formed encoding of the message type; otherwise a
 -- message saying where (byte offset, field path) and what is wrong.
