@@ -54,7 +54,10 @@ spec = describe "VProf.Plan.Limits" $ do
           Right rt = mkRoute (map (const (Blend (0.005 *~ meter))) wps) wps
           Right tk = trackRoute defaultTrackOptions (kinematicsFor robot) rt Nothing
           rq = planRequest robot wps
-          st = stepLimits (limitOptionsFor rq) rt tk
+          lo = limitOptionsFor rq
+          pb = pathBounds (jointPath (rtStops rt) tk)
+          -- a stretch acceleration the planner could choose: 0.8 of the joints' ceiling
+          st = stepLimitsAt lo rt pb (0.8 * tangentialCeiling lo pb 0 (routeLength rt)) 0 (routeLength rt)
           ss = tkS tk
           n = tkDof tk
           zs = limitZones 0.5 st 0 (routeLength rt)

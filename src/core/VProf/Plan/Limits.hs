@@ -2,26 +2,28 @@
 -- | The TCP speed limit along the route, from the robot and the route's geometry, and the
 -- piecewise-constant speed zones of a profile request that never exceed it.
 --
--- The joint path q(s) is the smooth interpolant of the tracked samples ('JointPath'). On every
--- step [s_k, s_{k+1}] of the grid the limit is the least of: the TCP speed limit; every joint's
--- speed limit over its largest slope on the step, q̇max_i / max|q_i'|; every joint's share
--- (1 − 'loAccelerationShare') of its acceleration limit over its largest curvature on the step,
--- √((1 − share)·q̈max_i / max|q_i''|); and on a blend of radius r the centripetal bound √(a_max·r).
--- The other share bounds the tangential part q_i'·a of the joint acceleration through the TCP
--- acceleration of each stretch ('tangentialLimit'). The zones take the minimum over their steps,
--- rounded down to a geometric ladder of speeds (so that zones are not tiny), and zones shorter
--- than a minimum length are merged into their neighbour, again by the minimum: a zone's limit is
--- never above the limit of any step it touches. See docs/plan.md.
+-- The joint path q(s) is the smooth interpolant of the tracked samples ('JointPath'). With
+-- q̈_i = q_i'·a + q_i''·v², a stretch whose TCP acceleration stays within ±A keeps every joint's
+-- acceleration limit when, on every step [s_k, s_{k+1}] of the grid, v² ≤ (q̈max_i − A·max|q_i'|)
+-- / max|q_i''| (the slope and curvature maxima of the step). So the limit of a step at a given A
+-- is the least of: the TCP speed limit; every joint's speed limit over its largest slope,
+-- q̇max_i / max|q_i'|; that curvature bound for every joint; and on a blend of radius r the
+-- centripetal bound √(a_max·r). A must stay below q̈max_i / max|q_i'| on every step of the
+-- stretch ('tangentialCeiling'); the planner chooses it per stretch (a larger A accelerates
+-- harder and leaves less for the corners). The zones take the minimum over their steps, rounded
+-- down to a geometric ladder of speeds (so that zones are not tiny), and zones shorter than a
+-- minimum length are merged into their neighbour, again by the minimum: a zone's limit is never
+-- above the limit of any step it touches. See docs/plan.md.
 module VProf.Plan.Limits
   ( Binding (..)
   , describeBinding
   , LimitOptions (..)
   , defaultJointAcceleration
+  , PathBounds
+  , pathBounds
   , StepLimits (..)
-  , stepLimits
-  , stepLimitsOn
-  , defaultAccelerationShare
-  , tangentialLimit
+  , stepLimitsAt
+  , tangentialCeiling
   , LimitZone (..)
   , limitZones
   , quantiseDown
@@ -41,7 +43,7 @@ import VProf.Plan.Track
 data Binding
   = ByTcp                       -- ^ the TCP speed limit
   | ByJointSpeed !Int           -- ^ joint i's speed limit (0-based)
-  | ByJointAcceleration !Int    -- ^ joint i's acceleration limit (the conservative rule)
+  | ByJointAcceleration !Int    -- ^ joint i's acceleration limit (its curvature part)
   | ByCorner                    -- ^ the centripetal acceleration in a blend
   deriving (Eq, Show)
 
@@ -57,13 +59,7 @@ data LimitOptions = LimitOptions
   , loTcpAcceleration  :: !Double            -- ^ m/s², the centripetal bound in blends
   , loJointSpeed       :: !(U.Vector Double) -- ^ per joint, rad/s or m/s (infinite: none)
   , loJointAcceleration :: !(U.Vector Double) -- ^ per joint, rad/s² or m/s² (infinite: none)
-  , loAccelerationShare :: !Double            -- ^ the share of q̈max_i for the tangential part q_i'·a
   }
-
--- | Half of every joint's acceleration limit for the tangential part q_i'·a, half for the
--- curvature part q_i''·v².
-defaultAccelerationShare :: Double
-defaultAccelerationShare = 0.5
 
 -- | The joint acceleration limit used when the robot file publishes none: twice the speed
 -- limit per second (full speed within half a second); no limit when no speed is published.
@@ -73,6 +69,22 @@ defaultJointAcceleration j = case (jointMaxAcceleration j, jointMaxVelocity j) o
   (Nothing, Just v) -> 2 * v
   _ -> 1 / 0
 
+-- | Per step of the grid and joint, the largest |q_i'| and |q_i''| on the step ('stepBounds'),
+-- computed once: N × n values each, row-major.
+data PathBounds = PathBounds
+  { pbS         :: !(U.Vector Double)   -- ^ the grid s_0..s_N
+  , pbSlope     :: !(U.Vector Double)
+  , pbCurvature :: !(U.Vector Double)
+  , pbDof       :: !Int
+  }
+
+pathBounds :: JointPath -> PathBounds
+pathBounds jp = PathBounds ss (U.map fst b) (U.map snd b) n
+  where
+    ss = tkS (jpTracked jp)
+    n = tkDof (jpTracked jp)
+    b = U.generate (max 0 (U.length ss - 1) * n) (\x -> let (k, i) = x `divMod` n in stepBounds jp k i)
+
 -- | The limit of every step of the grid (N values for N+1 samples) and what sets it.
 data StepLimits = StepLimits
   { slS       :: !(U.Vector Double)     -- ^ the grid s_0..s_N
@@ -80,43 +92,46 @@ data StepLimits = StepLimits
   , slBinding :: !(V.Vector Binding)    -- ^ N
   } deriving (Show)
 
-stepLimits :: LimitOptions -> Route -> Tracked -> StepLimits
-stepLimits lo rt tk = stepLimitsOn lo rt (jointPath (rtStops rt) tk)
-
-stepLimitsOn :: LimitOptions -> Route -> JointPath -> StepLimits
-stepLimitsOn LimitOptions{..} rt jp = StepLimits ss (U.fromList (map fst lims)) (V.fromList (map snd lims))
+-- | The limits of the steps of [a, b] (a and b samples of the grid) with the TCP acceleration
+-- within ±A there: a grid of its own, from a to b.
+stepLimitsAt :: LimitOptions -> Route -> PathBounds -> Double -> Double -> Double -> StepLimits
+stepLimitsAt LimitOptions{..} rt PathBounds{..} acc a b =
+  StepLimits (U.slice k0 (m + 1) pbS) (U.fromList (map fst lims)) (V.fromList (map snd lims))
   where
-    tk = jpTracked jp
-    ss = tkS tk
-    nS = U.length ss
-    n = tkDof tk
-    curvShare = 1 - loAccelerationShare
-    lims = [ step k | k <- [0 .. nS - 2] ]
+    (k0, m) = stepRange pbS a b
+    n = pbDof
+    lims = [ step k | k <- [k0 .. k0 + m - 1] ]
     step k =
-      let mid = 0.5 * (ss U.! k + ss U.! (k + 1))
+      let mid = 0.5 * (pbS U.! k + pbS U.! (k + 1))
           r = routeRadiusAt rt mid
-          bounds = [ stepBounds jp k i | i <- [0 .. n - 1] ]
+          d i = pbSlope U.! (k * n + i)
+          c i = pbCurvature U.! (k * n + i)
           cands = (loTcpSpeed, ByTcp)
                 : [ (sqrt (loTcpAcceleration * r), ByCorner) | not (isInfinite r) ]
-               ++ [ (vi / d, ByJointSpeed i)
-                  | (i, (d, _)) <- zip [0 ..] bounds, let vi = loJointSpeed U.! i, not (isInfinite vi), d > 0 ]
-               ++ [ (sqrt (curvShare * ai / c), ByJointAcceleration i)
-                  | (i, (_, c)) <- zip [0 ..] bounds, let ai = loJointAcceleration U.! i, not (isInfinite ai), c > 0 ]
-      in foldl' (\a b -> if fst b < fst a then b else a) (head cands) (tail cands)
+               ++ [ (vi / d i, ByJointSpeed i)
+                  | i <- [0 .. n - 1], let vi = loJointSpeed U.! i, not (isInfinite vi), d i > 0 ]
+               ++ [ (sqrt (max 0 (ai - acc * d i) / c i), ByJointAcceleration i)
+                  | i <- [0 .. n - 1], let ai = loJointAcceleration U.! i, not (isInfinite ai), c i > 0 ]
+      in foldl' (\x y -> if fst y < fst x then y else x) (head cands) (tail cands)
 
--- | The TCP acceleration that keeps the tangential part of every joint's acceleration within its
--- share on the stretch [a, b]: the least of share·q̈max_i / max|q_i'| over the steps in it and the
--- joints (infinite when nothing bounds it). The caller takes the lesser of this and the asked
--- acceleration.
-tangentialLimit :: LimitOptions -> JointPath -> Double -> Double -> Double
-tangentialLimit LimitOptions{..} jp a b = foldl' min (1 / 0)
-  [ loAccelerationShare * ai / d
-  | k <- [0 .. U.length ss - 2], ss U.! k >= a - 1e-12, ss U.! (k + 1) <= b + 1e-12
-  , i <- [0 .. n - 1], let ai = loJointAcceleration U.! i, not (isInfinite ai)
-  , let (d, _) = stepBounds jp k i, d > 0 ]
+-- | The first step of [a, b] and the number of its steps.
+stepRange :: U.Vector Double -> Double -> Double -> (Int, Int)
+stepRange ss a b =
+  let k0 = maybe 0 id (U.findIndex (>= a - 1e-12) ss)
+      k1 = maybe (U.length ss - 1) (subtract 1) (U.findIndex (> b + 1e-12) ss)   -- the last sample <= b
+  in (k0, max 0 (k1 - k0))
+
+-- | The TCP acceleration at which the tangential part q_i'·a alone reaches a joint's
+-- acceleration limit somewhere on [a, b]: the least of q̈max_i / max|q_i'| over its steps and the
+-- joints (infinite when nothing bounds it). A stretch's acceleration must stay below it.
+tangentialCeiling :: LimitOptions -> PathBounds -> Double -> Double -> Double
+tangentialCeiling LimitOptions{..} PathBounds{..} a b = foldl' min (1 / 0)
+  [ ai / d
+  | k <- [k0 .. k0 + m - 1], i <- [0 .. pbDof - 1]
+  , let ai = loJointAcceleration U.! i, not (isInfinite ai)
+  , let d = pbSlope U.! (k * pbDof + i), d > 0 ]
   where
-    ss = tkS (jpTracked jp)
-    n = tkDof (jpTracked jp)
+    (k0, m) = stepRange pbS a b
 
 -- | One zone of the profile request: [start, end) at a speed, with what binds it.
 data LimitZone = LimitZone

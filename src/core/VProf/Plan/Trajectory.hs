@@ -3,8 +3,9 @@
 -- space ("VProf.Plan.Track"), its speed limits as zones ("VProf.Plan.Limits"), and the timing by
 -- the velocity-profile generator: one profile request per stretch between stops (the route's
 -- end points and its @fine@ waypoints), each from rest to rest with the TCP's acceleration and
--- jerk ranges at the controller's time step (the acceleration lowered where the joints need it,
--- 'tangentialLimit'). The generator's samples s(t) give the joint values q(t) on the smooth
+-- jerk ranges at the controller's time step. The stretch's TCP acceleration bound A shares each
+-- joint's acceleration limit with its speed limits in the corners ("VProf.Plan.Limits"): a few
+-- values of A below the joints' ceiling are tried and the fastest legal profile is kept. The generator's samples s(t) give the joint values q(t) on the smooth
 -- joint path through the tracked samples (cubic Hermite, 'jointPathAt'; 1 mm apart by default)
 -- and the joint speeds by central differences in time. Request and result are plain records, SI inside and
 -- units at the boundary, so that a wire layer can convert them.
@@ -27,6 +28,7 @@ module VProf.Plan.Trajectory
   , limitOptionsFor
   ) where
 
+import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Kinematics.Ik (kinematicsFor)
@@ -35,7 +37,7 @@ import VProf.Plan.Limits
 import VProf.Plan.Route
 import VProf.Plan.Track
 import VProf.Profile (Request (..), Result (..), SpeedZone (..), Outcome (..), defaultRequest, generatePure, resultLegal, renderFailure)
-import VProf.Profile.Sampled (Columns (..), columns)
+import VProf.Profile.Sampled (Columns (..), columns, duration)
 import VProf.Units
 import VProf.Validation
 
@@ -119,8 +121,32 @@ limitOptionsFor PlanRequest{..} = LimitOptions
   , loTcpAcceleration = si prAcceleration
   , loJointSpeed = U.fromList [ maybe (1 / 0) id (jointMaxVelocity j) | j <- robotJoints prRobot ]
   , loJointAcceleration = U.fromList (map defaultJointAcceleration (robotJoints prRobot))
-  , loAccelerationShare = defaultAccelerationShare
   }
+
+-- | The stretch accelerations tried, as fractions of the joints' ceiling ('tangentialCeiling'):
+-- a larger one accelerates harder on the straights and leaves less of the joints' acceleration
+-- for the corners. The search starts at 'startFraction'.
+accelerationFractions :: [Double]
+accelerationFractions = [0.2, 0.35, 0.5, 0.65, 0.8, 0.9, 0.95]
+
+startFraction :: Int
+startFraction = 4
+
+-- | Descend along the ladder from 'startFraction' while the next rung is strictly faster (the
+-- duration is close to unimodal in the fraction: about three profiles a stretch instead of
+-- seven); the fastest rung seen wins. Durations are looked at through @timeOf@ (infinite for an
+-- illegal profile), so a stretch with no legal profile keeps the start rung and its failure.
+descend :: (a -> Double) -> [a] -> a
+descend timeOf xs = go startFraction
+  where
+    n = length xs
+    t i = timeOf (xs !! i)
+    go i
+      | i + 1 < n && t (i + 1) < t i = up (i + 1)
+      | i > 0 && t (i - 1) < t i = down (i - 1)
+      | otherwise = xs !! i
+    up i = if i + 1 < n && t (i + 1) < t i then up (i + 1) else xs !! i
+    down i = if i > 0 && t (i - 1) < t i then down (i - 1) else xs !! i
 
 validateRequest :: PlanRequest -> [FieldError]
 validateRequest PlanRequest{..} = concat
@@ -150,13 +176,23 @@ planPath rq@PlanRequest{..} = do
   tracked <- either (Left . Stopped) Right (trackRoute prTrack (kinematicsFor prRobot) route prStart)
   let lo = limitOptionsFor rq
       jp = jointPath (rtStops route) tracked
-      steps = stepLimitsOn lo route jp
+      pb = pathBounds jp
       cuts = 0 : rtStops route ++ [rtLength route]
-      stretches = zip cuts (drop 1 cuts)
       top = si prSpeed
-      zoness = [ limitZones top steps a b | (a, b) <- stretches ]
-      accs = [ min (si prAcceleration) (tangentialLimit lo jp a b) | (a, b) <- stretches ]
-      results = [ generatePure (profileRequest a b acc zs) | ((a, b), acc, zs) <- zip3 stretches accs zoness ]
+      -- per stretch: the profile at each acceleration of the ladder (computed when looked at)
+      tries (a, b) =
+        let ceil' = tangentialCeiling lo pb a b
+        in [ ((a, b), acc, st, zs, generatePure (profileRequest a b acc zs))
+           | f <- accelerationFractions
+           , let acc = min (si prAcceleration) (f * ceil')
+           , let st = stepLimitsAt lo route pb acc a b, let zs = limitZones top st a b ]
+      timeOf (_, _, _, _, r) = if resultLegal r then maybe (1 / 0) duration (resProfile r) else 1 / 0
+      chosen = map (descend timeOf . tries) (zip cuts (drop 1 cuts))
+      stretches = [ ab | (ab, _, _, _, _) <- chosen ]
+      accs = [ acc | (_, acc, _, _, _) <- chosen ]
+      zoness = [ zs | (_, _, _, zs, _) <- chosen ]
+      results = [ r | (_, _, _, _, r) <- chosen ]
+      steps = joinSteps [ st | (_, _, st, _, _) <- chosen ]
   case [ (i, ab, r) | (i, ab, r) <- zip3 [0 ..] stretches results, not (resultLegal r) ] of
     ((i, ab, r) : _) -> Left (ProfileFailed i ab (case resOutcome r of
                                                    Failed f -> renderFailure f
@@ -165,6 +201,9 @@ planPath rq@PlanRequest{..} = do
   let traj = assemble jp (zip stretches results)
   pure (Plan route tracked steps stretches zoness accs results traj True)
   where
+    -- the stretches' grids joined (each begins where the previous one ends)
+    joinSteps sts = StepLimits (U.concat (take 1 (map slS sts) ++ map (U.drop 1 . slS) (drop 1 sts)))
+                               (U.concat (map slLimit sts)) (V.concat (map slBinding sts))
     -- The generator ends within the end tolerance of the stretch's end, not on it; the
     -- trajectory stretches each profile's s by f = (b − a) / s_end so that it stops exactly there
     -- (a jump to the end would be a joint acceleration spike). f ≤ 1 + tolerance / (b − a), so
