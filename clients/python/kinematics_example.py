@@ -9,13 +9,12 @@ quaternion; every IK solution, sent back through FK, reproduces the target to 1e
 length-delimited frames: the C++ example writes the same requests' answers, and
 clients/run-interop.sh compares the two files byte for byte. Exit 1 on any failure.
 """
-import argparse
 import math
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from vprof_client import Client, pb, write_frame  # noqa: E402
+from vprof_client import example_main, pb  # noqa: E402
 
 URDF = """<robot name="two-axis">
   <link name="base"/><link name="upper"/><link name="tool"/>
@@ -54,49 +53,39 @@ def pose_error(a, b):
     return dp, 2 * math.acos(min(1.0, dot))
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--host", default="127.0.0.1")
-    ap.add_argument("--port", type=int, default=7450)
-    ap.add_argument("--out", help="write the responses (compute_time cleared) here")
-    args = ap.parse_args(argv)
-    failures = 0
-    frames = []
-    with Client.connect(args.host, args.port) as c:
-        for label, req in requests():
-            if isinstance(req, pb.FkRequest):
-                r = c.fk(req)
-                n = math.sqrt(r.tool.qw ** 2 + r.tool.qx ** 2 + r.tool.qy ** 2 + r.tool.qz ** 2)
-                ok = not r.HasField("error") and abs(n - 1) < 1e-12 and len(r.jacobian) == 6 * r.dof
-                print("%-12s %s tool=(%.6f %.6f %.6f) manipulability=%.6g frames=%d"
-                      % (label, "ok  " if ok else "FAIL", r.tool.x, r.tool.y, r.tool.z,
-                         r.manipulability, len(r.link_frames)))
+def run(c):
+    """Send the requests, check each answer; yield (ok, response)."""
+    for label, req in requests():
+        if isinstance(req, pb.FkRequest):
+            r = c.fk(req)
+            n = math.sqrt(r.tool.qw ** 2 + r.tool.qx ** 2 + r.tool.qy ** 2 + r.tool.qz ** 2)
+            ok = not r.HasField("error") and abs(n - 1) < 1e-12 and len(r.jacobian) == 6 * r.dof
+            print("%-12s %s tool=(%.6f %.6f %.6f) manipulability=%.6g frames=%d"
+                  % (label, "ok  " if ok else "FAIL", r.tool.x, r.tool.y, r.tool.z,
+                     r.manipulability, len(r.link_frames)))
+        else:
+            r = c.ik(req)
+            if label == "ik bad":
+                ok = r.HasField("error") and r.error.field == "target" \
+                    and r.error.code == pb.ERROR_CODE_INVALID_ARGUMENT
+                print("%-12s %s %s (field %s)" % (label, "ok  " if ok else "FAIL",
+                                                  pb.ErrorCode.Name(r.error.code), r.error.field))
             else:
-                r = c.ik(req)
-                if label == "ik bad":
-                    ok = r.HasField("error") and r.error.field == "target" \
-                        and r.error.code == pb.ERROR_CODE_INVALID_ARGUMENT
-                    print("%-12s %s %s (field %s)" % (label, "ok  " if ok else "FAIL",
-                                                      pb.ErrorCode.Name(r.error.code), r.error.field))
-                else:
-                    worst = (0.0, 0.0)
-                    for s in r.solutions:
-                        back = c.fk(pb.FkRequest(robot=req.robot, joints=s.joints)).tool
-                        e = pose_error(back, req.target)
-                        worst = (max(worst[0], e[0]), max(worst[1], e[1]))
-                    ok = not r.HasField("error") and len(r.solutions) > 0 \
-                        and worst[0] <= 1e-6 and worst[1] <= 1e-6
-                    print("%-12s %s solver=%s solutions=%d worst FK residual %.1e m %.1e rad%s"
-                          % (label, "ok  " if ok else "FAIL", r.solver, len(r.solutions), worst[0], worst[1],
-                             (" error=" + r.error.message) if r.HasField("error") else ""))
-            failures += 0 if ok else 1
-            r.compute_time = 0
-            frames.append(r.SerializeToString())
-    if args.out:
-        with open(args.out, "wb") as f:
-            for b in frames:
-                write_frame(f.write, b)
-    return 1 if failures else 0
+                worst = (0.0, 0.0)
+                for s in r.solutions:
+                    back = c.fk(pb.FkRequest(robot=req.robot, joints=s.joints)).tool
+                    e = pose_error(back, req.target)
+                    worst = (max(worst[0], e[0]), max(worst[1], e[1]))
+                ok = not r.HasField("error") and len(r.solutions) > 0 \
+                    and worst[0] <= 1e-6 and worst[1] <= 1e-6
+                print("%-12s %s solver=%s solutions=%d worst FK residual %.1e m %.1e rad%s"
+                      % (label, "ok  " if ok else "FAIL", r.solver, len(r.solutions), worst[0], worst[1],
+                         (" error=" + r.error.message) if r.HasField("error") else ""))
+        yield ok, r
+
+
+def main(argv=None):
+    return example_main(__doc__, "FK and IK", run, argv)
 
 
 if __name__ == "__main__":

@@ -15,14 +15,13 @@ INVALID_ARGUMENT naming `speed` and `waypoints`. With --out it writes every plan
 writes the same requests' answers and clients/run-interop.sh compares the two files byte for byte.
 Exit 1 on any failure.
 """
-import argparse
 import math
 import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from vprof_client import Client, pb, write_frame  # noqa: E402
+from vprof_client import example_main, pb  # noqa: E402
 
 SQUARE = os.path.join(HERE, "..", "..", "examples", "plan-square.csv")
 LIMIT = 2 * math.pi        # rad, the UR5's +-360 deg
@@ -88,39 +87,29 @@ def check_square(c, req, r):
     return ok
 
 
+def run(c):
+    """Send the requests, check each answer; yield (ok, response)."""
+    for label, req in requests():
+        r = c.plan(req)
+        if label == "plan square":
+            ok = check_square(c, req, r)
+        elif label == "plan far":
+            ok = r.status == pb.PLAN_STATUS_OUT_OF_REACH and r.error.code == pb.ERROR_CODE_INFEASIBLE \
+                and 0.3 < r.stop_distance < 0.8 and abs(r.stop_pose.x - (0.4 + r.stop_distance)) < 1e-9 \
+                and not r.time
+            print("%-12s %s %s at %.1f mm: %s" % (label, "ok  " if ok else "FAIL", pb.PlanStatus.Name(r.status),
+                                                 1000 * r.stop_distance, r.error.message))
+        else:
+            fields = sorted(e.field for e in r.errors)
+            ok = r.status == pb.PLAN_STATUS_INVALID_ARGUMENT and r.error.code == pb.ERROR_CODE_INVALID_ARGUMENT \
+                and fields == ["speed", "waypoints"] and "-0.5 m/s" in r.error.message and not r.time
+            print("%-12s %s %s (fields %s)" % (label, "ok  " if ok else "FAIL",
+                                               pb.ErrorCode.Name(r.error.code), ", ".join(fields)))
+        yield ok, r
+
+
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--host", default="127.0.0.1")
-    ap.add_argument("--port", type=int, default=7450)
-    ap.add_argument("--out", help="write the plan responses (compute_time cleared) here")
-    args = ap.parse_args(argv)
-    failures = 0
-    frames = []
-    with Client.connect(args.host, args.port) as c:
-        for label, req in requests():
-            r = c.plan(req)
-            if label == "plan square":
-                ok = check_square(c, req, r)
-            elif label == "plan far":
-                ok = r.status == pb.PLAN_STATUS_OUT_OF_REACH and r.error.code == pb.ERROR_CODE_INFEASIBLE \
-                    and 0.3 < r.stop_distance < 0.8 and abs(r.stop_pose.x - (0.4 + r.stop_distance)) < 1e-9 \
-                    and not r.time
-                print("%-12s %s %s at %.1f mm: %s" % (label, "ok  " if ok else "FAIL", pb.PlanStatus.Name(r.status),
-                                                     1000 * r.stop_distance, r.error.message))
-            else:
-                fields = sorted(e.field for e in r.errors)
-                ok = r.status == pb.PLAN_STATUS_INVALID_ARGUMENT and r.error.code == pb.ERROR_CODE_INVALID_ARGUMENT \
-                    and fields == ["speed", "waypoints"] and "-0.5 m/s" in r.error.message and not r.time
-                print("%-12s %s %s (fields %s)" % (label, "ok  " if ok else "FAIL",
-                                                   pb.ErrorCode.Name(r.error.code), ", ".join(fields)))
-            failures += 0 if ok else 1
-            r.compute_time = 0
-            frames.append(r.SerializeToString())
-    if args.out:
-        with open(args.out, "wb") as f:
-            for b in frames:
-                write_frame(f.write, b)
-    return 1 if failures else 0
+    return example_main(__doc__, "plan", run, argv)
 
 
 if __name__ == "__main__":

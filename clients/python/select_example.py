@@ -13,13 +13,12 @@ clearance of at least 1 cm; the bad request comes back as INVALID_ARGUMENT namin
 length-delimited frames: the C++ example (vprof_select.cpp) writes the same requests' answers and
 clients/run-interop.sh compares the two files byte for byte. Exit 1 on any failure.
 """
-import argparse
 import math
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from vprof_client import Client, pb, write_frame  # noqa: E402
+from vprof_client import example_main, pb  # noqa: E402
 
 # the same numbers as vprof_select.cpp
 JOINTS = [[0.3, -1.2, 1.1, -0.5, 1.2, 0.4],
@@ -88,37 +87,27 @@ def check_cell(c, req, r):
     return ok
 
 
+def run(c):
+    """Send the requests, check each answer; yield (ok, response)."""
+    targets = [c.fk(pb.FkRequest(robot=pb.Robot(name="ur5"), joints=q)).tool for q in JOINTS]
+    targets.append(pb.Pose(x=3.0, z=0.5, qx=1.0))
+    for label, req in requests(targets):
+        r = c.select(req)
+        if label == "select bad":
+            fields = sorted(e.field for e in r.errors)
+            ok = r.error.code == pb.ERROR_CODE_INVALID_ARGUMENT and fields == ["payload", "targets"] \
+                and "-1.0 kg" in r.error.message and not r.robots
+            print("%-12s %s %s (fields %s)" % (label, "ok  " if ok else "FAIL",
+                                               pb.ErrorCode.Name(r.error.code), ", ".join(fields)))
+        else:
+            print("%-12s" % label)
+            ok = check_cell(c, req, r)
+            print("%-12s %s" % ("", "ok" if ok else "FAIL"))
+        yield ok, r
+
+
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--host", default="127.0.0.1")
-    ap.add_argument("--port", type=int, default=7450)
-    ap.add_argument("--out", help="write the select responses (compute_time cleared) here")
-    args = ap.parse_args(argv)
-    failures = 0
-    frames = []
-    with Client.connect(args.host, args.port) as c:
-        targets = [c.fk(pb.FkRequest(robot=pb.Robot(name="ur5"), joints=q)).tool for q in JOINTS]
-        targets.append(pb.Pose(x=3.0, z=0.5, qx=1.0))
-        for label, req in requests(targets):
-            r = c.select(req)
-            if label == "select bad":
-                fields = sorted(e.field for e in r.errors)
-                ok = r.error.code == pb.ERROR_CODE_INVALID_ARGUMENT and fields == ["payload", "targets"] \
-                    and "-1.0 kg" in r.error.message and not r.robots
-                print("%-12s %s %s (fields %s)" % (label, "ok  " if ok else "FAIL",
-                                                   pb.ErrorCode.Name(r.error.code), ", ".join(fields)))
-            else:
-                print("%-12s" % label)
-                ok = check_cell(c, req, r)
-                print("%-12s %s" % ("", "ok" if ok else "FAIL"))
-            failures += 0 if ok else 1
-            r.compute_time = 0
-            frames.append(r.SerializeToString())
-    if args.out:
-        with open(args.out, "wb") as f:
-            for b in frames:
-                write_frame(f.write, b)
-    return 1 if failures else 0
+    return example_main(__doc__, "select", run, argv)
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@
     with Client.connect("127.0.0.1", 7450) as c:          # or Client.spawn("vprof")
         resp = c.profile(request_from_json(case_dict))
 """
+import argparse
 import json
 import socket
 import subprocess
@@ -15,7 +16,7 @@ from google.protobuf.internal.encoder import _VarintBytes
 from ._gen import pb
 
 __all__ = ["pb", "Client", "request_from_json", "load_cases", "summarize", "DaemonError",
-           "write_frame", "read_frame"]
+           "write_frame", "read_frame", "example_main"]
 
 
 class DaemonError(Exception):
@@ -205,3 +206,30 @@ def summarize(p):
         "error": (pb.ErrorCode.Name(p.error.code) + ": " + p.error.message)
                  if p.HasField("error") else "",
     }
+
+
+def example_main(doc, what, run, argv=None):
+    """The command line the client examples share: ``--host``, ``--port`` and ``--out``.
+
+    ``run(client)`` sends the example's requests and yields ``(ok, response)`` for each; with
+    ``--out`` the responses are written as length-delimited frames with ``compute_time`` cleared
+    (it varies), for clients/run-interop.sh to compare byte for byte with the C++ example's.
+    Returns the exit code: 1 when any check failed.
+    """
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--host", default="127.0.0.1")
+    ap.add_argument("--port", type=int, default=7450)
+    ap.add_argument("--out", help="write the %s responses (compute_time cleared) here" % what)
+    args = ap.parse_args(argv)
+    failures = 0
+    frames = []
+    with Client.connect(args.host, args.port) as c:
+        for ok, r in run(c):
+            failures += 0 if ok else 1
+            r.compute_time = 0
+            frames.append(r.SerializeToString())
+    if args.out:
+        with open(args.out, "wb") as f:
+            for b in frames:
+                write_frame(f.write, b)
+    return 1 if failures else 0
