@@ -11,7 +11,10 @@
 -- * the TCP, by a textbook forward kinematics ("Support.FkOracle": one 4×4 matrix a DH step),
 --   within the zone of the waypoint polyline: its distance to the nearest segment at most the
 --   zone radius + 0.1 mm;
--- * every stretch's profile legal for its zones by the profile legality checker.
+-- * every part's profile legal for its zones by the profile legality checker, from and to the
+--   speeds it starts and ends at; the first part starting and the last part ending at rest, the
+--   motion at rest at every stop of the route, and each part starting at the speed the previous
+--   one ends at (to 0.1 %).
 module Support.PlanChecker
   ( checkTrajectory
   , oracleTcp
@@ -27,8 +30,9 @@ import qualified Data.Vector.Unboxed as U
 import Support.FkOracle
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform (toRows4)
-import VProf.Plan (LimitZone (..), Plan (..), Trajectory (..))
+import VProf.Plan (LimitZone (..), Plan (..), Route (..), Trajectory (..))
 import VProf.Profile (Request (..), SpeedZone (..), check, defaultRequest, renderViolation, resProfile, validate)
+import VProf.Profile.Sampled (Columns (..), columns)
 import VProf.Units
 
 speedTolerance, tcpTolerance, accelerationTolerance :: Double
@@ -94,6 +98,13 @@ checkTrajectory r wps zone acc jerk dt plan = concat
            , d > zone + tcpTolerance ]
   , [ "the time step is " ++ show (t (k + 1) - t k) ++ " s at sample " ++ show k | k <- take 1 [ k | k <- [0 .. m - 2], abs (t (k + 1) - t k - dt) > 1e-9 ] ]
   , concat [ profileProblems i zs res | (i, zs, res) <- zip3 [0 :: Int ..] (planZones plan) (planProfiles plan) ]
+  , [ "the first part starts at " ++ show v ++ " m/s, not at rest" | Just v <- [take1 (map fst ends)], v /= 0 ]
+  , [ "the last part ends at " ++ show v ++ " m/s, not at rest" | Just v <- [take1 (reverse (map snd ends))], v /= 0 ]
+  , [ "the motion does not stop at the stop " ++ show st ++ " m: " ++ show v ++ " m/s there"
+    | st <- rtStops (planRoute plan), (zs, (_, v)) <- zip (planZones plan) ends, not (null zs)
+    , abs (lzEnd (last zs) - st) < 1e-9, v /= 0 ]
+  , [ "part " ++ show (i + 1) ++ " starts at " ++ show v1 ++ " m/s, part " ++ show i ++ " ends at " ++ show v0 ++ " m/s"
+    | (i, (_, v0), (v1, _)) <- zip3 [0 :: Int ..] ends (drop 1 ends), abs (v1 - v0) > 1e-3 * max v0 v1 + 1e-12 ]
   , [ "the trajectory is empty" | m == 0 ]
   ]
   where
@@ -103,6 +114,10 @@ checkTrajectory r wps zone acc jerk dt plan = concat
     m = U.length (trTime tr)
     q k i = trQ tr U.! (k * n + i)
     t k = trTime tr U.! k
+    take1 xs = case xs of { (x : _) -> Just x; [] -> Nothing }
+    -- each part's first and last speed
+    ends = [ (U.head vs, U.last vs) | res <- planProfiles plan, Just p <- [resProfile res]
+                                    , let vs = colVelocity (columns p), not (U.null vs) ]
     profileProblems i zs res = case zs of
       [] -> ["stretch " ++ show i ++ " has no zones"]
       (z0 : _) ->
@@ -113,8 +128,12 @@ checkTrajectory r wps zone acc jerk dt plan = concat
               , rqZones = [ SpeedZone ((lzStart z - a) *~ meter) (lzSpeed z *~ mps) | z <- zs ]
               , rqMinAcceleration = negate acc *~ mps2, rqMaxAcceleration = acc *~ mps2
               , rqMinJerk = negate jerk *~ mps3, rqMaxJerk = jerk *~ mps3
-              , rqTimeStep = Just (dt *~ second), rqEndTolerance = Just (1e-4 *~ meter) }
-        in case (validate rq, resProfile res) of
-             (Left es, _) -> ["stretch " ++ show i ++ ": its zones are not a valid request: " ++ show es]
-             (_, Nothing) -> ["stretch " ++ show i ++ " has no profile"]
-             (Right pb, Just p) -> [ "stretch " ++ show i ++ ": " ++ renderViolation v | v <- take 5 (check pb p) ]
+              , rqTimeStep = Just (dt *~ second), rqEndTolerance = Just (1e-6 *~ meter) }
+        in case resProfile res of
+             Nothing -> ["part " ++ show i ++ " has no profile"]
+             Just p ->
+               let vs = colVelocity (columns p)
+                   rq' = rq { rqStartVelocity = U.head vs *~ mps, rqEndVelocity = U.last vs *~ mps }
+               in case validate rq' of
+                    Left es -> ["part " ++ show i ++ ": its zones are not a valid request: " ++ show es]
+                    Right pb -> [ "part " ++ show i ++ ": " ++ renderViolation v | v <- take 5 (check pb p) ]

@@ -1,14 +1,14 @@
 {-# LANGUAGE RecordWildCards #-}
 -- | The plan, end to end: the route through the waypoints ("VProf.Plan.Route"), tracked in joint
 -- space ("VProf.Plan.Track"), its speed limits as zones ("VProf.Plan.Limits"), and the timing by
--- the velocity-profile generator: one profile request per stretch between stops (the route's
--- end points and its @fine@ waypoints), each from rest to rest with the TCP's acceleration and
--- jerk ranges at the controller's time step. The stretch's TCP acceleration bound A shares each
--- joint's acceleration limit with its speed limits in the corners ("VProf.Plan.Limits"): a few
--- values of A below the joints' ceiling are tried and the fastest legal profile is kept. The generator's samples s(t) give the joint values q(t) on the smooth
+-- the velocity-profile generator: one profile request per part of the route (the stretches
+-- between stops, some cut at their slow corners), with the TCP's jerk range at the controller's
+-- time step and an acceleration range A chosen per part: by the joints' acceleration rule, then
+-- faster variants admitted only by the check of the sampled joint motion ('jointsKeepLimits';
+-- docs/plan.md, section 3). The generator's samples s(t) give the joint values q(t) on the smooth
 -- joint path through the tracked samples (cubic Hermite, 'jointPathAt'; 1 mm apart by default)
--- and the joint speeds by central differences in time. Request and result are plain records, SI inside and
--- units at the boundary, so that a wire layer can convert them.
+-- and the joint speeds by central differences in time. Request and result are plain records, SI
+-- inside and units at the boundary, so that a wire layer can convert them.
 module VProf.Plan.Trajectory
   ( PlanRequest (..)
   , planRequest
@@ -61,7 +61,9 @@ defaultTimeStep = 0.004
 defaultAcceleration, defaultJerk, defaultEndTolerance :: Double
 defaultAcceleration = 2     -- m/s²
 defaultJerk = 20            -- m/s³
-defaultEndTolerance = 1e-4  -- m
+defaultEndTolerance = 1e-6  -- m: the parts of a stretch cut at its corners meet at a speed, and
+                            -- their stretch factors, so the speeds where they meet, agree to
+                            -- about this over the part's length
 
 -- | A request with the defaults: v500 (500 mm/s), z10 (10 mm), 2 m/s², 20 m/s³, 4 ms.
 planRequest :: Robot -> [Waypoint] -> PlanRequest
@@ -91,10 +93,11 @@ data Plan = Plan
   { planRoute      :: !Route
   , planTracked    :: !Tracked
   , planSteps      :: !StepLimits
-  , planStretches  :: ![(Double, Double)]   -- ^ [a, b] between stops (m)
-  , planZones      :: ![[LimitZone]]         -- ^ per stretch, in route coordinates
-  , planAccelerations :: ![Double]           -- ^ per stretch, the TCP acceleration range ±a used (m/s²)
-  , planProfiles   :: ![Result]              -- ^ per stretch
+  , planStretches  :: ![(Double, Double)]   -- ^ the parts [a, b] timed one by one (m): the
+                                             --   stretches between stops, some cut at slow corners
+  , planZones      :: ![[LimitZone]]         -- ^ per part, in route coordinates
+  , planAccelerations :: ![Double]           -- ^ per part, the TCP acceleration range ±a used (m/s²)
+  , planProfiles   :: ![Result]              -- ^ per part
   , planTrajectory :: !Trajectory
   , planLegal      :: !Bool                  -- ^ every stretch's profile legal by the checker
   }
@@ -129,24 +132,65 @@ limitOptionsFor PlanRequest{..} = LimitOptions
 accelerationFractions :: [Double]
 accelerationFractions = [0.2, 0.35, 0.5, 0.65, 0.8, 0.9, 0.95]
 
+-- | The boost phase: accelerations beyond the rule's, as fractions of the ceiling, and the
+-- share of the acceleration the corner zones assume.
+boostFractions, boostBetas :: [Double]
+boostFractions = [1, 1.25, 1.5, 2, 2.5, 3]
+boostBetas = [0, 0.5]
+
 startFraction :: Int
 startFraction = 4
+
+-- | The distance along the route of a profile's samples for the part [a, b]: its own distance
+-- stretched to end exactly on b (the generator ends within its end tolerance of it).
+stretchedS :: Double -> Double -> Columns -> U.Vector Double
+stretchedS a b c =
+  let ss = colDistance c
+      e = if U.null ss then 0 else U.last ss
+      f = if e > 0 then (b - a) / e else 1
+  in U.map (\x -> a + f * x) ss
+
+-- | The sampled joint motion at the route distances ss (one every dt) keeps the joints' limits:
+-- joint speeds by forward differences within q̇max_i, joint accelerations by second differences
+-- within q̈max_i; with rest ends, the one-sided second difference at each end within q̈max_i / 2,
+-- so that the difference across the junction with the next stretch (their sum) keeps the limit.
+jointsKeepLimits :: LimitOptions -> JointPath -> Double -> Bool -> U.Vector Double -> Bool
+jointsKeepLimits LimitOptions{..} jp dt restEnds ss =
+  m < 2 || (all speedOk [0 .. m - 2] && all accOk [1 .. m - 2] && (not restEnds || (endOk 0 1 && endOk (m - 1) (m - 2))))
+  where
+    m = U.length ss
+    n = tkDof (jpTracked jp)
+    qs = V.generate m (\k -> jointPathAt jp (ss U.! k))
+    q k i = qs V.! k U.! i
+    speedOk k = and [ abs (q (k + 1) i - q k i) <= loJointSpeed U.! i * dt | i <- [0 .. n - 1] ]
+    accOk k = and [ abs (q (k + 1) i - 2 * q k i + q (k - 1) i) <= loJointAcceleration U.! i * dt * dt | i <- [0 .. n - 1] ]
+    endOk k k' = and [ abs (q k' i - q k i) <= 0.5 * loJointAcceleration U.! i * dt * dt | i <- [0 .. n - 1] ]
 
 -- | Descend along the ladder from 'startFraction' while the next rung is strictly faster (the
 -- duration is close to unimodal in the fraction: about three profiles a stretch instead of
 -- seven); the fastest rung seen wins. Durations are looked at through @timeOf@ (infinite for an
 -- illegal profile), so a stretch with no legal profile keeps the start rung and its failure.
 descend :: (a -> Double) -> [a] -> a
-descend timeOf xs = go startFraction
+descend timeOf xs = xs !! descendIndex timeOf xs
+
+descendIndex :: (a -> Double) -> [a] -> Int
+descendIndex timeOf xs = go (min startFraction (n - 1))
   where
     n = length xs
     t i = timeOf (xs !! i)
     go i
       | i + 1 < n && t (i + 1) < t i = up (i + 1)
       | i > 0 && t (i - 1) < t i = down (i - 1)
-      | otherwise = xs !! i
-    up i = if i + 1 < n && t (i + 1) < t i then up (i + 1) else xs !! i
-    down i = if i > 0 && t (i - 1) < t i then down (i - 1) else xs !! i
+      | otherwise = i
+    up i = if i + 1 < n && t (i + 1) < t i then up (i + 1) else i
+    down i = if i > 0 && t (i - 1) < t i then down (i - 1) else i
+
+-- | The fastest rung by @timeOf@ found by 'descend' if @ok@ admits it, else the first rung below
+-- it that @ok@ admits (a lower acceleration), else the fastest rung.
+descendAdmitted :: (a -> Double) -> (a -> Bool) -> [a] -> a
+descendAdmitted timeOf ok xs =
+  let i = descendIndex timeOf xs
+  in head ([ x | x <- reverse (take (i + 1) xs), ok x ] ++ [xs !! i])
 
 validateRequest :: PlanRequest -> [FieldError]
 validateRequest PlanRequest{..} = concat
@@ -179,15 +223,71 @@ planPath rq@PlanRequest{..} = do
       pb = pathBounds jp
       cuts = 0 : rtStops route ++ [rtLength route]
       top = si prSpeed
-      -- per stretch: the profile at each acceleration of the ladder (computed when looked at)
-      tries (a, b) =
+      grid = tkS tracked
+      -- a part [a, b] of the route from speed va to speed vb (m/s; the acceleration 0 at both):
+      -- the profile at each acceleration of the ladder (computed when looked at), its zones by
+      -- the rule (safe by construction)
+      tries (a, b) va vb =
         let ceil' = tangentialCeiling lo pb a b
-        in [ ((a, b), acc, st, zs, generatePure (profileRequest a b acc zs))
-           | f <- accelerationFractions
-           , let acc = min (si prAcceleration) (f * ceil')
-           , let st = stepLimitsAt lo route pb acc a b, let zs = limitZones top st a b ]
+        in [ candidate (a, b) va vb acc acc | f <- accelerationFractions, let acc = min (si prAcceleration) (f * ceil') ]
+      -- the profile at acceleration A whose corner zones assume the acceleration ac ≤ A there
+      candidate (a, b) va vb acc ac =
+        let st = stepLimitsAt lo route pb ac a b
+            zs = limitZones top st a b
+        in ((a, b), acc, st, zs, generatePure (profileRequest (si prEndTolerance) a b acc zs va vb))
       timeOf (_, _, _, _, r) = if resultLegal r then maybe (1 / 0) duration (resProfile r) else 1 / 0
-      chosen = map (descend timeOf . tries) (zip cuts (drop 1 cuts))
+      samplesOf ((a, b), _, _, _, r) = maybe U.empty (stretchedS a b . columns) (resProfile r)
+      -- a candidate's duration when its sampled joint motion keeps the limits ('jointsKeepLimits'),
+      -- else infinite
+      score restEnds c = if timeOf c < 1 / 0 && jointsKeepLimits lo jp dt restEnds (samplesOf c) then timeOf c else 1 / 0
+      -- from the rule's choice, faster ones that only the joints' own check admits: corner zones
+      -- that assume less acceleration there (β·A, β = 0 then 0.5), and more acceleration on the
+      -- way (up the boost ladder while each rung is faster and admitted)
+      boost restEnds va vb safe@((a, b), acc0, _, _, _) =
+        let ceil' = tangentialCeiling lo pb a b
+            ladder = acc0 : [ acc | f <- boostFractions, let acc = min (si prAcceleration) (f * ceil'), acc > acc0 ]
+            -- up the ladder while each rung keeps the limits and is strictly faster
+            climb beta (best, t) (acc : rest) =
+              let c = candidate (a, b) va vb acc (beta * acc)
+              in if timeOf c < t && score restEnds c < 1 / 0 then climb beta (c, timeOf c) rest else (best, t)
+            climb _ bt [] = bt
+        in fst (foldl (\bt beta -> climb beta bt ladder) (safe, timeOf safe) boostBetas)
+      -- a stretch between stops, timed whole; or cut in the middle of its slow corner blends
+      -- (under half the stretch's fastest zone), so that every part between two such corners
+      -- takes its own acceleration, when that is faster and the joined parts keep the joints'
+      -- limits. The parts' corner zones assume no acceleration there (so they do not depend on
+      -- the part's acceleration, and neither does the speed at a cut: the lower of the two
+      -- parts' zones there); each part's acceleration is the fastest on the ladder whose joint
+      -- motion keeps the limits
+      planStretch (a, b) =
+        let whole = boost True 0 0 (descend timeOf (tries (a, b) 0 0))
+            (_, _, _, zs0, _) = whole
+            fastest = if null zs0 then 0 else maximum (map lzSpeed zs0)
+            cutsAt = [ c | pc <- V.toList (rtPieces route), pcKind pc == Arc
+                         , let mid = pcStart pc + 0.5 * pcLength pc, mid > a, mid < b
+                         , Just c <- [nearestSample mid a b]
+                         , minimum (fastest : [ lzSpeed z | z <- zs0, lzStart z <= c, c <= lzEnd z ]) < 0.5 * fastest ]
+            bounds = a : cutsAt ++ [b]
+            -- each part's steps and zones (independent of its acceleration)
+            parts = [ ((x, y), st, limitZones top st x y) | (x, y) <- zip bounds (drop 1 bounds)
+                                                           , let st = stepLimitsAt lo route pb 0 x y ]
+            -- the speed at a cut: the lower of the two parts' zones there
+            speeds = 0 : [ min (lzSpeed (last zl)) (lzSpeed (head zr)) | ((_, _, zl), (_, _, zr)) <- zip parts (drop 1 parts) ] ++ [0]
+            part ((x, y), st, zs) vx vy =
+              let ceil' = tangentialCeiling lo pb x y
+              in descendAdmitted timeOf ((< 1 / 0) . score False) [ ((x, y), acc, st, zs, generatePure (profileRequest (si prEndTolerance) x y acc zs vx vy))
+                                       | f <- accelerationFractions ++ boostFractions
+                                       , let acc = min (si prAcceleration) (f * ceil') ]
+            split = zipWith3 part parts speeds (drop 1 speeds)
+            joined = U.concat (take 1 (map samplesOf split) ++ map (U.drop 1 . samplesOf) (drop 1 split))
+        in if null cutsAt || sum (map (score False) split) >= timeOf whole || not (jointsKeepLimits lo jp dt True joined)
+             then [whole] else split
+      -- the grid sample nearest s, strictly inside (a, b)
+      nearestSample x a b = do
+        k <- U.findIndex (>= x) grid
+        let c = grid U.! k
+        if c > a + 1e-9 && c < b - 1e-9 then Just c else Nothing
+      chosen = concatMap planStretch (zip cuts (drop 1 cuts))
       stretches = [ ab | (ab, _, _, _, _) <- chosen ]
       accs = [ acc | (_, acc, _, _, _) <- chosen ]
       zoness = [ zs | (_, _, _, zs, _) <- chosen ]
@@ -209,16 +309,18 @@ planPath rq@PlanRequest{..} = do
     -- (a jump to the end would be a joint acceleration spike). f ≤ 1 + tolerance / (b − a), so
     -- the request asks for speeds, acceleration and jerk lowered by that factor: once stretched,
     -- the profile keeps the zones, acceleration and jerk of the plan.
-    margin a b = 1 / (1 + si prEndTolerance / (b - a))
-    profileRequest a b acc zs = defaultRequest
+    margin tol a b = 1 / (1 + tol / (b - a))
+    profileRequest tol a b acc zs va vb = defaultRequest
       { rqRouteLength = (b - a) *~ meter
-      , rqZones = [ SpeedZone ((lzStart z - a) *~ meter) ((margin a b * lzSpeed z) *~ mps) | z <- zs ]
-      , rqMinAcceleration = negate (margin a b * acc) *~ mps2
-      , rqMaxAcceleration = (margin a b * acc) *~ mps2
-      , rqMinJerk = negate (margin a b * si prJerk) *~ mps3
-      , rqMaxJerk = (margin a b * si prJerk) *~ mps3
+      , rqStartVelocity = (margin tol a b * va) *~ mps
+      , rqEndVelocity = (margin tol a b * vb) *~ mps
+      , rqZones = [ SpeedZone ((lzStart z - a) *~ meter) ((margin tol a b * lzSpeed z) *~ mps) | z <- zs ]
+      , rqMinAcceleration = negate (margin tol a b * acc) *~ mps2
+      , rqMaxAcceleration = (margin tol a b * acc) *~ mps2
+      , rqMinJerk = negate (margin tol a b * si prJerk) *~ mps3
+      , rqMaxJerk = (margin tol a b * si prJerk) *~ mps3
       , rqTimeStep = Just prTimeStep
-      , rqEndTolerance = Just prEndTolerance
+      , rqEndTolerance = Just (tol *~ meter)
       }
     dt = si prTimeStep
     assemble jp parts =
