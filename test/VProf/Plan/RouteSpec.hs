@@ -69,12 +69,18 @@ spec = describe "VProf.Plan.Route" $ do
     property $ forAll genCase $ \cs ->
       let rt = routeOf cs
           ps = V.toList (rtPieces rt)
-          joins = [ (pcStart b, isStop) | b <- drop 1 ps, let isStop = any (\x -> abs (x - pcStart b) < 1e-9) (rtStops rt) ]
+          -- each join with the least radius of its two pieces (infinite for straights): over the
+          -- ±0.1 µm the tangents are compared across, each side turns by at most 0.1 µm / r (two
+          -- blends meet where the segment between them is shorter than their zones)
+          joins = [ (pcStart b, isStop, min (radius a) (radius b))
+                  | (a, b) <- zip ps (drop 1 ps), let isStop = any (\x -> abs (x - pcStart b) < 1e-9) (rtStops rt) ]
+          radius p = if pcKind p == Arc then pcRadius p else 1 / 0
           eps = 1e-9
-      in conjoin [ counterexample ("at s = " ++ show s) $
+          angle u v = acos (max (-1) (min 1 (v3Dot u v)))
+      in conjoin [ counterexample ("at s = " ++ show s ++ " (least radius " ++ show r ++ " m)") $
                      v3Norm (v3Sub (fst (routeAt rt (s - eps))) (fst (routeAt rt (s + eps)))) < 1e-7
-                     .&&. (stop || v3Dot (routeTangentAt rt (s - 1e-7)) (routeTangentAt rt (s + 1e-7)) > 1 - 1e-6)
-                 | (s, stop) <- joins ]
+                     .&&. (stop || angle (routeTangentAt rt (s - 1e-7)) (routeTangentAt rt (s + 1e-7)) <= 2e-7 / r + 1e-5)
+                 | (s, stop, r) <- joins ]
   it "stays within the zone of the waypoint polyline, and each blend within its waypoint's zone sphere" $
     property $ forAll genCase $ \cs@(Case wps z) ->
       let rt = routeOf cs
