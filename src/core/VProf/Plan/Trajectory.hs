@@ -28,6 +28,7 @@ module VProf.Plan.Trajectory
   , limitOptionsFor
   ) where
 
+import Data.List (group, sort)
 import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
 
@@ -166,6 +167,10 @@ jointsKeepLimits LimitOptions{..} jp dt restEnds ss =
     accOk k = and [ abs (q (k + 1) i - 2 * q k i + q (k - 1) i) <= loJointAcceleration U.! i * dt * dt | i <- [0 .. n - 1] ]
     endOk k k' = and [ abs (q k' i - q k i) <= 0.5 * loJointAcceleration U.! i * dt * dt | i <- [0 .. n - 1] ]
 
+-- | Sorted, without repeats.
+nubSorted :: [Double] -> [Double]
+nubSorted xs = map head (group (sort xs))
+
 -- | Descend along the ladder from 'startFraction' while the next rung is strictly faster (the
 -- duration is close to unimodal in the fraction: about three profiles a stretch instead of
 -- seven); the fastest rung seen wins. Durations are looked at through @timeOf@ (infinite for an
@@ -252,36 +257,48 @@ planPath rq@PlanRequest{..} = do
               in if timeOf c < t && score restEnds c < 1 / 0 then climb beta (c, timeOf c) rest else (best, t)
             climb _ bt [] = bt
         in fst (foldl (\bt beta -> climb beta bt ladder) (safe, timeOf safe) boostBetas)
-      -- a stretch between stops, timed whole; or cut in the middle of its slow corner blends
-      -- (under half the stretch's fastest zone), so that every part between two such corners
-      -- takes its own acceleration, when that is faster and the joined parts keep the joints'
-      -- limits. The parts' corner zones assume no acceleration there (so they do not depend on
-      -- the part's acceleration, and neither does the speed at a cut: the lower of the two
-      -- parts' zones there); each part's acceleration is the fastest on the ladder whose joint
-      -- motion keeps the limits
+      -- a stretch between stops, timed whole; or cut at its slow corners (under half the
+      -- stretch's fastest zone), so that every part between two such corners takes its own
+      -- acceleration, when that is faster and the joined parts keep the joints' limits. A corner
+      -- is cut in the middle of its blend, or (tried too) at its slowest step, within the blend
+      -- and a blend's length either side, where the orientation turns. The parts' corner zones
+      -- assume no acceleration there (so they do not depend on the part's acceleration, and
+      -- neither does the speed at a cut: the lower of the two parts' zones there); each part's
+      -- acceleration is the fastest on the ladder whose joint motion keeps the limits
       planStretch (a, b) =
         let whole = boost True 0 0 (descend timeOf (tries (a, b) 0 0))
             (_, _, _, zs0, _) = whole
             fastest = if null zs0 then 0 else maximum (map lzSpeed zs0)
-            cutsAt = [ c | pc <- V.toList (rtPieces route), pcKind pc == Arc
-                         , let mid = pcStart pc + 0.5 * pcLength pc, mid > a, mid < b
-                         , Just c <- [nearestSample mid a b]
-                         , minimum (fastest : [ lzSpeed z | z <- zs0, lzStart z <= c, c <= lzEnd z ]) < 0.5 * fastest ]
-            bounds = a : cutsAt ++ [b]
-            -- each part's steps and zones (independent of its acceleration)
-            parts = [ ((x, y), st, limitZones top st x y) | (x, y) <- zip bounds (drop 1 bounds)
-                                                           , let st = stepLimitsAt lo route pb 0 x y ]
-            -- the speed at a cut: the lower of the two parts' zones there
-            speeds = 0 : [ min (lzSpeed (last zl)) (lzSpeed (head zr)) | ((_, _, zl), (_, _, zr)) <- zip parts (drop 1 parts) ] ++ [0]
-            part ((x, y), st, zs) vx vy =
-              let ceil' = tangentialCeiling lo pb x y
-              in descendAdmitted timeOf ((< 1 / 0) . score False) [ ((x, y), acc, st, zs, generatePure (profileRequest (si prEndTolerance) x y acc zs vx vy))
-                                       | f <- accelerationFractions ++ boostFractions
-                                       , let acc = min (si prAcceleration) (f * ceil') ]
-            split = zipWith3 part parts speeds (drop 1 speeds)
-            joined = U.concat (take 1 (map samplesOf split) ++ map (U.drop 1 . samplesOf) (drop 1 split))
-        in if null cutsAt || sum (map (score False) split) >= timeOf whole || not (jointsKeepLimits lo jp dt True joined)
-             then [whole] else split
+            slow c = minimum (fastest : [ lzSpeed z | z <- zs0, lzStart z <= c, c <= lzEnd z ]) < 0.5 * fastest
+            arcs = [ pc | pc <- V.toList (rtPieces route), pcKind pc == Arc ]
+            middles = [ c | pc <- arcs, Just c <- [nearestSample (pcStart pc + 0.5 * pcLength pc) a b], slow c ]
+            slowest = [ c | pc <- arcs
+                          , let x0 = max a (pcStart pc - pcLength pc); x1 = min b (pcStart pc + 2 * pcLength pc)
+                          , x1 > x0
+                          , let st = stepLimitsAt lo route pb 0 x0 x1
+                          , not (U.null (slLimit st))
+                          , Just c <- [nearestSample (slS st U.! U.minIndex (slLimit st)) a b], slow c ]
+            splitAt' cuts =
+              let bounds = a : nubSorted cuts ++ [b]
+                  parts = [ ((x, y), st, limitZones top st x y) | (x, y) <- zip bounds (drop 1 bounds)
+                                                                 , let st = stepLimitsAt lo route pb 0 x y ]
+                  -- the speed at a cut: the lower of the two parts' zones there
+                  speeds = 0 : [ minimum (map lzSpeed (take 1 (reverse zl) ++ take 1 zr))
+                               | ((_, _, zl), (_, _, zr)) <- zip parts (drop 1 parts) ] ++ [0]
+                  part ((x, y), st, zs) vx vy =
+                    let ceil' = tangentialCeiling lo pb x y
+                    in descendAdmitted timeOf ((< 1 / 0) . score False)
+                         [ ((x, y), acc, st, zs, generatePure (profileRequest (si prEndTolerance) x y acc zs vx vy))
+                         | f <- accelerationFractions ++ boostFractions, let acc = min (si prAcceleration) (f * ceil') ]
+              in zipWith3 part parts speeds (drop 1 speeds)
+            total ps = sum (map (score False) ps)
+            joined ps = U.concat (take 1 (map samplesOf ps) ++ map (U.drop 1 . samplesOf) (drop 1 ps))
+            splits = [ ps | cuts <- [middles, slowest], not (null cuts), let ps = splitAt' cuts
+                          , all (\(_, _, _, zs, _) -> not (null zs)) ps, total ps < timeOf whole
+                          , jointsKeepLimits lo jp dt True (joined ps) ]
+        in case splits of
+             [] -> [whole]
+             _ -> foldr1 (\x y -> if total x <= total y then x else y) splits
       -- the grid sample nearest s, strictly inside (a, b)
       nearestSample x a b = do
         k <- U.findIndex (>= x) grid
