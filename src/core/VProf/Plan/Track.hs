@@ -2,8 +2,9 @@
 -- | The route in joint space: inverse kinematics at every sample of a fine grid along the route
 -- (steps of at most 1 mm and 0.5° by default), on one continuous branch. The first sample takes
 -- the given start configuration's nearest solution (or, without one, the solution nearest the
--- middle of the joint ranges; with an environment, the most dexterous that keeps the clearance); every later sample the solution nearest the previous sample's
--- (the closed forms' nearest solution, or the numerical solver seeded there without restarts).
+-- middle of the joint ranges; with an environment, the most dexterous that keeps the clearance);
+-- every later sample the solution nearest the previous sample's (the closed forms' nearest
+-- solution, or the numerical solver seeded there without restarts).
 -- The tracking stops, naming the reason and the distance s, where the route leaves the
 -- workspace, meets a joint limit, a singularity (smallest singular value of the Jacobian below
 -- a threshold), the environment, or where the nearest solution jumps (a joint step above a

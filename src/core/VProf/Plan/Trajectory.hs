@@ -100,7 +100,7 @@ data Plan = Plan
   , planAccelerations :: ![Double]           -- ^ per part, the TCP acceleration range ±a used (m/s²)
   , planProfiles   :: ![Result]              -- ^ per part
   , planTrajectory :: !Trajectory
-  , planLegal      :: !Bool                  -- ^ every stretch's profile legal by the checker
+  , planLegal      :: !Bool                  -- ^ every part's profile legal by the checker
   }
 
 planDuration :: Plan -> Double
@@ -237,9 +237,9 @@ planPath rq@PlanRequest{..} = do
         in [ candidate (a, b) va vb acc acc | f <- accelerationFractions, let acc = min (si prAcceleration) (f * ceil') ]
       -- the profile at acceleration A whose corner zones assume the acceleration ac ≤ A there
       candidate (a, b) va vb acc ac =
-        let st = stepLimitsAt lo route pb ac a b
-            zs = limitZones top st a b
-        in ((a, b), acc, st, zs, generatePure (profileRequest (si prEndTolerance) a b acc zs va vb))
+        let st = stepLimitsAt lo route pb ac a b in timed (a, b) va vb acc st (limitZones top st a b)
+      -- the profile of a part at acceleration A under the zones zs (of its steps st)
+      timed (a, b) va vb acc st zs = ((a, b), acc, st, zs, generatePure (profileRequest (si prEndTolerance) a b acc zs va vb))
       timeOf (_, _, _, _, r) = if resultLegal r then maybe (1 / 0) duration (resProfile r) else 1 / 0
       samplesOf ((a, b), _, _, _, r) = maybe U.empty (stretchedS a b . columns) (resProfile r)
       -- a candidate's duration when its sampled joint motion keeps the limits ('jointsKeepLimits'),
@@ -288,7 +288,7 @@ planPath rq@PlanRequest{..} = do
                   part ((x, y), st, zs) vx vy =
                     let ceil' = tangentialCeiling lo pb x y
                     in descendAdmitted timeOf ((< 1 / 0) . score False)
-                         [ ((x, y), acc, st, zs, generatePure (profileRequest (si prEndTolerance) x y acc zs vx vy))
+                         [ timed (x, y) vx vy acc st zs
                          | f <- accelerationFractions ++ boostFractions, let acc = min (si prAcceleration) (f * ceil') ]
               in zipWith3 part parts speeds (drop 1 speeds)
             total ps = sum (map (score False) ps)
