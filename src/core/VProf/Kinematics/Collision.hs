@@ -38,8 +38,7 @@ module VProf.Kinematics.Collision
   , referenceConfiguration
   ) where
 
-import Data.List (minimumBy)
-import Data.Maybe (mapMaybe)
+import Data.List (minimumBy, sortOn)
 import Data.Ord (comparing)
 import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
@@ -167,16 +166,28 @@ data Clearance = Clearance
   deriving (Show)
 
 -- | The minimum over the parts (but those of 'cmSceneIgnore') of their distance to the scene;
--- Nothing for an empty scene or a robot without parts.
+-- Nothing for an empty scene or a robot without parts. Among parts at the same distance the
+-- first in the model's order, and within a part the triangle 'minimumDistance' finds.
+--
+-- Only the minimum is reported, so the parts share one bound: a cheap probe of every part (one
+-- leaf of the BVH each, 'probeDistance') gives an upper bound of the answer and an order, nearest
+-- probe first, and each part is then searched only below the best distance so far
+-- ('nearestWithin'). A part far from the scene costs a few nodes instead of a full search.
 robotClearance :: CollisionModel -> Bvh -> U.Vector Double -> Maybe Clearance
 robotClearance cm bvh q =
-  case mapMaybe one (sceneParts cm q) of
+  case [ (probeDistance bvh c - capRadius c, i, w) | (i, w) <- zip [0 :: Int ..] (sceneParts cm q), let c = wcCapsule w ] of
     [] -> Nothing
-    cs -> Just (minimumBy (comparing clrDistance) cs)
-  where
-    one (WorldCapsule i b c) =
-      (\Hit{..} -> Clearance hitDistance i b (bodyName (cmRobot cm) b) hitTriangle hitOnAxis hitOnMesh)
-        <$> minimumDistance bvh c
+    probes ->
+      let start = minimum [s | (s, _, _) <- probes]
+          step best (_, i, WorldCapsule pt b c) =
+            let bound = maybe start (\(h, _, _, _) -> hitDistance h) best + capRadius c
+            in case nearestWithin bvh c (slack bound) of
+                 Just h | better (hitDistance h, i) best -> Just (h, i, pt, b)
+                 _ -> best
+          better (d, i) = maybe True (\(h, j, _, _) -> d < hitDistance h || (d == hitDistance h && i < j))
+          slack x = x + 1e-9 * abs x + 1e-12
+      in (\(Hit{..}, _, pt, b) -> Clearance hitDistance pt b (bodyName (cmRobot cm) b) hitTriangle hitOnAxis hitOnMesh)
+           <$> foldl step Nothing (sortOn (\(s, _, _) -> s) probes)
 
 -- | Whether every part keeps at least d from the scene (stops at the first that does not).
 robotClearanceAtLeast :: CollisionModel -> Bvh -> U.Vector Double -> Double -> Bool
