@@ -188,16 +188,21 @@ evaluateRobot opts task bvh key robot0
                     Just _ -> minimumBy (comparing (solSeedDistance . cdSolution)) cs
               in describe t (solJoints (cdSolution pick)) (solBranch (cdSolution pick))
 
-    -- with a seed: the nearest of the solutions nearest the seed (the numerical solver from the
-    -- seed alone, no restarts) that keeps the clearance; without one, of the distinct geometries
-    -- (whole turns of revolute joints apart are one) the most dexterous that keeps it. Only the
-    -- clearance test with early exit runs here; the full search (every solution's exact
-    -- clearance, for the failure's reason) only when no solution passes.
+    -- with a seed: the solution nearest it that keeps the clearance, among one solution per
+    -- closed-form branch (its whole-turn variant nearest the seed; 'solveIkDistinct'), or for a
+    -- numerical robot among those nearest the seed (the solver from the seed alone, no
+    -- restarts); without one, of the distinct geometries (whole turns of revolute joints apart
+    -- are one) the most dexterous that keeps it. Only the clearance test with early exit runs
+    -- here; the full search (every solution's exact clearance, for the failure's reason) only
+    -- when no solution passes.
     fastPath seed pose = case seed of
-      Just _ -> case solveIk (soIk opts) { ikAllSolutions = False, ikMaxRestarts = 0 } kin pose seed of
+      Just _ | NumericLM <- kinMethod kin -> case solveIk (soIk opts) { ikAllSolutions = False, ikMaxRestarts = 0 } kin pose seed of
         Right sols -> (\s -> Candidate s Nothing Nothing) <$> find (clearOk . solJoints) (take 8 sols)
         Left _ -> Nothing
-      Nothing -> case solveIk (soIk opts) { ikAllSolutions = True, ikMaxRestarts = soRestarts opts } kin pose Nothing of
+      Just _ -> case solveIkDistinct (soIk opts) kin pose seed of
+        Right sols -> (\s -> Candidate s Nothing Nothing) <$> find (clearOk . solJoints) sols
+        Left _ -> Nothing
+      Nothing -> case solveIkDistinct (soIk opts) { ikMaxRestarts = soRestarts opts } kin pose Nothing of
         Right sols ->
           let geometries = nubOrdOn (canonical . solJoints) sols
               byDexterity = sortOn (negate . manipOf . solJoints) geometries
