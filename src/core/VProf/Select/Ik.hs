@@ -13,6 +13,7 @@ module VProf.Select.Ik
   , SelectIkFailure (..)
   , describeSelectIkFailure
   , solveCollisionFree
+  , collisionFreeCandidates
   ) where
 
 import Data.List (sortOn)
@@ -68,17 +69,29 @@ describeSelectIkFailure SelectIkOptions{..} = \case
     showP (V3 x y z) = "(" ++ concatMap (\(k, v) -> k ++ show (fromIntegral (round (v * 1000) :: Integer) / 1000 :: Double)) [("", x), (", ", y), (", ", z)] ++ ") m"
 
 -- | Solutions clear of the scene and of themselves, best first, or why there are none.
+solveCollisionFree
+  :: SelectIkOptions -> Kinematics -> CollisionModel -> Bvh -> Tf -> Maybe (U.Vector Double)
+  -> Either SelectIkFailure [Candidate]
+solveCollisionFree opts kin cm bvh target seed = sortOn key <$> collisionFreeCandidates opts kin cm bvh target seed
+  where
+    key c = ( negate (fromIntegral (floor (1000 * maybe 1e9 clrDistance (cdClearance c)) :: Integer) :: Double)
+            , solSeedDistance (cdSolution c) )
+
+-- | 'solveCollisionFree' without the order: the solutions clear of the scene and of themselves in
+-- the IK's order (nearest the seed first), each with its exact clearance computed only when it is
+-- looked at; or why there are none.
 --
 -- Work is done once per geometry (solutions a whole turn of a revolute joint apart share one),
 -- and the exact clearance only where it is reported: first the early-exit test "clearance ≥ d
 -- and no self-contact closer than the margin" of every geometry; the exact clearance of those
--- that pass (for the order); when none passes, a branch and bound for the best one (a geometry
--- whose self margin, or whose scene clearance by the early-exit test, is already below the best
--- margin so far cannot be the best and gets no exact clearance).
-solveCollisionFree
+-- that pass when asked (the order of 'solveCollisionFree' asks for all); when none passes, a
+-- branch and bound for the best one (a geometry whose self margin, or whose scene clearance by
+-- the early-exit test, is already below the best margin so far cannot be the best and gets no
+-- exact clearance).
+collisionFreeCandidates
   :: SelectIkOptions -> Kinematics -> CollisionModel -> Bvh -> Tf -> Maybe (U.Vector Double)
   -> Either SelectIkFailure [Candidate]
-solveCollisionFree SelectIkOptions{..} kin cm bvh target seed =
+collisionFreeCandidates SelectIkOptions{..} kin cm bvh target seed =
   case solveIk siIk {ikAllSolutions = True} kin target seed of
     Left f -> Left (IkFailed f)
     Right [] -> Left (IkFailed (Unreachable "no solution" 0))
@@ -95,12 +108,10 @@ solveCollisionFree SelectIkOptions{..} kin cm bvh target seed =
           passes q = robotClearanceAtLeast cm bvh q siClearance && not (selfCollides cm siSelfMargin q)
           candidate (g, s) = let Geometry _ _ c sc = geometry M.! g in Candidate s c sc
           good = [ candidate gs | gs@(g, _) <- keyed, geoPasses (geometry M.! g) ]
-          key c = ( negate (fromIntegral (floor (1000 * maybe 1e9 clrDistance (cdClearance c)) :: Integer) :: Double)
-                  , solSeedDistance (cdSolution c) )
       in case good of
            [] -> let best = bestGeometry siClearance siSelfMargin cm bvh (M.toList geometry)
                  in Left (AllInCollision (length sols) (candidate (last [ gs | gs@(g, _) <- keyed, g `elem` best ])))
-           _ -> Right (sortOn key good)
+           _ -> Right good
 
 -- | A geometry: a representative joint vector, whether it passes the early-exit tests, its exact
 -- scene clearance and nearest self-contact (both lazy).

@@ -179,7 +179,9 @@ evaluateRobot opts task bvh key robot0
           failed t FailReach ("beyond reach: " ++ showM (distanceOf t) ++ " from the first joint, the arm with its tool reaches at most " ++ showM bound)
       | otherwise = case fastPath seed (tgPose t) of
           Just c -> describe t (solJoints (cdSolution c)) (solBranch (cdSolution c))
-          Nothing -> case solveCollisionFree sopts kin cm bvh (tgPose t) seed of
+          -- with a seed the clear solution nearest it (no exact clearance but the one taken's),
+          -- without one the clearest
+          Nothing -> case (if isJust seed then collisionFreeCandidates else solveCollisionFree) sopts kin cm bvh (tgPose t) seed of
             Left (IkFailed f) -> failed t (ikFailureKind f) (describeFailure f)
             Left f -> failed t FailCollision (describeSelectIkFailure sopts f)
             Right cs ->
