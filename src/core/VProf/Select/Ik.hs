@@ -12,6 +12,7 @@ module VProf.Select.Ik
   , Candidate (..)
   , SelectIkFailure (..)
   , describeSelectIkFailure
+  , describeFixedCollision
   , solveCollisionFree
   , collisionFreeCandidates
   ) where
@@ -65,8 +66,23 @@ describeSelectIkFailure SelectIkOptions{..} = \case
           in "self-collision: " ++ a ++ " and " ++ b ++ " at " ++ mm (scDistance sc)
         _ -> "in collision"
   where
-    mm x = show (fromIntegral (round (x * 10000) :: Integer) / 10 :: Double) ++ " mm"
-    showP (V3 x y z) = "(" ++ concatMap (\(k, v) -> k ++ show (fromIntegral (round (v * 1000) :: Integer) / 1000 :: Double)) [("", x), (", ", y), (", ", z)] ++ ") m"
+    mm = showMm
+    showP = showPoint
+
+-- | Why no joint vector keeps the clearance d, from one of 'fixedCollisions': the body, the
+-- point of it that no joint moves, its clearance and the triangle.
+describeFixedCollision :: Double -> Clearance -> String
+describeFixedCollision d cl =
+  "every configuration collides: " ++ clrBodyName cl ++ " keeps the point " ++ showPoint (clrOnRobot cl)
+    ++ " whatever the joints are, at clearance " ++ showMm (clrDistance cl) ++ " (at least " ++ showMm d
+    ++ " asked) from scene triangle " ++ show (clrTriangle cl) ++ " near " ++ showPoint (clrOnScene cl)
+    ++ " (ignore_bodies leaves a body out of the cell check)"
+
+showMm :: Double -> String
+showMm x = show (fromIntegral (round (x * 10000) :: Integer) / 10 :: Double) ++ " mm"
+
+showPoint :: V3 -> String
+showPoint (V3 x y z) = "(" ++ concatMap (\(k, v) -> k ++ show (fromIntegral (round (v * 1000) :: Integer) / 1000 :: Double)) [("", x), (", ", y), (", ", z)] ++ ") m"
 
 -- | Solutions clear of the scene and of themselves, best first, or why there are none.
 solveCollisionFree

@@ -155,6 +155,11 @@ evaluateRobot opts task bvh key robot0
     d = taskClearance task
     sopts = defaultSelectIkOptions { siIk = (soIk opts) { ikMaxRestarts = soRestarts opts }, siClearance = d, siSelfMargin = soSelfMargin opts }
     (centre, bound) = reachBound ch
+    -- a part nearer the cell than d whatever the joints are (a base column standing in the
+    -- table): every target fails without IK
+    fixedHit = case fixedCollisions cm bvh d of
+      [] -> Nothing
+      cs -> Just (minimumBy (comparing clrDistance) cs)
 
     -- targets in order; in a path task each target after the first comes with its segment
     solveAll = go Nothing (zip [0 :: Int ..] targets)
@@ -176,7 +181,9 @@ evaluateRobot opts task bvh key robot0
     distanceOf t = v3Norm (v3Sub (translation (tgPose t)) centre)
     solveTarget seed t
       | distanceOf t > bound + 1e-9 =
-          failed t FailReach ("beyond reach: " ++ showM (distanceOf t) ++ " from the first joint, the arm with its tool reaches at most " ++ showM bound)
+          failed t FailReach ("beyond reach: " ++ showM (distanceOf t) ++ " from the first joint, the arm with its tool reaches at most "
+                              ++ showM bound ++ " (" ++ show (roundTo 1 (1000 * (distanceOf t - bound))) ++ " mm too far)")
+      | Just cl <- fixedHit = failed t FailCollision (describeFixedCollision d cl)
       | otherwise = case fastPath seed (tgPose t) of
           Just c -> describe t (solJoints (cdSolution c)) (solBranch (cdSolution c))
           -- with a seed the clear solution nearest it (no exact clearance but the one taken's),
