@@ -33,7 +33,7 @@ import VProf.Geometry.Bvh (Bvh)
 import VProf.Kinematics.Collision
 import VProf.Kinematics.Ik
 import VProf.Kinematics.Ik.Numeric (reachBound)
-import VProf.Kinematics.Jacobian (jacobian, manipulability)
+import VProf.Kinematics.Jacobian (jacobian, manipulability, manipulabilityQr)
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform
 import VProf.Select.CycleTime
@@ -214,13 +214,15 @@ evaluateRobot opts task bvh key robot0
       Nothing -> case solveIkDistinct (soIk opts) { ikMaxRestarts = soRestarts opts } kin pose Nothing of
         Right sols ->
           let geometries = nubOrdOn (canonical . solJoints) sols
-              byDexterity = sortOn (negate . manipOf . solJoints) geometries
+              byDexterity = sortOn (negate . dexterity . solJoints) geometries
           in (\s -> Candidate s Nothing Nothing) <$> find (clearOk . solJoints) byDexterity
         Left _ -> Nothing
 
     canonical q = [ if rev then round (1e6 * (x - 2 * pi * fromIntegral (round (x / (2 * pi)) :: Int))) else round (1e6 * x) :: Int
                   | (rev, x) <- zip (U.toList (chainRevoluteJoint ch)) (U.toList q) ]
-    manipOf q = let (_, jac) = jacobian ch q in manipulability (chainDof ch) jac
+    -- the manipulability to 1e-12, so that equally dexterous geometries (a UR's wrist-flipped
+    -- branches) keep their order, nearest mid-limits first, rather than one set by rounding
+    dexterity q = let (_, jac) = jacobian ch q in round (1e12 * manipulabilityQr (chainDof ch) jac) :: Int
 
     clearOk q = robotClearanceAtLeast cm bvh q d && not (selfCollides cm (soSelfMargin opts) q)
 
