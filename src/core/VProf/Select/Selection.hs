@@ -220,9 +220,10 @@ evaluateRobot opts task bvh key robot0
 
     canonical q = [ if rev then round (1e6 * (x - 2 * pi * fromIntegral (round (x / (2 * pi)) :: Int))) else round (1e6 * x) :: Int
                   | (rev, x) <- zip (U.toList (chainRevoluteJoint ch)) (U.toList q) ]
-    -- the manipulability to 1e-12, so that equally dexterous geometries (a UR's wrist-flipped
-    -- branches) keep their order, nearest mid-limits first, rather than one set by rounding
-    dexterity q = let (_, jac) = jacobian ch q in round (1e12 * manipulabilityQr (chainDof ch) jac) :: Int
+    -- the manipulability to 1e-9 (as vprof plan ranks its start), so that equally dexterous
+    -- geometries (a UR's wrist-flipped branches) keep their order, nearest mid-limits first,
+    -- rather than one set by rounding
+    dexterity q = let (_, jac) = jacobian ch q in round (1e9 * manipulabilityQr (chainDof ch) jac) :: Int
 
     clearOk q = robotClearanceAtLeast cm bvh q d && not (selfCollides cm (soSelfMargin opts) q)
 
