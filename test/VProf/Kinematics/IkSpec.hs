@@ -11,6 +11,7 @@ import Test.QuickCheck
 
 import Support.Gen
 import VProf.Kinematics
+import VProf.Kinematics.Ik.Numeric (orientationTilt)
 import VProf.Kinematics.Library
 
 deg :: Double -> Double
@@ -196,13 +197,21 @@ spec = do
       case solveIk defaultIkOptions k (forward ch q) Nothing of
         Left (OutsideLimits (s : _)) -> any (\(j, v) -> j == "J3" && abs (v - 0.09) < 1e-6) s `shouldBe` True
         other -> expectationFailure (show other)
-    it "Cobra 600: a tilted tool (a SCARA cannot tilt) is not converged, with the residual" $ do
+    it "Cobra 600: a tilted tool (a SCARA cannot tilt) fails at once, naming the tilt" $ do
       let k = lib "adept-cobra600"
           ch = kinChain k
           t = compose (forward ch (U.fromList [0.2, 0.4, 0.1, 0.1])) (rotX 0.3)
       case solveIk defaultIkOptions {ikMaxRestarts = 20} k t Nothing of
-        Left (NotConverged _ r) -> r `shouldSatisfy` (> 0.1)
+        Left (OrientationUnreachable tilt) -> tilt `shouldSatisfy` (\x -> abs (x - 0.3) < 1e-9)
         other -> expectationFailure (show other)
+    it "the orientation check applies to the SCARA only (its revolute axes are parallel)" $
+      forM_ libraryChains $ \(name, ech) -> case ech of
+        Left e -> expectationFailure (unlines e)
+        Right ch -> (name, orientationTilt ch (forward ch (midLimits ch)) /= Nothing) `shouldBe` (name, name == "adept-cobra600")
+    it "the orientation check: a pose the SCARA reaches is tilted by 0" $ do
+      let ch = kinChain (lib "adept-cobra600")
+      property $ withMaxSuccess 100 $ forAllQ ch $ \q ->
+        let tilt = orientationTilt ch (forward ch q) in counterexample (show tilt) (maybe False (< 1e-9) tilt)
 
   describe "bad requests" $ do
     let k = lib "ur5"

@@ -60,6 +60,18 @@ spec = do
           rows = jacobianRows 6 j
           jjt = [[sum (zipWith (*) a b) | b <- rows] | a <- rows]
       abs (manipulability 6 j - sqrt (det jjt)) `shouldSatisfy` (< 1e-9)
+    it "manipulabilityQr is 0 at the UR5's stretched singularity too" $ do
+      let Right ur5 = lookupRobot "ur5"
+          (_, js) = jacobian (compile ur5) (U.fromList [0, 0, 0, 0, 0.4, 0])
+      manipulabilityQr 6 js `shouldSatisfy` (< 1e-9)
+    forM_ libraryChains $ \(name, ech) -> case ech of
+      Left _ -> pure ()
+      Right ch -> it (name ++ ": manipulabilityQr equals manipulability to 1e-12 at random q") $
+        property $ withMaxSuccess 100 $ forAllQ ch $ \q ->
+          let (_, j) = jacobian ch q
+              n = chainDof ch
+          in counterexample (show (manipulability n j, manipulabilityQr n j))
+               (abs (manipulability n j - manipulabilityQr n j) <= 1e-12 * (1 + manipulability n j))
   where
     det :: [[Double]] -> Double
     det [[a]] = a

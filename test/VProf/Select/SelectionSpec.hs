@@ -5,7 +5,7 @@
 -- table.
 module VProf.Select.SelectionSpec (spec) where
 
-import Data.List (isInfixOf)
+import Data.List (isInfixOf, sort)
 import Data.Maybe (isJust, isNothing)
 import qualified Data.Vector.Unboxed as U
 import System.FilePath ((</>))
@@ -13,6 +13,7 @@ import Test.Hspec
 import Test.QuickCheck
 
 import Support.Arbitrary (shared)
+import Support.Gen (genQ)
 import VProf.Geometry.Bvh
 import VProf.Geometry.Format.Obj
 import VProf.Kinematics.Collision
@@ -90,8 +91,25 @@ spec = do
       let ur5 = either error id (lookupRobot "ur5")
           res = evaluateRobot defaultSelectOptions (task0 0 [trans 2.5 0 0.3]) bvh "ur5" ur5
       map trFailure (rrTargets res) `shouldSatisfy` \case
-        [Just f] -> "beyond reach: 2.51" `isInfixOf` f && "reaches at most" `isInfixOf` f
+        [Just f] -> "beyond reach: 2.51" `isInfixOf` f && "reaches at most" `isInfixOf` f && "mm too far" `isInfixOf` f
         _ -> False
+    it "a robot whose base column stands in the table fails every target without IK, naming the body and the point; left out, it does not" $ do
+      let irb = either error id (lookupRobot "abb-irb6700-200-2.60")
+          poses = [trans 1.2 0.3 1.0 `compose` rotX pi, trans 1.0 (-0.5) 1.4]
+          res = evaluateRobot defaultSelectOptions (task0 0 poses) {taskIgnoreBodies = []} bvh "abb-irb6700-200-2.60" irb
+          res' = evaluateRobot defaultSelectOptions (task0 0 poses) bvh "abb-irb6700-200-2.60" irb
+      map trFailureKind (rrTargets res) `shouldBe` [Just FailCollision, Just FailCollision]
+      map trFailure (rrTargets res) `shouldSatisfy` all (maybe False (\f -> "every configuration collides: link1 keeps the point (0.0, 0.0, 0.0) m" `isInfixOf` f))
+      map trFailure (rrTargets res') `shouldSatisfy` all (maybe True (not . ("every configuration" `isInfixOf`)))
+    let fixedIn r = fixedCollisions (collisionModel defaultCollisionOptions r) bvh 0.01
+        withFixed = [ (k, r) | (k, r) <- library, not (null (fixedIn r)) ]
+    it "the library robots with a fixed collision at the origin of cell.obj: the ABB IRB 1600 and 6700, the KUKA KR 5 and KR 6" $
+      sort (map fst withFixed) `shouldBe` ["abb-irb1600-6-1.2", "abb-irb6700-200-2.60", "kuka-kr5-arc", "kuka-kr6-2"]
+    it "a fixed collision is sound: no joint vector of such a robot keeps the clearance" $
+      withMaxSuccess 200 $ forAll (elements withFixed) $ \(k, r) ->
+        let cm = collisionModel defaultCollisionOptions r
+        in forAll (genQ (compile r)) $ \q ->
+             counterexample (k ++ " " ++ show (U.toList q)) (not (robotClearanceAtLeast cm bvh q 0.01))
   describe "score and ranking" $ do
     it "is sorted by score, scores lie in [0, 100], and more targets reached always scores higher" $
       property $ forAll (choose (1, 300)) $ \total -> forAll (resize 12 (listOf (genResult total))) $ \rs ->

@@ -18,14 +18,16 @@ module VProf.Geometry.Distance
   , Capsule (..)
   , Hit (..)
   , minimumDistance
+  , nearestWithin
+  , probeDistance
   , clearanceAtLeast
+  , triangleLowerBound2
   , capsuleDistance
     -- * Re-exported
   , Bvh
   , buildBvh
   ) where
 
-import qualified Data.Vector.Unboxed as U
 
 import VProf.Geometry.Bvh
 import VProf.Kinematics.Model (Capsule (..))
@@ -180,40 +182,111 @@ capsuleDistance bvh (Capsule p q _) k =
 -- | The nearest triangle (branch and bound over the BVH, nearer child first, a node skipped when
 -- its lower bound is no better than the best so far). Nothing for an empty mesh.
 minimumDistance :: Bvh -> Capsule -> Maybe Hit
-minimumDistance bvh cap@(Capsule p q r)
+minimumDistance bvh cap = nearestWithin bvh cap (1 / 0)
+{-# INLINE minimumDistance #-}
+
+-- | The best triangle so far in a branch and bound: its squared axis distance, index, closest pair.
+data Best = Best !Double !Int !V3 !V3
+
+-- | The nearest triangle among those whose axis distance is below the bound (m), by the same
+-- branch and bound as 'minimumDistance' started from the bound instead of infinity; Nothing when
+-- no triangle is that near (or the mesh is empty). A triangle found is the one 'minimumDistance'
+-- finds: the search visits the same nodes in the same order, less those that cannot hold a
+-- triangle nearer than the bound. Used to find the nearest of several capsules, each searched
+-- only below the nearest so far ("VProf.Kinematics.Collision").
+nearestWithin :: Bvh -> Capsule -> Double -> Maybe Hit
+nearestWithin bvh (Capsule p q r) bound
   | bvhNodeCount bvh == 0 = Nothing
   | otherwise =
-      let (d2, k, Closest _ x y) = go 0 (1 / 0, -1, Closest (1 / 0) p p)
+      let b2 = bound * bound
+          Best d2 k x y = go 0 (lowerBound bvh p q 0) (Best b2 (-1) p p)
           d = sqrt d2
-      in Just (Hit (d - r) d k x y)
+      in if k < 0 then Nothing else Just (Hit (d - r) d k x y)
   where
-    go node best@(bd, _, _)
-      | lowerBound bvh p q node ^ (2 :: Int) >= bd && bd < 1 / 0 = best
+    -- lb: the node's lower bound, computed once by its parent (the children's order needs it)
+    go !node !lb best@(Best bd _ _ _)
+      | lb * lb >= bd && bd < 1 / 0 = best
       | otherwise = case bvhChildren bvh node of
           Left (s, n) -> leaf s (s + n) best
           Right (l, rr) ->
             let bl = lowerBound bvh p q l; br = lowerBound bvh p q rr
-            in if bl <= br then go rr (go l best) else go l (go rr best)
-    leaf !i !e best@(bd, _, _)
+            in if bl <= br then go rr br (go l bl best) else go l bl (go rr br best)
+    leaf !i !e best@(Best bd _ _ _)
       | i >= e = best
       | otherwise =
           let k = bvhOrder bvh i
-              cl = capsuleDistance bvh cap k
-          in if clSquared cl < bd then leaf (i + 1) e (clSquared cl, k, cl) else leaf (i + 1) e best
+              (a, b, c) = bvhTriangle bvh k
+          in if triangleLowerBound2 p q a b c >= bd then leaf (i + 1) e best
+             else let Closest d2 x y = segmentTriangle p q a b c
+                  in if d2 < bd then leaf (i + 1) e (Best d2 k x y) else leaf (i + 1) e best
 
--- | Whether the capsule's surface keeps at least d from every triangle (axis distance ≥ d + radius);
--- stops at the first triangle closer than that. True for an empty mesh.
-clearanceAtLeast :: Bvh -> Capsule -> Double -> Bool
-clearanceAtLeast bvh cap@(Capsule p q r) d
-  | bvhNodeCount bvh == 0 = True
+-- | An upper bound of the capsule's axis distance to the mesh, cheaply: the nearest triangle of
+-- the one leaf reached by always stepping into the child with the smaller lower bound (infinity
+-- for an empty mesh). It orders several capsules so that the nearest is searched first.
+probeDistance :: Bvh -> Capsule -> Double
+probeDistance bvh (Capsule p q _)
+  | bvhNodeCount bvh == 0 = 1 / 0
   | otherwise = go 0
   where
+    go node = case bvhChildren bvh node of
+      Left (s, n) -> sqrt (minimum [ clSquared (segmentTriangle p q a b c)
+                                   | i <- [s .. s + n - 1], let (a, b, c) = bvhTriangle bvh (bvhOrder bvh i) ])
+      Right (l, rr) -> if lowerBound bvh p q l <= lowerBound bvh p q rr then go l else go rr
+
+-- | A lower bound of the squared distance from segment [p, q] to triangle abc, a few operations
+-- instead of 'segmentTriangle''s dozens: the larger of the squared gap between the two bounding
+-- boxes and, when both ends of the segment lie strictly on one side of the triangle's plane, the
+-- nearer end's height above it. The height is used only for a well-shaped triangle (its area at
+-- least 1e-3 of its longest edge squared, so that the computed normal is accurate) and less an
+-- allowance for rounding (1e-9 of the lengths involved); the whole is shrunk by a relative 1e-9,
+-- so that it never exceeds what 'segmentTriangle' computes. A triangle whose bound already
+-- reaches the best so far (or the clearance asked) is skipped without the exact test.
+triangleLowerBound2 :: V3 -> V3 -> V3 -> V3 -> V3 -> Double
+triangleLowerBound2 p@(V3 px py pz) q@(V3 qx qy qz) a@(V3 ax ay az) b@(V3 bx by bz) c@(V3 cx cy cz) =
+  let gap u w t0 t1 t2 =
+        let lo = min t0 (min t1 t2); hi = max t0 (max t1 t2)
+        in max 0 (max (lo - max u w) (min u w - hi))
+      gx = gap px qx ax bx cx; gy = gap py qy ay by cy; gz = gap pz qz az bz cz
+      box2 = gx * gx + gy * gy + gz * gz
+      ab = sub b a; ac = sub c a
+      n = cross ab ac
+      nn = dot n n
+      l2 = max (q2 ab) (max (q2 ac) (q2 (sub c b)))
+      ap = sub p a; aq = sub q a
+      dp = dot n ap
+      dq = dot n aq
+      plane2
+        | nn >= 1e-6 * l2 * l2 && ((dp > 0 && dq > 0) || (dp < 0 && dq < 0)) =
+            let h = min (abs dp) (abs dq) / sqrt nn - 1e-9 * (l1 ap + l1 aq + 3 * sqrt l2)
+            in if h > 0 then h * h else 0
+        | otherwise = 0
+  in (1 - 1e-9) * max box2 plane2
+  where
+    l1 (V3 x y z) = abs x + abs y + abs z
+{-# INLINE triangleLowerBound2 #-}
+
+-- | Whether the capsule's surface keeps at least d from every triangle (axis distance ≥ d + radius);
+-- stops at the first triangle closer than that, the nearer child first. True for an empty mesh.
+clearanceAtLeast :: Bvh -> Capsule -> Double -> Bool
+clearanceAtLeast bvh (Capsule p q r) d
+  | bvhNodeCount bvh == 0 = True
+  | need < 0 = True
+  | otherwise = go 0 (lowerBound bvh p q 0)
+  where
     need = d + r
-    go node
-      | need < 0 = True
-      | lowerBound bvh p q node >= need = True
+    need2 = need * need
+    go !node !lb
+      | lb >= need = True
       | otherwise = case bvhChildren bvh node of
-          -- the same arithmetic as 'minimumDistance' (axis distance − r), so that the two agree
-          -- at equality
-          Left (s, n) -> U.all (\i -> sqrt (clSquared (capsuleDistance bvh cap (bvhOrder bvh i))) - r >= d) (U.enumFromN s n)
-          Right (l, rr) -> go l && go rr
+          Left (s, n) -> leaf s (s + n)
+          Right (l, rr) ->
+            let bl = lowerBound bvh p q l; br = lowerBound bvh p q rr
+            in if bl <= br then go l bl && go rr br else go rr br && go l bl
+    -- the same arithmetic as 'minimumDistance' (axis distance − r), so that the two agree at
+    -- equality; a triangle whose lower bound already reaches d + r passes without it
+    leaf !i !e
+      | i >= e = True
+      | otherwise =
+          let (a, b, c) = bvhTriangle bvh (bvhOrder bvh i)
+          in (triangleLowerBound2 p q a b c >= need2 || sqrt (clSquared (segmentTriangle p q a b c)) - r >= d)
+               && leaf (i + 1) e

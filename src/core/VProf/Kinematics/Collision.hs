@@ -31,6 +31,7 @@ module VProf.Kinematics.Collision
   , Clearance (..)
   , robotClearance
   , robotClearanceAtLeast
+  , fixedCollisions
   , SelfContact (..)
   , selfDistances
   , selfClearance
@@ -38,8 +39,7 @@ module VProf.Kinematics.Collision
   , referenceConfiguration
   ) where
 
-import Data.List (minimumBy)
-import Data.Maybe (mapMaybe)
+import Data.List (minimumBy, sortOn)
 import Data.Ord (comparing)
 import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
@@ -167,20 +167,63 @@ data Clearance = Clearance
   deriving (Show)
 
 -- | The minimum over the parts (but those of 'cmSceneIgnore') of their distance to the scene;
--- Nothing for an empty scene or a robot without parts.
+-- Nothing for an empty scene or a robot without parts. Among parts at the same distance the
+-- first in the model's order, and within a part the triangle 'minimumDistance' finds.
+--
+-- Only the minimum is reported, so the parts share one bound: a cheap probe of every part (one
+-- leaf of the BVH each, 'probeDistance') gives an upper bound of the answer and an order, nearest
+-- probe first, and each part is then searched only below the best distance so far
+-- ('nearestWithin'). A part far from the scene costs a few nodes instead of a full search.
 robotClearance :: CollisionModel -> Bvh -> U.Vector Double -> Maybe Clearance
 robotClearance cm bvh q =
-  case mapMaybe one (sceneParts cm q) of
+  case [ (probeDistance bvh c - capRadius c, i, w) | (i, w) <- zip [0 :: Int ..] (sceneParts cm q), let c = wcCapsule w ] of
     [] -> Nothing
-    cs -> Just (minimumBy (comparing clrDistance) cs)
-  where
-    one (WorldCapsule i b c) =
-      (\Hit{..} -> Clearance hitDistance i b (bodyName (cmRobot cm) b) hitTriangle hitOnAxis hitOnMesh)
-        <$> minimumDistance bvh c
+    probes ->
+      let start = minimum [s | (s, _, _) <- probes]
+          step best (_, i, WorldCapsule pt b c) =
+            let bound = maybe start (\(h, _, _, _) -> hitDistance h) best + capRadius c
+            in case nearestWithin bvh c (slack bound) of
+                 Just h | better (hitDistance h, i) best -> Just (h, i, pt, b)
+                 _ -> best
+          better (d, i) = maybe True (\(h, j, _, _) -> d < hitDistance h || (d == hitDistance h && i < j))
+          slack x = x + 1e-9 * abs x + 1e-12
+      in (\(Hit{..}, _, pt, b) -> Clearance hitDistance pt b (bodyName (cmRobot cm) b) hitTriangle hitOnAxis hitOnMesh)
+           <$> foldl step Nothing (sortOn (\(s, _, _) -> s) probes)
 
 -- | Whether every part keeps at least d from the scene (stops at the first that does not).
 robotClearanceAtLeast :: CollisionModel -> Bvh -> U.Vector Double -> Double -> Bool
 robotClearanceAtLeast cm bvh q d = all (\w -> clearanceAtLeast bvh (wcCapsule w) d) (sceneParts cm q)
+
+-- | The scene parts that are nearer the scene than d whatever the joints are: a part with a point
+-- of its axis that no joint moves (an end of a part of a body before the first moving link, or an
+-- end on the first moving link's axis of a part of the body it moves, e.g. the base column's foot)
+-- and that point nearer the scene than d + its radius. A part's clearance at any joint vector is
+-- at most the point's, so no joint vector keeps d (the point's clearance is below d − 1e-9).
+-- Each as a 'Clearance' at that point ('clrOnRobot' the point).
+--
+-- An end is on the axis when it stays put as the first moving joint turns a third of a turn (a
+-- point off a rotation's axis moves on a circle: √3 · its distance to the axis); a prismatic first
+-- joint moves every point.
+fixedCollisions :: CollisionModel -> Bvh -> Double -> [Clearance]
+fixedCollisions cm bvh d =
+  [ Clearance (hitDistance h) i b (bodyName robot b) (hitTriangle h) x (hitOnMesh h)
+  | (i, WorldCapsule _ b (Capsule p0 q0 r), WorldCapsule _ _ (Capsule p1 q1 _)) <- zip3 [0 :: Int ..] (robotCapsules cm qa) (robotCapsules cm qb)
+  , b `notElem` cmSceneIgnore cm
+  , x <- [ e0 | (e0, e1) <- [(p0, p1), (q0, q1)], b <= k || (b == k + 1 && turned && still e0 e1) ]
+  , Just h <- [minimumDistance bvh (Capsule x x r)]
+  , hitDistance h < d - 1e-9 ]
+  where
+    robot = cmRobot cm
+    qa = referenceConfiguration robot
+    -- the first moving link (bodies up to k do not move) and a joint vector that turns it by 2π/3
+    k = length (takeWhile ((== Nothing) . linkJointKind) (robotLinks robot))
+    (turned, qb) = case drop k (robotLinks robot) of
+      Link {linkJointKind = Just Revolute, linkDrive = Drive _ ts} : _
+        | (j, c) : _ <- [t | t@(_, c) <- ts, c /= 0] -> (True, qa U.// [(j, qa U.! j + 2 * pi / 3 / c)])
+      _ -> (False, qa)
+    still (V3 ax ay az) (V3 bx by bz) =
+      let dd = abs (ax - bx) + abs (ay - by) + abs (az - bz)
+      in dd <= 1e-12 * (1 + abs ax + abs ay + abs az)
 
 sceneParts :: CollisionModel -> U.Vector Double -> [WorldCapsule]
 sceneParts cm q = [w | w <- robotCapsules cm q, wcBody w `notElem` cmSceneIgnore cm]

@@ -13,6 +13,7 @@ module VProf.Kinematics.Ik
   , kinematicsFor
   , prepareChain
   , solveIk
+  , solveIkDistinct
   , solveIkIO
   , solvePose
   , checkRequest
@@ -73,6 +74,21 @@ solveIk opts (Kinematics ch m) target seed = case checkRequest ch target seed of
     ClosedFormSixAxis solver -> solveSixAxis opts ch solver target seed
     NumericLM -> solveNumeric opts ch target seed
   errs -> Left (InvalidRequest errs)
+
+-- | Every solution ('solveIk' with 'ikAllSolutions'), but of solutions that differ only by whole
+-- turns of joints the one nearest the seed: for the six-axis closed forms one solution a branch
+-- (the first of its branch in 'solveIk''s answer, without building the other variants: a UR's
+-- ±360° limits give 512 solutions, 8 branches), nearest the seed first; the Dobot closed form and
+-- the numerical solver answer as 'solveIk' does. Same failures as 'solveIk'.
+solveIkDistinct :: IkOptions -> Kinematics -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
+solveIkDistinct opts0 (Kinematics ch m) target seed = case checkRequest ch target seed of
+  [] -> case m of
+    ClosedFormDobot g -> solveDobot opts ch g target seed
+    ClosedFormSixAxis solver -> solveSixAxisDistinct opts ch solver target seed
+    NumericLM -> solveNumeric opts ch target seed
+  errs -> Left (InvalidRequest errs)
+  where
+    opts = opts0 {ikAllSolutions = True}
 
 -- | Like 'solveIk' with a wall-time budget (seconds) for the numerical solver.
 solveIkIO :: Double -> IkOptions -> Kinematics -> Tf -> Maybe (U.Vector Double) -> IO (Either IkFailure [IkSolution])

@@ -11,6 +11,7 @@ module VProf.Kinematics.Jacobian
   , jacobian
   , jacobianRows
   , manipulability
+  , manipulabilityQr
   , conditionNumber
   , singularValues
   ) where
@@ -90,6 +91,53 @@ singularValues n j
 -- singular values.
 manipulability :: Int -> Jacobian -> Double
 manipulability n j = product (singularValues n j)
+
+-- | The manipulability by a Householder QR factorisation instead of the singular values:
+-- √det(J·Jᵀ) = |det R| for Jᵀ = Q·R with six joints or more, √det(Jᵀ·J) = |det R| for J = Q·R
+-- below (the product of R's diagonal). Equal to 'manipulability' up to rounding (QR's accuracy is
+-- the SVD's: about 1e-16 × the condition number, relative), at a fraction of its cost: for ranking
+-- many joint vectors by it.
+manipulabilityQr :: Int -> Jacobian -> Double
+manipulabilityQr n j = runST $ do
+  -- A: p rows × m columns, p ≥ m, row-major
+  let (p, m) = if n >= 6 then (n, 6) else (6, n)
+      at r c = if n >= 6 then U.unsafeIndex j (6 * r + c) else U.unsafeIndex j (6 * c + r)
+  a <- M.unsafeNew (p * m)
+  let fill !r !c
+        | r >= p = pure ()
+        | c >= m = fill (r + 1) 0
+        | otherwise = M.unsafeWrite a (r * m + c) (at r c) >> fill r (c + 1)
+      sumRows !r !acc e f = if r >= e then pure acc else f r >>= \v -> sumRows (r + 1) (acc + v) e f
+      -- column c: the reflection of rows c.. that zeroes below the diagonal, applied to the
+      -- columns right of c; |R_cc| = the norm of the column below the diagonal
+      column !c !prod
+        | c >= m = pure prod
+        | otherwise = do
+            nn <- sumRows c 0 p (\r -> (\v -> v * v) <$> M.unsafeRead a (r * m + c))
+            if not (nn > 0) then pure 0 else do
+              x0 <- M.unsafeRead a (c * m + c)
+              let norm = sqrt nn
+                  alpha = if x0 >= 0 then negate norm else norm
+                  -- v = x − α e1: only its first entry changes; vᵀv = 2 (nn − α x0)
+                  v0 = x0 - alpha
+                  vv = 2 * (nn - alpha * x0)
+                  vAt r = if r == c then pure v0 else M.unsafeRead a (r * m + c)
+                  reflect !k
+                    | k >= m = pure ()
+                    | otherwise = do
+                        dotv <- sumRows c 0 p (\r -> (*) <$> vAt r <*> M.unsafeRead a (r * m + k))
+                        let f = 2 * dotv / vv
+                            upd !r
+                              | r >= p = pure ()
+                              | otherwise = do
+                                  vr <- vAt r
+                                  M.unsafeModify a (\y -> y - f * vr) (r * m + k)
+                                  upd (r + 1)
+                        upd c
+                        reflect (k + 1)
+              if vv > 0 then reflect (c + 1) else pure ()
+              column (c + 1) (prod * norm)
+  if m == 0 then pure 1 else fill 0 0 >> column 0 1
 
 -- | σ_max / σ_min (infinite at a singularity).
 conditionNumber :: Int -> Jacobian -> Double

@@ -12,7 +12,9 @@ module VProf.Select.Ik
   , Candidate (..)
   , SelectIkFailure (..)
   , describeSelectIkFailure
+  , describeFixedCollision
   , solveCollisionFree
+  , collisionFreeCandidates
   ) where
 
 import Data.List (sortOn)
@@ -64,32 +66,90 @@ describeSelectIkFailure SelectIkOptions{..} = \case
           in "self-collision: " ++ a ++ " and " ++ b ++ " at " ++ mm (scDistance sc)
         _ -> "in collision"
   where
-    mm x = show (fromIntegral (round (x * 10000) :: Integer) / 10 :: Double) ++ " mm"
-    showP (V3 x y z) = "(" ++ concatMap (\(k, v) -> k ++ show (fromIntegral (round (v * 1000) :: Integer) / 1000 :: Double)) [("", x), (", ", y), (", ", z)] ++ ") m"
+    mm = showMm
+    showP = showPoint
+
+-- | Why no joint vector keeps the clearance d, from one of 'fixedCollisions': the body, the
+-- point of it that no joint moves, its clearance and the triangle.
+describeFixedCollision :: Double -> Clearance -> String
+describeFixedCollision d cl =
+  "every configuration collides: " ++ clrBodyName cl ++ " keeps the point " ++ showPoint (clrOnRobot cl)
+    ++ " whatever the joints are, at clearance " ++ showMm (clrDistance cl) ++ " (at least " ++ showMm d
+    ++ " asked) from scene triangle " ++ show (clrTriangle cl) ++ " near " ++ showPoint (clrOnScene cl)
+    ++ " (ignore_bodies leaves a body out of the cell check)"
+
+showMm :: Double -> String
+showMm x = show (fromIntegral (round (x * 10000) :: Integer) / 10 :: Double) ++ " mm"
+
+showPoint :: V3 -> String
+showPoint (V3 x y z) = "(" ++ concatMap (\(k, v) -> k ++ show (fromIntegral (round (v * 1000) :: Integer) / 1000 :: Double)) [("", x), (", ", y), (", ", z)] ++ ") m"
 
 -- | Solutions clear of the scene and of themselves, best first, or why there are none.
 solveCollisionFree
   :: SelectIkOptions -> Kinematics -> CollisionModel -> Bvh -> Tf -> Maybe (U.Vector Double)
   -> Either SelectIkFailure [Candidate]
-solveCollisionFree SelectIkOptions{..} kin cm bvh target seed =
+solveCollisionFree opts kin cm bvh target seed = sortOn key <$> collisionFreeCandidates opts kin cm bvh target seed
+  where
+    key c = ( negate (fromIntegral (floor (1000 * maybe 1e9 clrDistance (cdClearance c)) :: Integer) :: Double)
+            , solSeedDistance (cdSolution c) )
+
+-- | 'solveCollisionFree' without the order: the solutions clear of the scene and of themselves in
+-- the IK's order (nearest the seed first), each with its exact clearance computed only when it is
+-- looked at; or why there are none.
+--
+-- Work is done once per geometry (solutions a whole turn of a revolute joint apart share one),
+-- and the exact clearance only where it is reported: first the early-exit test "clearance ≥ d
+-- and no self-contact closer than the margin" of every geometry; the exact clearance of those
+-- that pass when asked (the order of 'solveCollisionFree' asks for all); when none passes, a
+-- branch and bound for the best one (a geometry whose self margin, or whose scene clearance by
+-- the early-exit test, is already below the best margin so far cannot be the best and gets no
+-- exact clearance).
+collisionFreeCandidates
+  :: SelectIkOptions -> Kinematics -> CollisionModel -> Bvh -> Tf -> Maybe (U.Vector Double)
+  -> Either SelectIkFailure [Candidate]
+collisionFreeCandidates SelectIkOptions{..} kin cm bvh target seed =
   case solveIk siIk {ikAllSolutions = True} kin target seed of
     Left f -> Left (IkFailed f)
     Right [] -> Left (IkFailed (Unreachable "no solution" 0))
     Right sols ->
       let -- solutions that differ by whole turns of revolute joints have the same geometry: their
-          -- clearances are computed once (a UR's ±360° limits give 64 copies of each branch)
+          -- clearances are computed once (a UR's ±360° limits give 64 copies of each branch),
+          -- at the last of them
           kinds = map jointKind (robotJoints (cmRobot cm))
           canonical q = [ if k == Revolute then round (1e9 * (x - 2 * pi * fromIntegral (round (x / (2 * pi)) :: Integer))) else round (1e9 * x)
                         | (k, x) <- zip kinds (U.toList q) ] :: [Integer]
-          geometry = M.fromList [ (canonical q, (robotClearance cm bvh q, selfClearance cm q))
-                                | s <- sols, let q = solJoints s ]
-          cands = [ Candidate s c sc | s <- sols, let (c, sc) = geometry M.! canonical (solJoints s) ]
-          sceneMargin c = maybe (1 / 0) (\cl -> clrDistance cl - siClearance) (cdClearance c)
-          selfMargin c = maybe (1 / 0) (\sc -> scDistance sc - siSelfMargin) (cdSelf c)
-          ok c = sceneMargin c >= 0 && selfMargin c >= 0
-          good = filter ok cands
-          key c = ( negate (fromIntegral (floor (1000 * maybe 1e9 clrDistance (cdClearance c)) :: Integer) :: Double)
-                  , solSeedDistance (cdSolution c) )
+          keyed = [ (canonical (solJoints s), s) | s <- sols ]
+          geometry = M.fromList [ (g, Geometry q (passes q) (robotClearance cm bvh q) (selfClearance cm q))
+                                | (g, s) <- keyed, let q = solJoints s ]
+          passes q = robotClearanceAtLeast cm bvh q siClearance && not (selfCollides cm siSelfMargin q)
+          candidate (g, s) = let Geometry _ _ c sc = geometry M.! g in Candidate s c sc
+          good = [ candidate gs | gs@(g, _) <- keyed, geoPasses (geometry M.! g) ]
       in case good of
-           [] -> Left (AllInCollision (length cands) (last (sortOn (\c -> min (sceneMargin c) (selfMargin c)) cands)))
-           _ -> Right (sortOn key good)
+           [] -> let best = bestGeometry siClearance siSelfMargin cm bvh (M.toList geometry)
+                 in Left (AllInCollision (length sols) (candidate (last [ gs | gs@(g, _) <- keyed, g `elem` best ])))
+           _ -> Right good
+
+-- | A geometry: a representative joint vector, whether it passes the early-exit tests, its exact
+-- scene clearance and nearest self-contact (both lazy).
+data Geometry = Geometry
+  { geoJoints :: U.Vector Double
+  , geoPasses :: Bool
+  , geoClearance :: Maybe Clearance
+  , geoSelf :: Maybe SelfContact
+  }
+
+-- | The keys of the geometries whose worse margin (scene clearance − d, self distance − margin)
+-- is the largest, by branch and bound.
+bestGeometry :: Ord k => Double -> Double -> CollisionModel -> Bvh -> [(k, Geometry)] -> [k]
+bestGeometry d selfM cm bvh = go (-1 / 0) []
+  where
+    sceneMargin g = maybe (1 / 0) (\cl -> clrDistance cl - d) (geoClearance g)
+    selfMargin g = maybe (1 / 0) (\sc -> scDistance sc - selfM) (geoSelf g)
+    go _ acc [] = acc
+    go k acc ((key, g) : rest)
+      | selfMargin g < k = go k acc rest
+        -- the scene clearance is below k + d (with an allowance for rounding): the margin is below k
+      | k > -1 / 0 && not (robotClearanceAtLeast cm bvh (geoJoints g) (k + d - 1e-9 * (1 + abs k + abs d))) = go k acc rest
+      | otherwise =
+          let m = min (sceneMargin g) (selfMargin g)
+          in if m > k then go m [key] rest else if m == k then go k (key : acc) rest else go k acc rest

@@ -33,7 +33,7 @@ import VProf.Geometry.Bvh (Bvh)
 import VProf.Kinematics.Collision
 import VProf.Kinematics.Ik
 import VProf.Kinematics.Ik.Numeric (reachBound)
-import VProf.Kinematics.Jacobian (jacobian, manipulability)
+import VProf.Kinematics.Jacobian (jacobian, manipulability, manipulabilityQr)
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform
 import VProf.Select.CycleTime
@@ -155,6 +155,11 @@ evaluateRobot opts task bvh key robot0
     d = taskClearance task
     sopts = defaultSelectIkOptions { siIk = (soIk opts) { ikMaxRestarts = soRestarts opts }, siClearance = d, siSelfMargin = soSelfMargin opts }
     (centre, bound) = reachBound ch
+    -- a part nearer the cell than d whatever the joints are (a base column standing in the
+    -- table): every target fails without IK
+    fixedHit = case fixedCollisions cm bvh d of
+      [] -> Nothing
+      cs -> Just (minimumBy (comparing clrDistance) cs)
 
     -- targets in order; in a path task each target after the first comes with its segment
     solveAll = go Nothing (zip [0 :: Int ..] targets)
@@ -176,10 +181,14 @@ evaluateRobot opts task bvh key robot0
     distanceOf t = v3Norm (v3Sub (translation (tgPose t)) centre)
     solveTarget seed t
       | distanceOf t > bound + 1e-9 =
-          failed t FailReach ("beyond reach: " ++ showM (distanceOf t) ++ " from the first joint, the arm with its tool reaches at most " ++ showM bound)
+          failed t FailReach ("beyond reach: " ++ showM (distanceOf t) ++ " from the first joint, the arm with its tool reaches at most "
+                              ++ showM bound ++ " (" ++ show (roundTo 1 (1000 * (distanceOf t - bound))) ++ " mm too far)")
+      | Just cl <- fixedHit = failed t FailCollision (describeFixedCollision d cl)
       | otherwise = case fastPath seed (tgPose t) of
           Just c -> describe t (solJoints (cdSolution c)) (solBranch (cdSolution c))
-          Nothing -> case solveCollisionFree sopts kin cm bvh (tgPose t) seed of
+          -- with a seed the clear solution nearest it (no exact clearance but the one taken's),
+          -- without one the clearest
+          Nothing -> case (if isJust seed then collisionFreeCandidates else solveCollisionFree) sopts kin cm bvh (tgPose t) seed of
             Left (IkFailed f) -> failed t (ikFailureKind f) (describeFailure f)
             Left f -> failed t FailCollision (describeSelectIkFailure sopts f)
             Right cs ->
@@ -188,25 +197,33 @@ evaluateRobot opts task bvh key robot0
                     Just _ -> minimumBy (comparing (solSeedDistance . cdSolution)) cs
               in describe t (solJoints (cdSolution pick)) (solBranch (cdSolution pick))
 
-    -- with a seed: the nearest of the solutions nearest the seed (the numerical solver from the
-    -- seed alone, no restarts) that keeps the clearance; without one, of the distinct geometries
-    -- (whole turns of revolute joints apart are one) the most dexterous that keeps it. Only the
-    -- clearance test with early exit runs here; the full search (every solution's exact
-    -- clearance, for the failure's reason) only when no solution passes.
+    -- with a seed: the solution nearest it that keeps the clearance, among one solution per
+    -- closed-form branch (its whole-turn variant nearest the seed; 'solveIkDistinct'), or for a
+    -- numerical robot among those nearest the seed (the solver from the seed alone, no
+    -- restarts); without one, of the distinct geometries (whole turns of revolute joints apart
+    -- are one) the most dexterous that keeps it. Only the clearance test with early exit runs
+    -- here; the full search (every solution's exact clearance, for the failure's reason) only
+    -- when no solution passes.
     fastPath seed pose = case seed of
-      Just _ -> case solveIk (soIk opts) { ikAllSolutions = False, ikMaxRestarts = 0 } kin pose seed of
+      Just _ | NumericLM <- kinMethod kin -> case solveIk (soIk opts) { ikAllSolutions = False, ikMaxRestarts = 0 } kin pose seed of
         Right sols -> (\s -> Candidate s Nothing Nothing) <$> find (clearOk . solJoints) (take 8 sols)
         Left _ -> Nothing
-      Nothing -> case solveIk (soIk opts) { ikAllSolutions = True, ikMaxRestarts = soRestarts opts } kin pose Nothing of
+      Just _ -> case solveIkDistinct (soIk opts) kin pose seed of
+        Right sols -> (\s -> Candidate s Nothing Nothing) <$> find (clearOk . solJoints) sols
+        Left _ -> Nothing
+      Nothing -> case solveIkDistinct (soIk opts) { ikMaxRestarts = soRestarts opts } kin pose Nothing of
         Right sols ->
           let geometries = nubOrdOn (canonical . solJoints) sols
-              byDexterity = sortOn (negate . manipOf . solJoints) geometries
+              byDexterity = sortOn (negate . dexterity . solJoints) geometries
           in (\s -> Candidate s Nothing Nothing) <$> find (clearOk . solJoints) byDexterity
         Left _ -> Nothing
 
     canonical q = [ if rev then round (1e6 * (x - 2 * pi * fromIntegral (round (x / (2 * pi)) :: Int))) else round (1e6 * x) :: Int
                   | (rev, x) <- zip (U.toList (chainRevoluteJoint ch)) (U.toList q) ]
-    manipOf q = let (_, jac) = jacobian ch q in manipulability (chainDof ch) jac
+    -- the manipulability to 1e-9 (as vprof plan ranks its start), so that equally dexterous
+    -- geometries (a UR's wrist-flipped branches) keep their order, nearest mid-limits first,
+    -- rather than one set by rounding
+    dexterity q = let (_, jac) = jacobian ch q in round (1e9 * manipulabilityQr (chainDof ch) jac) :: Int
 
     clearOk q = robotClearanceAtLeast cm bvh q d && not (selfCollides cm (soSelfMargin opts) q)
 

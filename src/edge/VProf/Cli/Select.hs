@@ -13,8 +13,6 @@ module VProf.Cli.Select
   , runSelect
   ) where
 
-import Control.Concurrent.Async (mapConcurrently)
-import Control.Exception (evaluate)
 import qualified Data.Aeson as A
 import qualified Data.ByteString.Lazy.Char8 as BLC
 import Data.Char (toLower)
@@ -33,6 +31,7 @@ import VProf.Kinematics.Library (libraryRobots)
 import VProf.Kinematics.Model (Robot (..))
 import VProf.Plot.Select (plotSelection)
 import VProf.Select.Format.Task (readTaskFile)
+import VProf.Select.Parallel (evaluateRobots)
 import VProf.Select.Selection
 import VProf.Select.Task
 
@@ -83,11 +82,7 @@ runSelect a = do
               let bvh = buildBvh mesh
               caps <- getNumCapabilities
               -- the robots are independent: one worker per core
-              evaluated <- concat <$> mapConcurrently (mapM (\(k, r) -> do
-                              let res = evaluateRobot defaultSelectOptions task bvh k r
-                              _ <- evaluate (length (show res))
-                              pure res))
-                           (chunks caps rs)
+              evaluated <- evaluateRobots caps defaultSelectOptions task bvh rs
               let ranked = scoreAndRank evaluated
               case saFormat a of
                 Table -> putStr (renderTable task ranked)
@@ -100,8 +95,6 @@ runSelect a = do
                 (Just _, []) -> hPutStrLn stderr "vprof select: no plot: no robot reaches any target"
                 _ -> pure ()
               pure (if any robotComplete ranked then ExitSuccess else ExitFailure 1)
-  where
-    chunks k xs = [ [x | (i, x) <- zip [0 :: Int ..] xs, i `mod` max 1 k == j] | j <- [0 .. max 1 k - 1] ]
 
 -- | "all" or a comma-separated list of library names and robot files.
 loadRobots :: String -> IO (Either String [(String, Robot)])

@@ -2,14 +2,14 @@
 -- an exception. Validation problems come back as INVALID_ARGUMENT, every one of them (each naming
 -- its field); a robot that cannot do the task is not an error but a result (rejected by the
 -- payload filter, or targets not reached, each with its reason and code). The robots are
--- evaluated in parallel, one worker per capability, as @vprof select@ does; the ranking is the
--- core's ('scoreAndRank'). The compute time is measured on the monotonic clock.
+-- evaluated in parallel, one worker per capability taking robots from one queue, as @vprof
+-- select@ does ("VProf.Select.Parallel"); the ranking is the core's ('scoreAndRank'). The
+-- compute time is measured on the monotonic clock.
 module VProf.Service.Select
   ( serveSelect
   , selectTimeLimit
   ) where
 
-import Control.Concurrent.Async (mapConcurrently)
 import Control.Exception (SomeException, evaluate, try)
 import qualified Data.ByteString as B
 import Data.ProtocolBuffers (getField, putField)
@@ -17,6 +17,7 @@ import GHC.Clock (getMonotonicTime)
 import GHC.Conc (getNumCapabilities)
 
 import VProf.Kinematics.Library (libraryRobots)
+import VProf.Select.Parallel (evaluateRobots)
 import VProf.Select.Selection
 import VProf.Wire.Kinematics (mkError)
 import VProf.Wire.Messages
@@ -41,11 +42,7 @@ serveSelect m = do
     Left errs -> evaluate (length (show (map show errs))) >> pure (Left errs)
     Right q -> do
       caps <- getNumCapabilities
-      evaluated <- concat <$> mapConcurrently (mapM (\(k, robot) -> do
-                      let res = evaluateRobot defaultSelectOptions (sqTask q) (sqCell q) k robot
-                      _ <- evaluate (length (show res))
-                      pure res))
-                   (chunks caps (sqRobots q))
+      evaluated <- evaluateRobots caps defaultSelectOptions (sqTask q) (sqCell q) (sqRobots q)
       let msg = selectToMsg rid 0 q (scoreAndRank evaluated)
       _ <- evaluate (B.length (encodeBare msg))
       pure (Right msg)
@@ -56,6 +53,3 @@ serveSelect m = do
       { slrError = putField (Just (mkError ErrInternal "" ("internal error: " ++ show e))), slrErrors = putField [] }
     Right (Left errs) -> selectErrors rid secs errs
     Right (Right msg) -> msg { slrComputeTime = putField (nonDefault secs) }
-  where
-    -- robot i to worker i mod k: neighbours in the library (similar arms) spread over the workers
-    chunks k xs = [ [x | (i, x) <- zip [0 :: Int ..] xs, i `mod` max 1 k == j] | j <- [0 .. max 1 k - 1] ]

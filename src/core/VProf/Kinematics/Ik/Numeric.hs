@@ -16,6 +16,7 @@ module VProf.Kinematics.Ik.Numeric
   , attempts
   , descend
   , reachBound
+  , orientationTilt
   , SplitMix (..)
   , nextDouble
   ) where
@@ -229,15 +230,56 @@ reachBound Chain{..} =
           ext f = chainOffset U.! i + sum [f (c * lo k) (c * hi k) | t <- ts, let k = chainTermJoint U.! t; c = chainTermCoeff U.! t]
       in [ext min, ext max]
 
+-- | When every revolute link of the chain turns about one common direction (a SCARA), the tool
+-- can only turn about that direction: the angle (rad) between it and its image under the rotation
+-- from the tool's orientation at mid-limits to the target's, which every solution's rotation error
+-- is at least; Nothing for any other chain. (Axes parallel at one configuration stay parallel at
+-- all: turning about a direction keeps the directions parallel to it.)
+orientationTilt :: Chain -> Tf -> Maybe Double
+orientationTilt ch target = case axes 0 (constAt (chainConst ch) 0) of
+  [] -> Nothing
+  a0 : rest
+    | all (\x -> v3Norm (v3Cross a0 x) <= 1e-12 * v3Norm a0 * v3Norm x) rest ->
+        let a = v3Scale (1 / v3Norm a0) a0
+            ref = forward ch q0
+            -- target · refᵀ applied to a (rotation parts only)
+            V3 bx by bz = rotate ref True a
+            b = rotate target False (V3 bx by bz)
+        in Just (atan2 (v3Norm (v3Cross a b)) (v3Dot a b))
+    | otherwise -> Nothing
+  where
+    q0 = midLimits ch
+    -- the world direction of each revolute link's axis at mid-limits
+    axes i acc
+      | i >= chainLinks ch = []
+      | otherwise =
+          let pr = chainPrismatic ch U.! i
+              next = motion pr (linkVar ch q0 i) acc `compose` constAt (chainConst ch) (i + 1)
+          in [V3 (r02 acc) (r12 acc) (r22 acc) | not pr] ++ axes (i + 1) next
+    rotate t transposed (V3 x y z)
+      | transposed = V3 (r00 t * x + r10 t * y + r20 t * z) (r01 t * x + r11 t * y + r21 t * z) (r02 t * x + r12 t * y + r22 t * z)
+      | otherwise = V3 (r00 t * x + r01 t * y + r02 t * z) (r10 t * x + r11 t * y + r12 t * z) (r20 t * x + r21 t * y + r22 t * z)
+
+-- | A target whose orientation is farther than the rotation tolerance from every orientation the
+-- tool can take ('orientationTilt') fails at once, without a descent.
+orientationCheck :: IkOptions -> Chain -> Tf -> Maybe IkFailure
+orientationCheck opts ch target = case orientationTilt ch target of
+  Just tilt | tilt > ikTolRotation opts * 1.0001 + 1e-12 -> Just (OrientationUnreachable tilt)
+  _ -> Nothing
+
 -- | Pure solve: the seed and up to 'ikMaxRestarts' random starts.
 solveNumeric :: IkOptions -> Chain -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
-solveNumeric opts ch target seedM = finish opts ch target seed (take (1 + ikMaxRestarts opts) (attempts opts True ch target seed))
+solveNumeric opts ch target seedM
+  | Just f <- orientationCheck opts ch target = Left f
+  | otherwise = finish opts ch target seed (take (1 + ikMaxRestarts opts) (attempts opts True ch target seed))
   where
     seed = maybe (midLimits ch) id seedM
 
 -- | Like 'solveNumeric', also stopping when the wall-time budget (seconds) is spent (checked
 -- between starts; the seed's start always runs).
 solveNumericIO :: Double -> IkOptions -> Chain -> Tf -> Maybe (U.Vector Double) -> IO (Either IkFailure [IkSolution])
+solveNumericIO _ opts ch target _
+  | Just f <- orientationCheck opts ch target = pure (Left f)
 solveNumericIO budget opts ch target seedM = do
   t0 <- getMonotonicTimeNSec
   let deadline = t0 + round (budget * 1e9)

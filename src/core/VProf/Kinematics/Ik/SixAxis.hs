@@ -6,8 +6,10 @@
 module VProf.Kinematics.Ik.SixAxis
   ( sixAxisSolver
   , solveSixAxis
+  , solveSixAxisDistinct
   ) where
 
+import Data.Maybe (mapMaybe)
 import qualified Data.Vector.Unboxed as U
 
 import qualified VProf.Kinematics.ClosedForm as CF
@@ -38,7 +40,42 @@ sixAxisSolver ch = do
 -- (one per branch) is checked by forward kinematics to the options' tolerances; its 2π
 -- variants within the limits reach the same pose and carry its residuals.
 solveSixAxis :: IkOptions -> Chain -> CF.Solver -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
-solveSixAxis opts ch solver target seed = case CF.poseFromRowMajor (toRows4 target) of
+solveSixAxis = solveSixAxisWith (\solver _ ok -> CF.limitVariants solver ok)
+
+-- | One solution per branch: of each principal solution's 2π variants within the limits only
+-- the one nearest the seed (Euclidean, so joint by joint; on a tie the lower turn), nearest the
+-- seed first. These are the solutions of 'solveSixAxis' that come first among their branch's,
+-- without building the others (a UR's ±360° limits give 64 variants a branch); the failures
+-- are the same.
+solveSixAxisDistinct :: IkOptions -> Chain -> CF.Solver -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
+solveSixAxisDistinct = solveSixAxisWith nearest
+  where
+    nearest solver from ok = case mapMaybe (nearestVariant solver from) ok of
+      [] -> CF.limitVariants solver ok   -- no variant within the limits: limitVariants' failure
+      vs -> Right vs
+
+-- | The variant of a principal solution within the limits nearest the seed, as 'CF.limitVariants'
+-- would build it (joint j at x + 2πk for k in the same range, put on a limit within 1e-12).
+nearestVariant :: CF.Solver -> U.Vector Double -> CF.Solution -> Maybe CF.Solution
+nearestVariant solver from sol = do
+  let dh = CF.solverDh solver
+      lo = CF.sdLower dh; hi = CF.sdUpper dh
+      twoPi = 2 * pi
+      pick j =
+        let x = CF.solQ sol U.! j; l = lo U.! j; h = hi U.! j; s = from U.! j
+            k0 = ceiling ((l - 1e-12 - x) / twoPi) :: Int
+            k1 = floor ((h + 1e-12 - x) / twoPi) :: Int
+            value k = min h (max l (x + twoPi * fromIntegral k))
+            best = foldl (\b k -> if abs (value k - s) < abs (value b - s) then k else b) k0 [k0 + 1 .. k1]
+        in if k1 < k0 then Nothing else Just (value best)
+  q <- mapM pick [0 .. 5]
+  pure sol {CF.solQ = U.fromListN 6 q}
+
+-- | The principal solutions checked by forward kinematics, then expanded by the given rule.
+solveSixAxisWith
+  :: (CF.Solver -> U.Vector Double -> [CF.Solution] -> Either CF.IkFailure [CF.Solution])
+  -> IkOptions -> Chain -> CF.Solver -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
+solveSixAxisWith expand opts ch solver target seed = case CF.poseFromRowMajor (toRows4 target) of
   Nothing -> Left (InvalidRequest ["target: not a 4×4 transform"])
   Just pose -> case CF.solvePrincipal solver pose of
     Left e -> Left (failure e)
@@ -51,7 +88,7 @@ solveSixAxis opts ch solver target seed = case CF.poseFromRowMajor (toRows4 targ
       in case (withResid, ok) of
            ([], _) -> Left (NotConverged (1 / 0) (1 / 0))
            (_, []) -> Left (NotConverged (minimum (map (fst . snd) withResid)) (minimum (map (snd . snd) withResid)))
-           _ -> either (Left . failure) (Right . sortBySeed . map solution) (CF.limitVariants solver (map fst ok))
+           _ -> either (Left . failure) (Right . sortBySeed . map solution) (expand solver from (map fst ok))
   where
     failure = \case
       CF.BadTarget why -> InvalidRequest [why]
