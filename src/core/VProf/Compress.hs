@@ -18,13 +18,17 @@ import Numeric.Units.Dimensional.Prelude (Length, metre, (/~))
 import Prelude
 
 import VProf.Compress.Fit
+import VProf.Compress.KnotFit
 import VProf.Compress.Metrics
 import VProf.Compress.Objective
 import VProf.Compress.Rdp
 import VProf.Compress.Types
 import VProf.Validation
 
-data Method = MethodThesis | MethodRdp deriving (Show, Eq)
+-- | 'MethodKnots': the knot fit ("VProf.Compress.KnotFit") for a number of points; with a
+-- margin or a tolerance it runs the thesis algorithm, which owns those stopping rules.
+-- 'MethodThesis': the thesis's grow/shrink algorithm ("VProf.Compress.Fit").
+data Method = MethodKnots | MethodThesis | MethodRdp deriving (Show, Eq)
 
 data Settings = Settings
   { sMethod    :: !Method
@@ -35,7 +39,7 @@ data Settings = Settings
   } deriving (Show, Eq)
 
 defaultSettings :: Settings
-defaultSettings = Settings MethodThesis defaultWeights Nothing Nothing Nothing
+defaultSettings = Settings MethodKnots defaultWeights Nothing Nothing Nothing
 
 -- | A compressed path with its measures, whether the tolerance (if any) is met, the
 -- weighted objective and why the point count stopped where it did.
@@ -64,7 +68,7 @@ validateSettings n s = concat
   , case sMargin s of
       Just m -> ensureFinite "margin" m "" $ concat
         [ ensure (m >= 1) (fieldError "margin" m "" "must be a number >= 1")
-        , ensure (sMethod s == MethodThesis) (fieldError "margin" m "" "only the thesis method has a margin") ]
+        , ensure (sMethod s /= MethodRdp) (fieldError "margin" m "" "only the thesis method has a margin") ]
       Nothing -> []
   , case fmap (/~ metre) (sTolerance s) of
       Just t -> ensureFinite "tolerance" t "m" (ensure (t > 0) (fieldError "tolerance" t "m" "must be > 0"))
@@ -76,13 +80,19 @@ validateSettings n s = concat
 -- distance); for the thesis method it bounds the time-synchronous position error.
 compress :: Settings -> Recording -> Either [FieldError] Compressed
 compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
-    MethodThesis ->
+    MethodKnots | sMargin s == Nothing && tolM == Nothing ->
+      let k = maybe (max 2 (round (0.03 * fromIntegral n :: Double))) (max 2) (sPoints s)
+          pa = fitKnots defaultKnotConfig pr (sWeights s) k
+      in Compressed (fromPathA pa) (computeMetrics pr pa) True (totalCost pr (sWeights s) pa) (show ReachedPoints)
+    MethodRdp -> rdp
+    _ ->
       let cfg = defaultFitConfig { fcWeights = sWeights s, fcPoints = sPoints s
                                  , fcMargin = sMargin s, fcTolerance = tolM }
           r = fitThesis cfg pr
           pa = frPath r
-      in Compressed (fromPathA pa) (computeMetrics pr pa) (frToleranceMet r) (frCost r) (show (frStop r))
-    MethodRdp ->
+      in Compressed (fromPathA pa) (computeMetrics pr pa) (frToleranceMet r) (frCost r) (show (frStop r)))
+  where
+    rdp =
       let stop = case (sPoints s, tolM) of
             (Just k, _) -> RdpPoints k
             (Nothing, Just e) -> RdpEpsilon e
@@ -90,8 +100,7 @@ compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
           pa = rdpPath pr stop
           m = computeMetrics pr pa
           tolOk = maybe True (\e -> mGeometricMax m <= e + 1e-12) tolM
-      in Compressed (fromPathA pa) m tolOk (totalCost pr (sWeights s) pa) (show stop))
-  where
+      in Compressed (fromPathA pa) m tolOk (totalCost pr (sWeights s) pa) (show stop)
     pr = prepareRecording rec
     tolM = fmap (/~ metre) (sTolerance s)
     n = U.length (rcT pr)

@@ -68,8 +68,8 @@ compressOptions' = CompressOptions
   <*> option (eitherReader weights) (long "weights" <> metavar "P,O,V" <> value (1, 1, 1)
         <> help "weights of position, orientation and velocity error as the thesis's vekt = [p o v], in its units (mm, degrees, m/s) (default 1,1,1)")
   <*> optional stopP
-  <*> option (eitherReader method) (long "method" <> metavar "thesis|rdp" <> value MethodThesis
-        <> help "thesis: weighted least squares (default); rdp: 3-D Ramer-Douglas-Peucker baseline")
+  <*> option (eitherReader method) (long "method" <> metavar "knots|thesis|rdp" <> value MethodKnots
+        <> help "knots: weighted least squares with the waypoint times optimised from a line-partition start (default; with --margin or --tolerance it runs thesis); thesis: the thesis's grow/shrink weighted least squares; rdp: 3-D Ramer-Douglas-Peucker baseline")
   <*> optional (strOption (short 'o' <> long "output" <> metavar "OUT" <> help "write the path here"))
   <*> optional (option (eitherReader outFmt) (long "output-format" <> metavar "tum|mod|csv"
         <> help "format of OUT (default: from its extension, .mod RAPID, .csv CSV, else TUM)"))
@@ -113,9 +113,10 @@ compressOptions' = CompressOptions
       "csv" -> Right OutCsv
       _ -> Left ("--output-format " ++ s ++ ": expected tum, mod or csv")
     method s = case map toLower s of
+      "knots" -> Right MethodKnots
       "thesis" -> Right MethodThesis
       "rdp" -> Right MethodRdp
-      _ -> Left ("--method " ++ s ++ ": expected thesis or rdp")
+      _ -> Left ("--method " ++ s ++ ": expected knots, thesis or rdp")
     posInt s = case reads s of
       [(k, "")] | k >= (2 :: Int) -> Right k
       _ -> Left ("--points " ++ s ++ ": expected a whole number >= 2")
@@ -184,9 +185,12 @@ runCompress o = do
           _ <- evaluate (mPoints (oMetrics out))
           t1 <- getMonotonicTime
           let k = mPoints (oMetrics out)
-              other = if coMethod o == MethodThesis then MethodRdp else MethodThesis
+              other = if coMethod o == MethodRdp then MethodKnots else MethodRdp
               cmpSettings = settings { sMethod = other, sPoints = Just k, sMargin = Nothing, sTolerance = Nothing }
-              name m = if m == MethodThesis then "thesis" else "rdp"
+              name m = case m of
+                MethodKnots -> "knots"
+                MethodThesis -> "thesis"
+                MethodRdp -> "rdp"
           cols <- if coReport o || coReportJson o
             then do
               c0 <- getMonotonicTime

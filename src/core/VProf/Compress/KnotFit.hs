@@ -1,0 +1,147 @@
+{-# LANGUAGE BangPatterns #-}
+-- | The knot fit, vprof's default compression for a given number of points (docs/compress.md,
+-- "The knot fit"): where the waypoints are matters more than the values at them, so it
+-- starts from a line partition of the samples ("VProf.Compress.Partition": waypoints at the
+-- boundaries of k−1 groups with the least line-fit error), optimises all waypoint times
+-- together with the positions ("VProf.Compress.KnotTimes"), then tries exchanges (a waypoint
+-- removed where it is least useful and one inserted where the error is largest, both places
+-- re-optimised, kept only if the position error falls), optimises the times again, and
+-- finally solves the orientations (Gauss–Newton, "VProf.Compress.Fit") and the positions
+-- under the full weighted objective for those times. First and last waypoint pinned to the
+-- first and last sample. The times are chosen for the position error alone; the orientation
+-- and velocity weights act on the values at them.
+module VProf.Compress.KnotFit
+  ( KnotConfig (..)
+  , defaultKnotConfig
+  , fitKnots
+  , startKnots
+  , exchangeKnots
+  ) where
+
+import Data.List (sortBy)
+import Data.Ord (comparing)
+import qualified Data.Vector.Unboxed as U
+
+import VProf.Compress.Fit (TimeMode (..), solveOrientations, solvePositions, updatePathWith)
+import VProf.Compress.KnotTimes
+import VProf.Compress.Objective
+import VProf.Compress.Partition (linePartition)
+import VProf.Compress.Types
+import VProf.Geometry.Polyline (polylineAt)
+import VProf.Geometry.Vec
+
+data KnotConfig = KnotConfig
+  { kcWindowFactor :: !Int   -- ^ longest group of the start partition, in mean groups (w = factor·n/(k−1))
+  , kcIterations   :: !Int   -- ^ accepted Levenberg–Marquardt steps per refinement
+  , kcExchanges    :: !Int   -- ^ exchange passes at most
+  , kcOrientRounds :: !Int   -- ^ Gauss–Newton rounds for the orientations at most
+  , kcPolish       :: !Int   -- ^ rounds of the thesis's update under the full weights at the end
+  } deriving (Show, Eq)
+
+defaultKnotConfig :: KnotConfig
+defaultKnotConfig = KnotConfig 4 100 30 10 3
+
+-- | The start: k waypoint times at the boundaries of a line partition into k−1 groups
+-- (midway between a group's last sample and the next group's first), positions the
+-- recording's at those times.
+startKnots :: KnotConfig -> Prepared -> Int -> Knots
+startKnots cfg pr k = Knots ts (pgenerate k (\j -> fst (polylineAt st (rcP pr) (rcQ pr) (ts U.! j))))
+  where
+    st = rcT pr
+    n = U.length st
+    m = k - 1
+    w = min n (kcWindowFactor cfg * ((n + m - 1) `div` m))
+    bs = linePartition st (rcP pr) m w
+    ts = U.generate k $ \j ->
+      if j == 0 then U.head st
+      else if j == k - 1 then U.last st
+      else let b = bs U.! j in 0.5 * (st U.! (b - 1) + st U.! b)
+
+-- | Exchange passes: each pass estimates, for every interior waypoint, the cost of removing
+-- it (its neighbours' positions re-solved) and, for every segment, the gain of a waypoint
+-- inserted at its middle (the nearby positions re-solved); the most promising pairs far
+-- enough apart that their stretches do not overlap are tried with both stretches
+-- re-optimised ('refineStretch'), and the first that lowers the position error is kept.
+-- Stops at the first pass that keeps nothing.
+exchangeKnots :: Prepared -> Int -> Int -> Knots -> Knots
+exchangeKnots pr iters passes kn0 = go passes kn0
+  where
+    go 0 kn = kn
+    go p kn
+      | k < 6 = kn
+      | otherwise = case tryPairs pairs of
+          Nothing -> kn
+          Just kn' -> go (p - 1) kn'
+      where
+        ts = kT kn
+        k = U.length ts
+        rems = take 8 (sortBy (comparing fst) [ (removalDelta kn j, j) | j <- [1 .. k - 2] ])
+        ins = take 10 (sortBy (comparing fst) [ (insertionDelta kn s, s) | s <- [0 .. k - 2] ])
+        pairs = take 12 (sortBy (comparing fst) [ (dr + di, (j, s)) | (dr, j) <- rems, (di, s) <- ins, s >= j + 4 || s <= j - 5 ])
+        tryPairs [] = Nothing
+        tryPairs ((_, (j, s)) : rest) = case exchange kn j s of
+          Just kn' -> Just kn'
+          Nothing -> tryPairs rest
+    -- remove waypoint j: stretch j−2 .. j+2 becomes j−2 .. j+1 (worked on a slice, so
+    -- each estimate costs only the stretch's samples)
+    removalDelta kn j =
+      let k = U.length (kT kn)
+          ja = max 0 (j - 2); jb = min (k - 1) (j + 2)
+          sub = sliceKnots ja jb kn
+          m = jb - ja
+          kr = solveStretchPositions pr (dropKnot (j - ja) sub) 0 (m - 1)
+      in stretchSse pr kr 0 (m - 1) - stretchSse pr sub 0 m
+    -- insert into segment s at its middle: stretch s−1 .. s+2 becomes s−1 .. s+3
+    insertionDelta kn s =
+      let k = U.length (kT kn)
+          ja = max 0 (s - 1); jb = min (k - 1) (s + 2)
+          sub = sliceKnots ja jb kn
+          m = jb - ja
+          ki = solveStretchPositions pr (insertKnot (s - ja) sub) 0 (m + 1)
+      in stretchSse pr ki 0 (m + 1) - stretchSse pr sub 0 m
+    sliceKnots ja jb (Knots ts (V3s v)) = Knots (U.slice ja (jb - ja + 1) ts) (V3s (U.slice (3 * ja) (3 * (jb - ja + 1)) v))
+    -- the exchange with both stretches re-optimised (3 waypoints each side held outside)
+    exchange kn j s =
+      let k = U.length (kT kn)
+          f0 = knotSse pr kn
+          -- insert first at the higher index so the lower index stays valid
+          kn1 | s > j = dropKnot j (insertKnot s kn)
+              | otherwise = insertKnot s (dropKnot j kn)
+          newIns = if s > j then s else s + 1      -- index of the inserted waypoint in kn1
+          remAt = if s > j then j else j + 1       -- index of j's later neighbour in kn1
+          k1 = U.length (kT kn1)
+          w1 = (max 0 (newIns - 3), min (k1 - 1) (newIns + 3))
+          w2 = (max 0 (remAt - 3), min (k1 - 1) (remAt + 2))
+          (kn2, _) = uncurry (refineStretch pr iters) w1 kn1
+          (kn3, _) = uncurry (refineStretch pr iters) w2 kn2
+          f3 = knotSse pr kn3
+      in if k1 == k && f3 < f0 * (1 - 1e-9) then Just kn3 else Nothing
+    dropKnot j (Knots ts ps) = Knots (U.ifilter (\i _ -> i /= j) ts) (pifilter (/= j) ps)
+    insertKnot s (Knots ts ps) =
+      let tm = 0.5 * (ts U.! s + ts U.! (s + 1))
+          pm = 0.5 *^ (pindex ps s ^+^ pindex ps (s + 1))
+          kk = U.length ts
+      in Knots (U.generate (kk + 1) (\i -> if i <= s then ts U.! i else if i == s + 1 then tm else ts U.! (i - 1)))
+               (pgenerate (kk + 1) (\i -> if i <= s then pindex ps i else if i == s + 1 then pm else pindex ps (i - 1)))
+
+-- | The whole knot fit to k points (2 <= k <= samples).
+fitKnots :: KnotConfig -> Prepared -> Weights -> Int -> PathA
+fitKnots cfg pr w k0
+  | k >= n = PathA (rcT pr) (rcP pr) (rcQ pr)
+  | otherwise = polish (orient (solvePositions pr w (PathA ts ps qs0)))
+  where
+    st = rcT pr
+    n = U.length st
+    k = max 2 k0
+    kn1 = fst (refineAll pr (kcIterations cfg) (startKnots cfg pr k))
+    kn2 = exchangeKnots pr (kcIterations cfg) (kcExchanges cfg) kn1
+    Knots ts ps = if kn2 == kn1 then kn1 else fst (refineAll pr (kcIterations cfg) kn2)
+    qs0 = pgenerate k (\j -> snd (polylineAt st (rcP pr) (rcQ pr) (ts U.! j)))
+    oriW = Weights 0 1 0
+    polish pa = if kcPolish cfg > 0 then updatePathWith pr w TimesAll (kcPolish cfg) pa else pa
+    orient pa = rounds (kcOrientRounds cfg) pa (totalCost pr oriW pa)
+    rounds 0 pa _ = pa
+    rounds r pa c =
+      let pa' = solveOrientations pr w pa
+          c' = totalCost pr oriW pa'
+      in if c' < c * (1 - 1e-5) then rounds (r - 1 :: Int) pa' c' else if c' < c then pa' else pa
