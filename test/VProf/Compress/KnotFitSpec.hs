@@ -1,0 +1,106 @@
+-- | The knot fit and its parts: the line partition start, the joint refinement of waypoint
+-- times and positions, the exchanges, and the whole fit's contract (k points, pinned ends,
+-- strictly increasing times, never worse than its start, a known path recovered).
+module VProf.Compress.KnotFitSpec (spec) where
+
+import qualified Data.Vector.Unboxed as U
+import Test.Hspec
+import Test.QuickCheck
+
+import VProf.Compress.KnotFit
+import VProf.Compress.KnotTimes
+import VProf.Compress.Objective
+import VProf.Compress.Partition
+import VProf.Compress.Types
+import VProf.Geometry.Polyline (polylineAt)
+import VProf.Geometry.Quaternion
+import VProf.Geometry.Vec
+
+-- | A random walk of n samples (steps up to 2 cm, 10 ms apart with jitter), turning slowly.
+genWalk :: Int -> Gen Prepared
+genWalk n = do
+  dts <- vectorOf (n - 1) (choose (0.008, 0.012))
+  steps <- vectorOf (n - 1) (P3 <$> choose (-0.02, 0.02) <*> choose (-0.02, 0.02) <*> choose (-0.02, 0.02))
+  drift <- P3 <$> choose (-0.01, 0.01) <*> choose (-0.01, 0.01) <*> choose (-0.01, 0.01)
+  rots <- vectorOf (n - 1) (P3 <$> choose (-0.02, 0.02) <*> choose (-0.02, 0.02) <*> choose (-0.02, 0.02))
+  t0 <- choose (0, 1.0e9)
+  let ts = scanl (+) t0 dts
+      ps = scanl (\p s -> p ^+^ s ^+^ drift) (P3 0 0 0) steps
+      qs = scanl (\q r -> qnormalize (qmul (qexp r) q)) (Q4 1 0 0 0) rots
+  pure (prepareRecording (either error id (recordingFromArrays (U.fromList ts) (pfromList ps) (pfromList qs))))
+
+-- | A true path of K waypoints (segments 1–2.5 s, positions in a 1 m cube) sampled every
+-- 20 ms with uniform position noise of 1 mm.
+genKnown :: Gen (U.Vector Double, Prepared)
+genKnown = do
+  k <- choose (3, 8)
+  durs <- vectorOf (k - 1) (choose (1.0, 2.5))
+  ps <- vectorOf k (P3 <$> choose (-0.5, 0.5) <*> choose (-0.5, 0.5) <*> choose (-0.5, 0.5))
+  let tv = U.fromList (scanl (+) 0 durs)
+      pv = pfromList ps :: V3s
+      qv = pfromList (replicate k (Q4 1 0 0 0)) :: Qs
+      n = floor (U.last tv / 0.02) + 1 :: Int
+      st = [ 0.02 * fromIntegral i | i <- [0 .. n - 1] ]
+  noise <- vectorOf n (P3 <$> choose (-1e-3, 1e-3) <*> choose (-1e-3, 1e-3) <*> choose (-1e-3, 1e-3))
+  let pts = zipWith (\t e -> fst (polylineAt tv pv qv t) ^+^ e) st noise
+      rec = either error id (recordingFromArrays (U.fromList st) (pfromList pts) (pfromList (replicate n (Q4 1 0 0 0))))
+  pure (tv, prepareRecording rec)
+
+strictlyIncreasing :: U.Vector Double -> Bool
+strictlyIncreasing v = U.and (U.zipWith (<) v (U.tail v))
+
+positionSse :: Prepared -> PathA -> Double
+positionSse pr (PathA t p _) = knotSse pr (Knots t p)
+
+spec :: Spec
+spec = do
+  describe "linePartition" $ do
+    it "gives exactly m groups of at least 2 samples, from 0 to n" $
+      property $ forAll (choose (40, 400)) $ \n -> forAll (choose (1, n `div` 3)) $ \m -> forAllBlind (genWalk n) $ \pr ->
+        let b = linePartition (rcT pr) (rcP pr) m (4 * ((n + m - 1) `div` m))
+            sizes = U.zipWith (-) (U.tail b) b
+        in counterexample (show (U.toList b)) $
+             U.length b === m + 1 .&&. U.head b === 0 .&&. U.last b === n .&&. U.all (>= 2) sizes
+    it "its SSE is at most that of m equal groups" $
+      property $ forAll (choose (40, 400)) $ \n -> forAll (choose (1, n `div` 3)) $ \m -> forAllBlind (genWalk n) $ \pr ->
+        let s = prefixSums (rcT pr) (rcP pr)
+            b = linePartition (rcT pr) (rcP pr) m (4 * ((n + m - 1) `div` m))
+            sse v = sum [ groupSse s (v U.! g) (v U.! (g + 1)) | g <- [0 .. U.length v - 2] ]
+            eq = U.generate (m + 1) (\g -> (g * n) `div` m)
+        in sse b <= sse eq * (1 + 1e-9) + 1e-12
+
+  describe "refineAll (waypoint times with positions)" $
+    it "never raises the position error of the least-squares positions at the start times; ends held, times increasing" $
+      property $ forAll (choose (60, 400)) $ \n -> forAll (choose (3, n `div` 10)) $ \k -> forAllBlind (genWalk n) $ \pr ->
+        let st = rcT pr
+            ts = U.generate k (\j -> st U.! ((j * (n - 1)) `div` (k - 1)))
+            kn0 = solveStretchPositions pr (Knots ts (pgenerate k (const (P3 0 0 0)))) 0 (k - 1)
+            (kn, f) = refineAll pr 50 kn0
+            f0 = knotSse pr kn0
+        in counterexample (show (f0, f)) $
+             f <= f0 * (1 + 1e-12) .&&. strictlyIncreasing (kT kn)
+               .&&. U.head (kT kn) === U.head st .&&. U.last (kT kn) === U.last st
+               .&&. abs (knotSse pr kn - f) <= 1e-9 * max 1e-12 f
+
+  describe "fitKnots" $ do
+    it "k points, ends pinned to the first and last sample, times strictly increasing" $
+      property $ forAll (choose (30, 300)) $ \n -> forAll (choose (2, n `div` 4)) $ \k -> forAllBlind (genWalk n) $ \pr ->
+        let pa@(PathA t p q) = fitKnots defaultKnotConfig pr defaultWeights k
+        in counterexample (show (U.toList t)) $
+             U.length t === k .&&. plength p === k .&&. plength q === k .&&. strictlyIncreasing t
+               .&&. U.head t === U.head (rcT pr) .&&. U.last t === U.last (rcT pr)
+               .&&. phead p === phead (rcP pr) .&&. plast p === plast (rcP pr)
+               .&&. qangle (phead q) (phead (rcQ pr)) < 1e-9 .&&. qangle (plast q) (plast (rcQ pr)) < 1e-9
+               .&&. U.length (paT pa) === k
+    it "is never worse in position error than its start (position weight only)" $
+      property $ forAll (choose (60, 300)) $ \n -> forAll (choose (3, n `div` 6)) $ \k -> forAllBlind (genWalk n) $ \pr ->
+        let start = solveStretchPositions pr (startKnots defaultKnotConfig pr k) 0 (k - 1)
+            fitted = fitKnots defaultKnotConfig pr (Weights 1 0 0) k
+        in counterexample (show (knotSse pr start, positionSse pr fitted)) $
+             positionSse pr fitted <= knotSse pr start * (1 + 1e-9) + 1e-15
+    it "recovers the waypoint times of a known K-waypoint path with 1 mm noise (within 2 sample intervals)" $
+      property $ forAllBlind genKnown $ \(truth, pr) ->
+        let k = U.length truth
+            PathA t _ _ = fitKnots defaultKnotConfig pr defaultWeights k
+            err = U.maximum (U.zipWith (\a b -> abs (a - b)) t truth)
+        in counterexample (show (U.toList truth, U.toList t)) $ err < 0.04
