@@ -185,6 +185,9 @@ runCompress o = do
           _ <- evaluate (mPoints (oMetrics out))
           t1 <- getMonotonicTime
           let k = mPoints (oMetrics out)
+              -- the knot fit hands a margin or a tolerance to the thesis method: name what ran
+              ran = if coMethod o == MethodKnots && (sMargin settings /= Nothing || sTolerance settings /= Nothing)
+                      then MethodThesis else coMethod o
               other = if coMethod o == MethodRdp then MethodKnots else MethodRdp
               cmpSettings = settings { sMethod = other, sPoints = Just k, sMargin = Nothing, sTolerance = Nothing }
               name m = case m of
@@ -199,12 +202,12 @@ runCompress o = do
                 Right oc -> evaluate (mPoints (oMetrics oc)) >> pure (Just oc)
                 Left _ -> pure Nothing
               c1 <- getMonotonicTime
-              pure (ReportColumn (name (coMethod o)) (oMetrics out) (Just (t1 - t0))
+              pure (ReportColumn (name ran) (oMetrics out) (Just (t1 - t0))
                     : [ ReportColumn (name other ++ " (same points)") (oMetrics oc) (Just (c1 - c0)) | Just oc <- [cm] ])
             else pure []
           when (coReport o) $ do
             putStrLn ("vprof compress " ++ coInput o ++ ": " ++ show (mSamples (oMetrics out)) ++ " samples -> "
-                      ++ show k ++ " points (" ++ name (coMethod o) ++ ", weights " ++ intercalate "," (map show [wp, wo, wv])
+                      ++ show k ++ " points (" ++ name ran ++ ", weights " ++ intercalate "," (map show [wp, wo, wv])
                       ++ ", stop: " ++ oStop out ++ ")")
             mapM_ (\w -> putStrLn (label w ++ ": " ++ renderCleanWarning fileLocator w)) warns
             putStr (renderReport (wp, wo, wv) cols)
