@@ -6,7 +6,7 @@
 -- most 0.3 s, 20,000 in at most 2 s, and time growing no worse than n log n.
 module CompressBench (compressBenchmarks) where
 
-import Criterion (Benchmark, bench, bgroup, nf)
+import Criterion (Benchmark, bench, bgroup, nf, whnf)
 import qualified Data.ByteString.Char8 as B
 import System.Directory (doesFileExist)
 import System.Environment (lookupEnv)
@@ -16,6 +16,8 @@ import qualified Data.Vector.Unboxed as U
 
 import VProf.Compress
 import VProf.Compress.Format.Tum (parseTum)
+import VProf.Compress.KnotFit (defaultKnotConfig, fitKnots)
+import VProf.Compress.Objective (PathA (..), prepareRecording)
 import VProf.Geometry.Vec
 
 findData :: FilePath -> IO FilePath
@@ -69,4 +71,13 @@ compressBenchmarks = do
     , bgroup "compress-scaling"
         [ bench (show (3000 * r) ++ " samples -> " ++ show (pts rec) ++ ", knots") $ nf (run MethodKnots (pts rec)) rec
         | (r, rec) <- series ]
+    -- the fit alone (the recording prepared outside, no metrics): the metrics' geometric
+    -- distance (every sample to every segment) is O(samples × points) and dominates above
+    -- about 20,000 samples
+    , bgroup "compress-scaling-fit"
+        [ bench (show (3000 * r) ++ " samples -> " ++ show (pts rec) ++ ", knot fit only") $ whnf (fitOnly (pts rec)) (prepareRecording rec)
+        | (r, rec) <- series ]
     ]
+  where
+    fitOnly k pr = let PathA t (V3s p) (Qs q) = fitKnots defaultKnotConfig pr defaultWeights k
+                   in U.sum t + U.sum p + U.sum q

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Timing and quality table of path compression on both real recordings (thesis method,
+# Timing and quality table of path compression on both real recordings (the default knot fit,
 # with RDP at the same number of points), then the criterion benchmark.
 # Run from the project root:  sh bench/compress-report.sh
 set -e
