@@ -57,7 +57,8 @@ compressBenchmarks :: IO [Benchmark]
 compressBenchmarks = do
   fr <- load "freiburg1_xyz-groundtruth.txt"
   v1 <- load "V101_gt.txt"
-  let pts (Recording tr) = round (0.03 * fromIntegral (trackLength tr) :: Double)
+  let pts :: Recording -> Int
+      pts (Recording tr) = round (0.03 * fromIntegral (trackLength tr) :: Double)
       series = [ (r, concatenated r fr) | r <- [1, 2, 4, 7, 13] ]
   pure
     [ bgroup "compress"
