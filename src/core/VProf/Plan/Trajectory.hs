@@ -340,7 +340,7 @@ planPath rq@PlanRequest{..} = do
                   rung = descendAdmitted timeOf ok
                            [ timed (x, y) vx vy (sym acc) st zs
                            | f <- accelerationFractions ++ boostFractions, let acc = min (si prAcceleration) (f * ceil') ]
-              in if ok rung then flatten (x, y) vx vy st (refine ok (timed (x, y) vx vy) st zs (min (si prAcceleration) (3 * ceil')) rung) else rung
+              in if ok rung then lift (x, y) vx vy st (flatten (x, y) vx vy st (refine ok (timed (x, y) vx vy) st zs (min (si prAcceleration) (3 * ceil')) rung)) else rung
             -- a part at a higher acceleration than it keeps the joints' limits with, its zones
             -- lowered where the sampled joint motion breaks them: over each run of breaking
             -- samples (and 'flattenMargin' either side) to the lowest speed the profile had
@@ -376,6 +376,39 @@ planPath rq@PlanRequest{..} = do
                                          else go (k - 1) (foldr (\(s0, s1, v) -> capZones s0 s1 v) zs caps)
                   better c d = if timeOf d < timeOf c then d else c
               in foldl better c0 [ c | Just c <- map attempt accs ]
+            -- the zones a joint's acceleration binds (the rule takes |q'|·A + |q''|·v² with the
+            -- largest slope and curvature of each step and both parts at full size, while the two
+            -- parts often differ in sign: braking into a corner lowers a joint's acceleration
+            -- there) raised by 1.5, else 1.2 times, never above the speed bounds (joint speeds,
+            -- TCP speed, centripetal) of any step they cover; where the sampled joint motion
+            -- breaks the limits, the zones over each run of breaking samples (±'flattenMargin')
+            -- go back to their speeds, up to 'flattenRounds' times. The fastest admitted
+            -- profile wins
+            lift (x, y) vx vy st c0 =
+              let (_, acc, _, zs0', _) = c0
+                  hard = stepLimitsAt lo { loJointAcceleration = U.map (const (1 / 0)) (loJointAcceleration lo) } route pb 0 x y
+                  hardOn z = U.minimum (U.cons (1 / 0) (U.ifilter (\k _ -> slS hard U.! (k + 1) > lzStart z && slS hard U.! k < lzEnd z) (slLimit hard)))
+                  lifted f = [ case lzBinding z of
+                                 ByJointAcceleration _ -> z { lzSpeed = max (lzSpeed z) (min (hardOn z) (f * lzSpeed z)) }
+                                 _ -> z
+                             | z <- zs0' ]
+                  attempt f = go flattenRounds (lifted f)
+                    where
+                      go k zs =
+                        let c = timed (x, y) vx vy acc st zs
+                            ss = samplesOf c
+                        in if timeOf c == 1 / 0 then Nothing
+                           else case runsOf ss (jointViolations lo jp dt False ss) of
+                             [] -> Just c
+                             runs | k <= (0 :: Int) -> Nothing
+                                  | otherwise ->
+                                      let near z = or [ lzEnd z > s0 - flattenMargin && lzStart z < s1 + flattenMargin | (s0, s1) <- runs ]
+                                          back = [ if near z then z0 else z | (z, z0) <- zip zs zs0' ]
+                                      in if back == zs then Nothing else go (k - 1) back
+                  better c d = if timeOf d < timeOf c then d else c
+              in if any (\z -> case lzBinding z of { ByJointAcceleration _ -> True; _ -> False }) zs0'
+                   then foldl better c0 [ c | Just c <- map attempt [1.5, 1.2] ]
+                   else c0
             -- runs of breaking samples (indices into ss) no more than 2 margins apart, as [s0, s1]
             runsOf ss = foldr join [] . map (\k -> (ss U.! k, ss U.! k))
               where
