@@ -25,6 +25,7 @@ import ClosedFormBench (closedFormBenchmarks)
 import CollisionBench (collisionBenchmarks)
 import KinematicsBench (kinematicsBenchmarks)
 import OutputBench (outputBenchmarks)
+import PlanBench (planBenchmarks)
 import Routes
 import VProf.Profile.Generate
 import VProf.Profile.Sampled (duration, sampleCount)
@@ -61,6 +62,7 @@ main = do
         (other, _) -> putStrLn ("bench: " ++ n ++ " gave " ++ show other) >> exitFailure
     compression <- compressBenchmarks
     output <- outputBenchmarks
+    plans <- planBenchmarks
     defaultMain $
       [ bgroup "cases" [ bench n (nf (resIterations . generatePure) rq) | (n, rq) <- cases ]
       , bgroup "thesis" [ bench n (nf (resIterations . generatePure) rq) | (n, rq) <- thesisCases ]
@@ -68,7 +70,7 @@ main = do
       , bgroup "scaling" [ bench (show (round len :: Int) ++ "m-" ++ show nz ++ "limits")
                                   (nf (resIterations . generatePure) (syntheticRoute len nz))
                          | (len, nz) <- series ]
-      ] ++ compression ++ kinematicsBenchmarks ++ closedFormBenchmarks ++ collisionBenchmarks ++ output
+      ] ++ compression ++ kinematicsBenchmarks ++ closedFormBenchmarks ++ collisionBenchmarks ++ output ++ plans
 
 -- | Wall-clock scaling series (best of 5 runs): route length and number of limits.
 scaling :: IO ()

@@ -143,7 +143,7 @@ data LimitZone = LimitZone
 
 -- | Zones shorter than this (m) are merged into the next one.
 minZoneLength :: Double
-minZoneLength = 0.005
+minZoneLength = 0.001
 
 -- | The ratio between neighbouring speeds of the ladder.
 speedLadder :: Double

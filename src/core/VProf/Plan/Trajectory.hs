@@ -3,9 +3,10 @@
 -- space ("VProf.Plan.Track"), its speed limits as zones ("VProf.Plan.Limits"), and the timing by
 -- the velocity-profile generator: one profile request per part of the route (the stretches
 -- between stops, some cut at their slow corners), with the TCP's jerk range at the controller's
--- time step and an acceleration range A chosen per part: by the joints' acceleration rule, then
--- faster variants admitted only by the check of the sampled joint motion ('jointsKeepLimits';
--- docs/plan.md, section 3). The generator's samples s(t) give the joint values q(t) on the smooth
+-- time step and an acceleration range chosen per part: by the joints' acceleration rule, then
+-- faster variants admitted only by the check of the sampled joint motion ('jointsKeepLimits'):
+-- boosts, braking and speeding up raised apart, zones flattened where the joints turn fast
+-- (docs/plan.md, section 3). The generator's samples s(t) give the joint values q(t) on the smooth
 -- joint path through the tracked samples (cubic Hermite, 'jointPathAt'; 1 mm apart by default)
 -- and the joint speeds by central differences in time. Request and result are plain records, SI
 -- inside and units at the boundary, so that a wire layer can convert them.
@@ -29,6 +30,7 @@ module VProf.Plan.Trajectory
   ) where
 
 import Data.List (group, sort)
+import GHC.Conc (par)
 import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
 
@@ -97,7 +99,8 @@ data Plan = Plan
   , planStretches  :: ![(Double, Double)]   -- ^ the parts [a, b] timed one by one (m): the
                                              --   stretches between stops, some cut at slow corners
   , planZones      :: ![[LimitZone]]         -- ^ per part, in route coordinates
-  , planAccelerations :: ![Double]           -- ^ per part, the TCP acceleration range ±a used (m/s²)
+  , planAccelerations :: ![(Double, Double)] -- ^ per part, the TCP acceleration range used: the
+                                             --   braking and the speeding-up magnitude (m/s²)
   , planProfiles   :: ![Result]              -- ^ per part
   , planTrajectory :: !Trajectory
   , planLegal      :: !Bool                  -- ^ every part's profile legal by the checker
@@ -156,16 +159,44 @@ stretchedS a b c =
 -- within q̈max_i; with rest ends, the one-sided second difference at each end within q̈max_i / 2,
 -- so that the difference across the junction with the next stretch (their sum) keeps the limit.
 jointsKeepLimits :: LimitOptions -> JointPath -> Double -> Bool -> U.Vector Double -> Bool
-jointsKeepLimits LimitOptions{..} jp dt restEnds ss =
-  m < 2 || (all speedOk [0 .. m - 2] && all accOk [1 .. m - 2] && (not restEnds || (endOk 0 1 && endOk (m - 1) (m - 2))))
+jointsKeepLimits lo jp dt restEnds ss = null (jointViolations lo jp dt restEnds ss)
+
+-- | The samples (indices into ss) at which the sampled joint motion breaks a limit as
+-- 'jointsKeepLimits' measures it, in order (lazy: the first costs only the samples before it).
+jointViolations :: LimitOptions -> JointPath -> Double -> Bool -> U.Vector Double -> [Int]
+jointViolations LimitOptions{..} jp dt restEnds ss
+  | m < 2 = []
+  | otherwise = [ k | k <- [0 .. m - 1], not (speedOk k && accOk k && endsOk k) ]
   where
     m = U.length ss
     n = tkDof (jpTracked jp)
     qs = V.generate m (\k -> jointPathAt jp (ss U.! k))
     q k i = qs V.! k U.! i
-    speedOk k = and [ abs (q (k + 1) i - q k i) <= loJointSpeed U.! i * dt | i <- [0 .. n - 1] ]
-    accOk k = and [ abs (q (k + 1) i - 2 * q k i + q (k - 1) i) <= loJointAcceleration U.! i * dt * dt | i <- [0 .. n - 1] ]
+    speedOk k = k > m - 2 || and [ abs (q (k + 1) i - q k i) <= loJointSpeed U.! i * dt | i <- [0 .. n - 1] ]
+    accOk k = k < 1 || k > m - 2 || and [ abs (q (k + 1) i - 2 * q k i + q (k - 1) i) <= loJointAcceleration U.! i * dt * dt | i <- [0 .. n - 1] ]
+    endsOk k
+      | not restEnds = True
+      | k == 0 = endOk 0 1
+      | k == m - 1 = endOk (m - 1) (m - 2)
+      | otherwise = True
     endOk k k' = and [ abs (q k' i - q k i) <= 0.5 * loJointAcceleration U.! i * dt * dt | i <- [0 .. n - 1] ]
+
+-- | The zones with the speed on [x0, x1] capped at v (zones split at x0 and x1 where needed):
+-- speeds only go down.
+capZones :: Double -> Double -> Double -> [LimitZone] -> [LimitZone]
+capZones x0 x1 v = concatMap cap
+  where
+    cap z
+      | lzEnd z <= x0 || lzStart z >= x1 || lzSpeed z <= v = [z]
+      | otherwise = filter (\w -> lzEnd w > lzStart w)
+          [ z { lzEnd = max (lzStart z) x0 }
+          , z { lzStart = max (lzStart z) x0, lzEnd = min (lzEnd z) x1, lzSpeed = v }
+          , z { lzStart = min (lzEnd z) x1 } ]
+
+-- | The list, with f of every element sparked for parallel evaluation (the parts and stretches
+-- of a plan are timed independently of each other).
+sparkEach :: (a -> Double) -> [a] -> [a]
+sparkEach f xs = foldr (\x r -> f x `par` r) xs xs
 
 -- | Sorted, without repeats.
 nubSorted :: [Double] -> [Double]
@@ -183,12 +214,14 @@ descendIndex timeOf xs = go (min startFraction (n - 1))
   where
     n = length xs
     t i = timeOf (xs !! i)
-    go i
-      | i + 1 < n && t (i + 1) < t i = up (i + 1)
-      | i > 0 && t (i - 1) < t i = down (i - 1)
-      | otherwise = i
-    up i = if i + 1 < n && t (i + 1) < t i then up (i + 1) else i
-    down i = if i > 0 && t (i - 1) < t i then down (i - 1) else i
+    -- the next rungs either way are sparked while this one is computed (with -N, on another core)
+    ahead js r = foldr (\j acc -> if j >= 0 && j < n then t j `par` acc else acc) r js
+    go i = ahead [i + 1, i - 1] $
+      if i + 1 < n && t (i + 1) < t i then up (i + 1)
+      else if i > 0 && t (i - 1) < t i then down (i - 1)
+      else i
+    up i = ahead [i + 1] (if i + 1 < n && t (i + 1) < t i then up (i + 1) else i)
+    down i = ahead [i - 1] (if i > 0 && t (i - 1) < t i then down (i - 1) else i)
 
 -- | The fastest rung by @timeOf@ found by 'descend' if @ok@ admits it, else the first rung below
 -- it that @ok@ admits (a lower acceleration), else the fastest rung.
@@ -235,10 +268,12 @@ planPath rq@PlanRequest{..} = do
       tries (a, b) va vb =
         let ceil' = tangentialCeiling lo pb a b
         in [ candidate (a, b) va vb acc acc | f <- accelerationFractions, let acc = min (si prAcceleration) (f * ceil') ]
+      sym acc = (acc, acc)
       -- the profile at acceleration A whose corner zones assume the acceleration ac ≤ A there
       candidate (a, b) va vb acc ac =
-        let st = stepLimitsAt lo route pb ac a b in timed (a, b) va vb acc st (limitZones top st a b)
-      -- the profile of a part at acceleration A under the zones zs (of its steps st)
+        let st = stepLimitsAt lo route pb ac a b in timed (a, b) va vb (sym acc) st (limitZones top st a b)
+      -- the profile of a part at the acceleration range (braking, speeding up) under the zones zs
+      -- (of its steps st)
       timed (a, b) va vb acc st zs = ((a, b), acc, st, zs, generatePure (profileRequest (si prEndTolerance) a b acc zs va vb))
       timeOf (_, _, _, _, r) = if resultLegal r then maybe (1 / 0) duration (resProfile r) else 1 / 0
       samplesOf ((a, b), _, _, _, r) = maybe U.empty (stretchedS a b . columns) (resProfile r)
@@ -250,7 +285,7 @@ planPath rq@PlanRequest{..} = do
       -- way (up the boost ladder while each rung is faster and admitted)
       boost restEnds va vb safe@((a, b), acc0, _, _, _) =
         let ceil' = tangentialCeiling lo pb a b
-            ladder = acc0 : [ acc | f <- boostFractions, let acc = min (si prAcceleration) (f * ceil'), acc > acc0 ]
+            ladder = snd acc0 : [ acc | f <- boostFractions, let acc = min (si prAcceleration) (f * ceil'), acc > snd acc0 ]
             -- up the ladder while each rung keeps the limits and is strictly faster
             climb beta (best, t) (acc : rest) =
               let c = candidate (a, b) va vb acc (beta * acc)
@@ -266,7 +301,12 @@ planPath rq@PlanRequest{..} = do
       -- neither does the speed at a cut: the lower of the two parts' zones there); each part's
       -- acceleration is the fastest on the ladder whose joint motion keeps the limits
       planStretch (a, b) =
-        let whole = boost True 0 0 (descend timeOf (tries (a, b) 0 0))
+        let boosted = boost True 0 0 (descend timeOf (tries (a, b) 0 0))
+            whole = let ((x, y), _, st, zs, _) = boosted
+                    in if score True boosted < 1 / 0
+                         then refine ((< 1 / 0) . score True) (timed (x, y) 0 0) st zs
+                                (min (si prAcceleration) (3 * tangentialCeiling lo pb x y)) boosted
+                         else boosted
             (_, _, _, zs0, _) = whole
             fastest = if null zs0 then 0 else maximum (map lzSpeed zs0)
             slow c = minimum (fastest : [ lzSpeed z | z <- zs0, lzStart z <= c, c <= lzEnd z ]) < 0.5 * fastest
@@ -279,18 +319,101 @@ planPath rq@PlanRequest{..} = do
                           , not (U.null (slLimit st))
                           , Just c <- [nearestSample (slS st U.! U.minIndex (slLimit st)) a b], slow c ]
             splitAt' cuts =
-              let bounds = a : nubSorted cuts ++ [b]
+              let bounds = a : spaced (filter (<= b - minPartLength) (nubSorted cuts)) ++ [b]
+                  -- cuts at least minPartLength after the previous one: on a shorter part the
+                  -- profile's margin for its end tolerance (1 µm over the part's length) would
+                  -- show as a step in speed where it meets its neighbours
+                  spaced = go a where
+                    go _ [] = []
+                    go prev (c : cs) = if c - prev >= minPartLength then c : go c cs else go prev cs
                   parts = [ ((x, y), st, limitZones top st x y) | (x, y) <- zip bounds (drop 1 bounds)
                                                                  , let st = stepLimitsAt lo route pb 0 x y ]
                   -- the speed at a cut: the lower of the two parts' zones there
                   speeds = 0 : [ minimum (map lzSpeed (take 1 (reverse zl) ++ take 1 zr))
                                | ((_, _, zl), (_, _, zr)) <- zip parts (drop 1 parts) ] ++ [0]
-                  part ((x, y), st, zs) vx vy =
-                    let ceil' = tangentialCeiling lo pb x y
-                    in descendAdmitted timeOf ((< 1 / 0) . score False)
-                         [ timed (x, y) vx vy acc st zs
-                         | f <- accelerationFractions ++ boostFractions, let acc = min (si prAcceleration) (f * ceil') ]
-              in zipWith3 part parts speeds (drop 1 speeds)
+              in sparkEach (score False) (zipWith3 part parts speeds (drop 1 speeds))
+            -- a part's acceleration: the fastest rung of the ladder whose joint motion keeps the
+            -- limits, then refined ('refine')
+            part ((x, y), st, zs) vx vy =
+              let ceil' = tangentialCeiling lo pb x y
+                  ok = (< 1 / 0) . score False
+                  rung = descendAdmitted timeOf ok
+                           [ timed (x, y) vx vy (sym acc) st zs
+                           | f <- accelerationFractions ++ boostFractions, let acc = min (si prAcceleration) (f * ceil') ]
+              in if ok rung then lift (x, y) vx vy st (flatten (x, y) vx vy st (refine ok (timed (x, y) vx vy) st zs (min (si prAcceleration) (3 * ceil')) rung)) else rung
+            -- a part at a higher acceleration than it keeps the joints' limits with, its zones
+            -- lowered where the sampled joint motion breaks them: over each run of breaking
+            -- samples (and 'flattenMargin' either side) to the lowest speed the profile had
+            -- there, so that the next profile crosses it without accelerating (the tangential
+            -- part |q'|·a is then 0 where |q'| is large: the joints turning fast just after a
+            -- corner, where the orientation turns); again up to 'flattenRounds' times. The
+            -- fastest admitted profile wins; zones only go down.
+            flatten (x, y) vx vy st c0 =
+              let (_, (br0, up0), _, zs0', _) = c0
+                  a0 = max br0 up0
+                  hiA = min (si prAcceleration) (3 * tangentialCeiling lo pb x y)
+                  accs = [ acc | f <- [2, 1.4], let acc = min hiA (f * a0), acc > 1.05 * a0 ]
+                  attempt acc = go flattenRounds zs0'
+                    where
+                      go k zs =
+                        let c = timed (x, y) vx vy (acc, acc) st zs
+                            ss = samplesOf c
+                            vs = maybe U.empty (colVelocity . columns) (let (_, _, _, _, r) = c in resProfile r)
+                        in if timeOf c == 1 / 0 then Nothing
+                           else case runsOf ss (jointViolations lo jp dt False ss) of
+                             [] -> Just c
+                             runs | k <= (0 :: Int) -> Nothing
+                                  | otherwise ->
+                                      let caps = [ (s0 - flattenMargin, s1 + flattenMargin, vcap)
+                                                 | (s0, s1) <- runs
+                                                 , let inR = U.findIndices (\u -> u >= s0 - flattenMargin && u <= s1 + flattenMargin) ss
+                                                 , not (U.null inR)
+                                                 , let vmin = U.minimum (U.map (vs U.!) inR)
+                                                   -- never below the speed the part starts or ends at
+                                                   -- when the run reaches its start or end
+                                                 , let vcap = maximum (vmin : [ vx | s0 - flattenMargin <= x ] ++ [ vy | s1 + flattenMargin >= y ]) ]
+                                      in if any (\(_, _, v) -> v < 1e-3) caps then Nothing
+                                         else go (k - 1) (foldr (\(s0, s1, v) -> capZones s0 s1 v) zs caps)
+                  better c d = if timeOf d < timeOf c then d else c
+              in foldl better c0 [ c | Just c <- map attempt accs ]
+            -- the zones a joint's acceleration binds (the rule takes |q'|·A + |q''|·v² with the
+            -- largest slope and curvature of each step and both parts at full size, while the two
+            -- parts often differ in sign: braking into a corner lowers a joint's acceleration
+            -- there) raised by 1.5, else 1.2 times, never above the speed bounds (joint speeds,
+            -- TCP speed, centripetal) of any step they cover; where the sampled joint motion
+            -- breaks the limits, the zones over each run of breaking samples (±'flattenMargin')
+            -- go back to their speeds, up to 'flattenRounds' times. The fastest admitted
+            -- profile wins
+            lift (x, y) vx vy st c0 =
+              let (_, acc, _, zs0', _) = c0
+                  hard = stepLimitsAt lo { loJointAcceleration = U.map (const (1 / 0)) (loJointAcceleration lo) } route pb 0 x y
+                  hardOn z = U.minimum (U.cons (1 / 0) (U.ifilter (\k _ -> slS hard U.! (k + 1) > lzStart z && slS hard U.! k < lzEnd z) (slLimit hard)))
+                  lifted f = [ case lzBinding z of
+                                 ByJointAcceleration _ -> z { lzSpeed = max (lzSpeed z) (min (hardOn z) (f * lzSpeed z)) }
+                                 _ -> z
+                             | z <- zs0' ]
+                  attempt f = go flattenRounds (lifted f)
+                    where
+                      go k zs =
+                        let c = timed (x, y) vx vy acc st zs
+                            ss = samplesOf c
+                        in if timeOf c == 1 / 0 then Nothing
+                           else case runsOf ss (jointViolations lo jp dt False ss) of
+                             [] -> Just c
+                             runs | k <= (0 :: Int) -> Nothing
+                                  | otherwise ->
+                                      let near z = or [ lzEnd z > s0 - flattenMargin && lzStart z < s1 + flattenMargin | (s0, s1) <- runs ]
+                                          back = [ if near z then z0 else z | (z, z0) <- zip zs zs0' ]
+                                      in if back == zs then Nothing else go (k - 1) back
+                  better c d = if timeOf d < timeOf c then d else c
+              in if any (\z -> case lzBinding z of { ByJointAcceleration _ -> True; _ -> False }) zs0'
+                   then foldl better c0 [ c | Just c <- map attempt [1.5, 1.2] ]
+                   else c0
+            -- runs of breaking samples (indices into ss) no more than 2 margins apart, as [s0, s1]
+            runsOf ss = foldr join [] . map (\k -> (ss U.! k, ss U.! k))
+              where
+                join (s0, s1) ((t0, t1) : rest) | t0 - s1 <= 2 * flattenMargin = (s0, t1) : rest
+                join r rest = r : rest
             total ps = sum (map (score False) ps)
             joined ps = U.concat (take 1 (map samplesOf ps) ++ map (U.drop 1 . samplesOf) (drop 1 ps))
             splits = [ ps | cuts <- [middles, slowest], not (null cuts), let ps = splitAt' cuts
@@ -299,12 +422,32 @@ planPath rq@PlanRequest{..} = do
         in case splits of
              [] -> [whole]
              _ -> foldr1 (\x y -> if total x <= total y then x else y) splits
+      -- A part's acceleration range beyond its rung: the speeding-up magnitude, then the braking
+      -- one, each raised on its own by bisection between its rung and 1.6 times it (at most hi)
+      -- while the sampled joint motion keeps the limits (@ok@), keeping the fastest profile. The
+      -- joints that bind while a part speeds up (leaving a corner) are seldom the ones that bind
+      -- while it brakes into the next.
+      refine ok mk st zs hi c0 = foldl raise c0 [(snd, \x (br, _) -> (br, x)), (fst, \x (_, up) -> (x, up))]
+        where
+          raise c (get, set) =
+            let (_, acc, _, _, _) = c
+                go best l h k
+                  | k <= (0 :: Int) || h <= l * 1.02 = best
+                  | otherwise =
+                      let x = 0.5 * (l + h)
+                          cx = mk (set x acc) st zs
+                      in if ok cx then go (if timeOf cx < timeOf best then cx else best) x h (k - 1)
+                                  else go best l x (k - 1)
+            in go c (get acc) (min hi (1.6 * get acc)) (3 :: Int)
+      minPartLength = 0.01
+      flattenRounds = 4
+      flattenMargin = 1e-3
       -- the grid sample nearest s, strictly inside (a, b)
       nearestSample x a b = do
         k <- U.findIndex (>= x) grid
         let c = grid U.! k
         if c > a + 1e-9 && c < b - 1e-9 then Just c else Nothing
-      chosen = concatMap planStretch (zip cuts (drop 1 cuts))
+      chosen = concat (sparkEach (sum . map timeOf) (map planStretch (zip cuts (drop 1 cuts))))
       stretches = [ ab | (ab, _, _, _, _) <- chosen ]
       accs = [ acc | (_, acc, _, _, _) <- chosen ]
       zoness = [ zs | (_, _, _, zs, _) <- chosen ]
@@ -327,13 +470,13 @@ planPath rq@PlanRequest{..} = do
     -- the request asks for speeds, acceleration and jerk lowered by that factor: once stretched,
     -- the profile keeps the zones, acceleration and jerk of the plan.
     margin tol a b = 1 / (1 + tol / (b - a))
-    profileRequest tol a b acc zs va vb = defaultRequest
+    profileRequest tol a b (brake, speedUp) zs va vb = defaultRequest
       { rqRouteLength = (b - a) *~ meter
       , rqStartVelocity = (margin tol a b * va) *~ mps
       , rqEndVelocity = (margin tol a b * vb) *~ mps
       , rqZones = [ SpeedZone ((lzStart z - a) *~ meter) ((margin tol a b * lzSpeed z) *~ mps) | z <- zs ]
-      , rqMinAcceleration = negate (margin tol a b * acc) *~ mps2
-      , rqMaxAcceleration = (margin tol a b * acc) *~ mps2
+      , rqMinAcceleration = negate (margin tol a b * brake) *~ mps2
+      , rqMaxAcceleration = (margin tol a b * speedUp) *~ mps2
       , rqMinJerk = negate (margin tol a b * si prJerk) *~ mps3
       , rqMaxJerk = (margin tol a b * si prJerk) *~ mps3
       , rqTimeStep = Just prTimeStep
@@ -369,3 +512,4 @@ planPath rq@PlanRequest{..} = do
             | otherwise = (qAt (k + 1) i - qAt (k - 1) i) / (2 * dt)
           qds = U.generate (m * n) (\x -> let (k, i) = x `divMod` n in qd k i)
       in Trajectory ts ss vs as js qs qds n
+

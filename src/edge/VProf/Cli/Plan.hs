@@ -297,8 +297,8 @@ planJson r p = A.object
   , "duration_s" A..= planDuration p
   , "legal" A..= (planLegal p && all resultLegal (planProfiles p))
   , "stops_m" A..= rtStops (planRoute p)
-  , "stretches" A..= [ A.object [ "start_m" A..= a, "end_m" A..= b, "acceleration_mps2" A..= acc ]
-                     | ((a, b), acc) <- zip (planStretches p) (planAccelerations p) ]
+  , "stretches" A..= [ A.object [ "start_m" A..= a, "end_m" A..= b, "acceleration_mps2" A..= up, "braking_mps2" A..= brake ]
+                     | ((a, b), (brake, up)) <- zip (planStretches p) (planAccelerations p) ]
   , "zones" A..= [ A.object [ "start_m" A..= lzStart z, "end_m" A..= lzEnd z, "speed_mps" A..= lzSpeed z
                             , "binding" A..= describeBinding r (lzBinding z) ]
                  | z <- concat (planZones p) ]
