@@ -10,6 +10,7 @@ import Test.Hspec
 
 import VProf.Compress
 import VProf.Compress.Clean
+import VProf.Geometry.Vec (pifilter)
 import Support.Recordings
 import VProf.Service.Compress (serveCompress)
 import VProf.Wire.Compress
@@ -48,6 +49,25 @@ spec = describe "serveCompress" $ do
     decodeBare (encodeBare rsp) `shouldBe` Right rsp
     -- a clean recording (but for one gap) has no other warning
     map T.unpack (getField (cpWarnings rsp)) `shouldSatisfy` all ("1 gap" `isInfixOf`)
+  it "fits by the CLI's method: DEFAULT and KNOTS the knot fit, THESIS the thesis method, RDP the baseline" $ do
+    Recording tr0 <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let tr = Track (U.take 600 (tTime tr0)) (pifilter (< 600) (tPos tr0)) (pifilter (< 600) (tRot tr0))
+        timesBy meth = do
+          rsp <- serveCompress (request tr 18) { crqMethod = putField meth }
+          pure (fmap (U.fromList . getField . posTime) (getField (cpPath rsp)))
+        core meth = either (error . show) (tTime . pathTrack . oPath)
+                      (compress defaultSettings { sMethod = meth, sPoints = Just 18 } (Recording tr))
+    wireDefault <- timesBy Nothing
+    wireKnots <- timesBy (Just CompressKnots)
+    wireThesis <- timesBy (Just CompressThesis)
+    wireRdp <- timesBy (Just CompressRdp)
+    wireDefault `shouldBe` Just (core MethodKnots)
+    wireKnots `shouldBe` Just (core MethodKnots)
+    wireThesis `shouldBe` Just (core MethodThesis)
+    wireRdp `shouldBe` Just (core MethodRdp)
+    -- the knot fit and the thesis method are different algorithms: their times differ here
+    core MethodKnots `shouldNotBe` core MethodThesis
+
   it "answers a bad request with INVALID_ARGUMENT naming the field and the value" $ do
     Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
     let req = (request tr 60) { crqMargin = putField (Just 0.5) }

@@ -146,7 +146,7 @@ algorithmNames = ["ALGORITHM_DEFAULT", "ALGORITHM_BAND", "ALGORITHM_THESIS"]
 errorCodeNames = [ "ERROR_CODE_UNSPECIFIED", "ERROR_CODE_INVALID_ARGUMENT", "ERROR_CODE_INFEASIBLE"
                  , "ERROR_CODE_NOT_CONVERGED", "ERROR_CODE_MALFORMED", "ERROR_CODE_FRAME_TOO_LARGE"
                  , "ERROR_CODE_UNSUPPORTED", "ERROR_CODE_INTERNAL" ]
-compressMethodNames = ["COMPRESS_METHOD_DEFAULT", "COMPRESS_METHOD_THESIS", "COMPRESS_METHOD_RDP"]
+compressMethodNames = ["COMPRESS_METHOD_DEFAULT", "COMPRESS_METHOD_THESIS", "COMPRESS_METHOD_RDP", "COMPRESS_METHOD_KNOTS"]
 
 request :: Obj -> Parser RequestMsg
 request o = RequestMsg <$> (putField <$> u64 o "request_id") <*> (putField <$> msg profileRequest o "profile")

@@ -52,9 +52,12 @@ requestToDomainW m = do
       pts = orDefault (getField (crqPoints m))
       margin = orDefault (getField (crqMargin m))
       tol = orDefault (getField (crqTolerance m))
+      -- the default is the CLI's: the knot fit (which runs the thesis method for a margin or
+      -- a tolerance)
       method = case getEnum (getField (crqMethod m)) of
         CompressRdp -> MethodRdp
-        _ -> MethodThesis
+        CompressThesis -> MethodThesis
+        _ -> MethodKnots
       pick d v = if v == 0 then d else v
       settings = Settings
         { sMethod = method

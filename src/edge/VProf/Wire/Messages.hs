@@ -128,15 +128,17 @@ data ErrorCodeEnum
   | ErrMalformed | ErrFrameTooLarge | ErrUnsupported | ErrInternal
   deriving (Eq, Show, Bounded, Enum)
 
-data CompressMethodEnum = CompressDefault | CompressThesis | CompressRdp
+data CompressMethodEnum = CompressDefault | CompressThesis | CompressRdp | CompressKnots
   deriving (Eq, Show, Bounded)
 
 instance Enum CompressMethodEnum where
   fromEnum CompressDefault = 0
   fromEnum CompressThesis = 1
   fromEnum CompressRdp = 2
+  fromEnum CompressKnots = 3
   toEnum 1 = CompressThesis
   toEnum 2 = CompressRdp
+  toEnum 3 = CompressKnots
   toEnum _ = CompressDefault
 
 ----------------------------------------------------------------------------- profiles
