@@ -72,6 +72,24 @@ spec = do
               n = chainDof ch
           in counterexample (show (manipulability n j, manipulabilityQr n j))
                (abs (manipulability n j - manipulabilityQr n j) <= 1e-12 * (1 + manipulability n j))
+    forM_ libraryChains $ \(name, ech) -> case ech of
+      Left _ -> pure ()
+      Right ch -> it (name ++ ": smallestSingularValueAbove agrees with the SVD at random q and thresholds either side of σ_min") $
+        property $ withMaxSuccess 100 $ forAllQ ch $ \q -> forAll (choose (-6, 0 :: Double)) $ \e ->
+          let (_, j) = jacobian ch q
+              n = chainDof ch
+              sv = singularValues n j
+              smin = minimum sv
+              scale = maximum sv
+              -- thresholds 10^e (1e-6 .. 1) and just either side of σ_min (0.1 % of σ_max apart)
+              ts = [10 ** e, smin + 1e-3 * scale, max 0 (smin - 1e-3 * scale)]
+              clear t = abs (smin - t) > 1e-6 * scale
+          in conjoin [ counterexample (show (t, smin, smallestSingularValueAbove n j t))
+                         (smallestSingularValueAbove n j t == (smin > t)) | t <- ts, clear t ]
+    it "smallestSingularValueAbove is False at the UR5's stretched singularity for any t > 0" $ do
+      let Right ur5 = lookupRobot "ur5"
+          (_, js) = jacobian (compile ur5) (U.fromList [0, 0, 0, 0, 0.4, 0])
+      map (smallestSingularValueAbove 6 js) [1e-6, 1e-3, 1] `shouldBe` [False, False, False]
   where
     det :: [[Double]] -> Double
     det [[a]] = a

@@ -14,6 +14,7 @@ module VProf.Kinematics.Jacobian
   , manipulabilityQr
   , conditionNumber
   , singularValues
+  , smallestSingularValueAbove
   ) where
 
 import Control.Monad.ST (ST, runST)
@@ -86,6 +87,40 @@ singularValues :: Int -> Jacobian -> [Double]
 singularValues n j
   | n == 0 = []
   | otherwise = take (min 6 n) (LA.toList (LA.singularValues (LA.fromLists (jacobianRows n j))))
+
+-- | Whether the smallest of the 'singularValues' is above t (t ≥ 0), without them: the Gram
+-- matrix G (Jᵀ·J, n × n, for n ≤ 6; J·Jᵀ, 6 × 6, above) has the squared singular values as its
+-- eigenvalues, so σ_min > t exactly when G − t²·I is positive definite, which its Cholesky
+-- factorisation tells (every pivot > 0): about a hundred operations instead of an SVD. Pivots
+-- within rounding of 0 (σ_min within about 1e-8·σ_max of t) can go either way.
+smallestSingularValueAbove :: Int -> Jacobian -> Double -> Bool
+smallestSingularValueAbove n j t
+  | n == 0 = False
+  | otherwise = runST $ do
+      let m = min 6 n
+          -- G = Jᵀ·J (entries over the 6 rows) for n ≤ 6, else J·Jᵀ (over the n columns)
+          g a b
+            | n <= 6 = sum [ j U.! (6 * a + r) * j U.! (6 * b + r) | r <- [0 .. 5] ]
+            | otherwise = sum [ j U.! (6 * k + a) * j U.! (6 * k + b) | k <- [0 .. n - 1] ]
+      l <- M.replicate (m * m) 0
+      let col !c
+            | c >= m = pure True
+            | otherwise = do
+                s <- sumOver (\k -> (\x -> x * x) <$> M.read l (c * m + k)) c
+                let d = g c c - t * t - s
+                if not (d > 0) then pure False else do
+                  let p = sqrt d
+                  M.write l (c * m + c) p
+                  let below !r
+                        | r >= m = pure ()
+                        | otherwise = do
+                            s' <- sumOver (\k -> (*) <$> M.read l (r * m + k) <*> M.read l (c * m + k)) c
+                            M.write l (r * m + c) ((g r c - s') / p)
+                            below (r + 1)
+                  below (c + 1)
+                  col (c + 1)
+          sumOver f e = go 0 0 where go !k !acc = if k >= e then pure acc else f k >>= \v -> go (k + 1) (acc + v)
+      col 0
 
 -- | Yoshikawa's manipulability √det(J·Jᵀ) for n ≥ 6 (√det(Jᵀ·J) for n < 6): the product of the
 -- singular values.

@@ -38,7 +38,7 @@ import VProf.Kinematics.Collision (Clearance (..), CollisionModel, robotClearanc
 import VProf.Kinematics.Ik
 import qualified VProf.Kinematics.ClosedForm as CF
 import VProf.Kinematics.Forward (forward)
-import VProf.Kinematics.Jacobian (jacobian, manipulability, singularValues)
+import VProf.Kinematics.Jacobian (jacobian, manipulability, singularValues, smallestSingularValueAbove)
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform (V3 (..), toRows4)
 import VProf.Plan.Route
@@ -97,7 +97,6 @@ data Tracked = Tracked
   { tkS     :: !(U.Vector Double)
   , tkQ     :: !(U.Vector Double)   -- ^ (N+1)·n, row-major
   , tkDof   :: !Int
-  , tkSigma :: !(U.Vector Double)   -- ^ the smallest singular value at every sample
   } deriving (Show)
 
 trackedCount :: Tracked -> Int
@@ -203,8 +202,8 @@ smallestSingularValue ch q = case singularValues (chainDof ch) (snd (jacobian ch
 trackRoute :: TrackOptions -> Kinematics -> Route -> Maybe (U.Vector Double) -> Either PlanStop Tracked
 trackRoute TrackOptions{..} kin rt start = do
   q0 <- solveAt 0 (pickStart <$> solveIk defaultIkOptions kin (routeTfAt rt 0) start) Nothing Nothing
-  sg0 <- checkAt 0 q0
-  go 1 q0 Nothing [q0] [sg0]
+  checkAt 0 q0
+  go 1 q0 Nothing [q0]
   where
     ch = kinChain kin
     n = chainDof ch
@@ -235,8 +234,8 @@ trackRoute TrackOptions{..} kin rt start = do
           d = (x - mid) / max 1e-9 half
       in d * d
 
-    go !k prev trend qs sgs
-      | k >= nGrid = Right (Tracked grid (U.concat (reverse qs)) n (U.fromList (reverse sgs)))
+    go !k prev trend qs
+      | k >= nGrid = Right (Tracked grid (U.concat (reverse qs)) n)
       | otherwise = do
           let s = grid U.! k
           q <- solveAt s (continueIk (routeTfAt rt s) prev) (Just prev) trend
@@ -245,8 +244,8 @@ trackRoute TrackOptions{..} kin rt start = do
           if steps U.! j > toMaxJointStep
             then stop s (maybe (Jump (jointName (joints !! j)) (steps U.! j)) (uncurry JointLimit) (nearLimit prev trend))
             else do
-              sg <- checkAt s q
-              go (k + 1) q (Just (U.zipWith (-) q prev)) (q : qs) (sg : sgs)
+              checkAt s q
+              go (k + 1) q (Just (U.zipWith (-) q prev)) (q : qs)
 
     -- the solution nearest the previous sample's: for the six-axis closed forms, each branch's
     -- principal solution with every joint turned by whole turns to lie nearest the previous
@@ -303,13 +302,15 @@ trackRoute TrackOptions{..} kin rt start = do
                   , not (isInfinite l), d <= toMaxJointStep, toward i sg ]
       in if null cands then Nothing else Just (snd (minimumBy (comparing fst) cands))
 
+    -- singular below toMinSigma (the Cholesky test of "VProf.Kinematics.Jacobian"; the SVD only
+    -- to report the value), then the clearance
     checkAt s q = do
-      let sg = smallestSingularValue ch q
-      if sg < toMinSigma then stop s (Singularity sg) else Right ()
+      if smallestSingularValueAbove n (snd (jacobian ch q)) toMinSigma then Right ()
+        else let sg = smallestSingularValue ch q in if sg < toMinSigma then stop s (Singularity sg) else Right ()
       case toEnvironment of
-        Nothing -> Right sg
+        Nothing -> Right ()
         Just Environment{..}
-          | robotClearanceAtLeast envModel envBvh q envClearance -> Right sg
+          | robotClearanceAtLeast envModel envBvh q envClearance -> Right ()
           | otherwise -> case robotClearance envModel envBvh q of
               Just c -> stop s (Collision (clrBodyName c) (clrDistance c))
-              Nothing -> Right sg
+              Nothing -> Right ()
