@@ -45,9 +45,9 @@ data Snapshot = Snapshot
 -- so the sequence is monotone and cannot cycle.
 iterations :: Problem -> Either Failure [Snapshot]
 iterations pb = case pbAlgorithm pb of
-  Band -> case seed pb of
+  Band -> case bestSeed pb of
     Left f -> Left (seedFailure f)
-    Right v0 -> Right (Snapshot v0 0 0 False : go 1 v0)
+    Right v0 -> Right (bandFrom pb v0)
   Thesis -> case thesisStages pb of
     -- the thesis mode's start and run-in fail where the request may be infeasible: the
     -- default generator's analysis says whether it is (and why)
@@ -56,16 +56,24 @@ iterations pb = case pbAlgorithm pb of
                        _ -> NotConverged ("thesis mode: " ++ seedMessage tf))
     Right stages -> Right [ Snapshot (stgVel st) (stgPasses st) (stgChanged st) (stgDone st) | st <- stages ]
   where
+    seedMessage = \case
+      Unattainable _ m -> m
+      LandingFailed m -> m
+
+seedFailure :: SeedFailure -> Failure
+seedFailure = \case
+  Unattainable f m -> InfeasibleRequest f m
+  LandingFailed m -> NotConverged ("seed: " ++ m)
+
+-- | The default generator's passes from a seed: the seed (iteration 0) and the profile
+-- after each raising pass, up to the fixed point.
+bandFrom :: Problem -> U.Vector Double -> [Snapshot]
+bandFrom pb v0 = Snapshot v0 0 0 False : go 1 v0
+  where
     go !i v =
       let PassResult v' changed = pass pb v
           done = changed == 0
       in Snapshot v' i changed done : if done then [] else go (i + 1) v'
-    seedFailure = \case
-      Unattainable f m -> InfeasibleRequest f m
-      LandingFailed m -> NotConverged ("seed: " ++ m)
-    seedMessage = \case
-      Unattainable _ m -> m
-      LandingFailed m -> m
 
 -- | The verdict on the last snapshot.
 finish :: Problem -> Double -> Int -> Bool -> Maybe String -> U.Vector Double -> Result
@@ -161,10 +169,33 @@ generateProblem pb = do
 hardLimit :: Problem -> Double
 hardLimit pb = pbBudget pb + min 0.1 (max 0.02 (pbBudget pb / 10))
 
+-- | The default generator's seed within the wall-clock budget: the greedy seed, then the
+-- variants of 'bestSeed' one after the other while less than half the budget is spent
+-- (each at most a pass of the seed's length); the best so far is the latest snapshot.
+seedWithin :: Problem -> IO Double -> IORef (Maybe Snapshot) -> IO (Either Failure [Snapshot])
+seedWithin pb elapsed latest = case seed pb of
+  Left f -> pure (Left (seedFailure f))
+  Right v0 -> do
+    _ <- evaluate v0
+    let try best [] = pure best
+        try best (q : qs) = do
+          secs <- elapsed
+          if secs > pbBudget pb / 2
+            then pure best
+            else do
+              writeIORef latest (Just (Snapshot best 0 0 False))
+              best' <- evaluate (improveSeed pb best q)
+              try best' qs
+    best <- if variantsApply pb v0 then try v0 (seedVariants pb) else pure v0
+    pure (Right (bandFrom pb best))
+
 generateWithin :: Problem -> Double -> IORef (Maybe Snapshot) -> IO Result
 generateWithin pb t0 latest = do
   let elapsed = do t <- getMonotonicTime; pure (t - t0)
-  case iterations pb of
+  snapshots <- case pbAlgorithm pb of
+    Band -> seedWithin pb elapsed latest
+    Thesis -> pure (iterations pb)
+  case snapshots of
     Left f -> do
       _ <- evaluate f
       secs <- elapsed
@@ -188,5 +219,53 @@ generateWithin pb t0 latest = do
       (sn, reason) <- walk snaps
       let r0 = finish pb 0 (snIteration sn) (snDone sn) reason (snVel sn)
       _ <- evaluate (length (resViolations r0))
+      r <- if pbAlgorithm pb == Band && resOutcome r0 == Generated && U.length (snVel sn) <= thesisVariantSamples
+             then viaThesis pb elapsed r0
+             else pure r0
       secs <- elapsed
-      pure r0 { resSeconds = secs }
+      pure r { resSeconds = secs }
+
+-- | A converged answer of at most this many samples is compared with thesis mode's
+-- ('viaThesis'): thesis mode costs many passes a sample, so beyond it the comparison would
+-- cost more than the answer.
+thesisVariantSamples :: Int
+thesisVariantSamples = 2048
+
+-- | The last variant of the default generator's seed, with what is left of the budget:
+-- thesis mode's fixed point ("VProf.Profile.Generate.Thesis"), grown from rest. Where the
+-- greedy seeds all brake too late (weak jerk against a strong one, many zones), its gentle
+-- growth can arrive sooner. When it reaches its fixed point within the budget, is legal
+-- and shorter than the converged answer, the default generator's passes run from it to
+-- their own fixed point; if any of that runs out of the budget, the converged answer stands.
+viaThesis :: Problem -> IO Double -> Result -> IO Result
+viaThesis pb elapsed r0 = do
+  secs <- elapsed
+  let left = pbBudget pb - secs
+      n0 = maybe maxBound sampleCount (resProfile r0)
+      thPb = pb { pbAlgorithm = Thesis, pbMaxIter = max (pbMaxIter pb) (defaultMaxIterations Thesis) }
+      fixedPoint = case thesisStages thPb of
+        Left _ -> Nothing
+        Right stages -> case last stages of
+          st | stgDone st -> Just (stgVel st)
+          _ -> Nothing
+      better v = let prof = endAtArrival pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
+                 in sampleCount prof < n0 && null (check pb prof)
+      attempt = case fixedPoint of
+        Just v | better v ->
+          let snaps = bandFrom pb v
+              final = last (take (pbMaxIter pb + 1) snaps)
+          in if snDone final
+               then let r = finish pb 0 (snIteration final) True Nothing (snVel final)
+                    in if resOutcome r == Generated && maybe False ((< n0) . sampleCount) (resProfile r)
+                         then Just r else Nothing
+               else Nothing
+        _ -> Nothing
+  if left <= 0
+    then pure r0
+    else do
+      res <- timeout (ceiling (left * 1e6)) (evaluate (forceResult attempt))
+      pure (maybe r0 (maybe r0 id) res)
+  where
+    forceResult m = case m of
+      Just r -> length (resViolations r) `seq` maybe () (\p -> U.sum (prVelocities p) `seq` ()) (resProfile r) `seq` m
+      Nothing -> m

@@ -1,3 +1,4 @@
+{-# LANGUAGE ForeignFunctionInterface #-}
 -- | Doubles as text, fast and exact: the shortest digits that read back to the same
 -- double (from the double-conversion library, instead of 'floatToDigits', which is many
 -- times slower), laid out as Haskell's 'show' lays them out: fixed notation for
@@ -5,45 +6,69 @@
 -- "0.0", "-0.0", "NaN", "Infinity". The digits are 'show''s but in two rare cases: where
 -- 'show' is not the shortest ("4.0507431968278096e16" is also "4.05074319682781e16"), and
 -- where two shortest candidates are equally near and 'show' takes the upper one.
+--
+-- In the common range the digits are written by double-conversion's C function straight
+-- into the builder's buffer (a bounded primitive): no string or bytestring a number.
 module VProf.Format.Number
   ( doubleBuilder
   , showDouble
   ) where
 
 import qualified Data.ByteString.Builder as BB
+import qualified Data.ByteString.Builder.Prim as BP
+import Data.ByteString.Builder.Prim.Internal (boundedPrim)
 import qualified Data.ByteString.Char8 as BC
 import qualified Data.ByteString.Lazy.Char8 as BLC
-import Data.Double.Conversion.ByteString (toExponential, toShortest)
+import Data.Double.Conversion.ByteString (toExponential)
+import Data.Word (Word8)
+import Foreign.C.Types (CDouble (..), CInt (..))
+import Foreign.Ptr (Ptr, plusPtr)
+import Foreign.Storable (peekByteOff, pokeByteOff)
+
+-- | double-conversion's shortest form (the C function behind its 'toShortest'): writes at
+-- most 26 bytes and returns how many.
+foreign import ccall unsafe "_hs_ToShortest"
+  c_toShortest :: CDouble -> Ptr Word8 -> IO CInt
+
+-- | The shortest form of a double in the fixed range, with ".0" after an integer: at most
+-- 26 + 2 bytes.
+shortestFixed :: BP.BoundedPrim Double
+shortestFixed = boundedPrim 28 $ \x p -> do
+  n <- fromIntegral <$> c_toShortest (CDouble x) p
+  let hasPoint k
+        | k >= n = pure False
+        | otherwise = do
+            c <- peekByteOff p k :: IO Word8
+            if c == 46 then pure True else hasPoint (k + 1)
+  dot <- hasPoint 0
+  if dot
+    then pure (p `plusPtr` n)
+    else do
+      pokeByteOff p n (46 :: Word8)
+      pokeByteOff p (n + 1) (48 :: Word8)
+      pure (p `plusPtr` (n + 2))
+{-# INLINE shortestFixed #-}
 
 -- | A double as text that reads back exactly, in 'show''s layout.
 doubleBuilder :: Double -> BB.Builder
 doubleBuilder x
+  -- the common case, in one call: double-conversion's shortest form is already the
+  -- fixed layout there (it writes decimals from 1e-7 to 1e21), short of "2" for "2.0"
+  | y >= 0.1 && y < 1e7 = BP.primBounded shortestFixed x
   | isNaN x = BB.string7 "NaN"
   | isInfinite x = BB.string7 (if x > 0 then "Infinity" else "-Infinity")
   | x == 0 = BB.string7 (if isNegativeZero x then "-0.0" else "0.0")
-  | x < 0 = BB.char7 '-' <> positive (negate x)
-  | otherwise = positive x
+  | x < 0 = BB.char7 '-' <> general y
+  | otherwise = general y
   where
-    positive y
-      -- the common case, in one call: double-conversion's shortest form is already the
-      -- fixed layout there (it writes decimals from 1e-7 to 1e21), short of "2" for "2.0"
-      | y >= 0.1 && y < 1e7 =
-          let s = toShortest y
-          in if BC.elem '.' s then BB.byteString s else BB.byteString s <> BB.string7 ".0"
-      | otherwise = general y
-    general y =
-      -- "d.ddddeN" (or "deN"): the shortest digits d ddddd and y = 0.dddddd · 10^(N+1)
-      let s = toExponential (-1) y
+    y = abs x
+    general z =
+      -- "d.ddddeN" (or "deN"): the shortest digits d ddddd and z = 0.dddddd · 10^(N+1)
+      let s = toExponential (-1) z
           (mant, ex) = BC.break (== 'e') s
           digits = BC.filter (/= '.') mant
           e = maybe 0 fst (BC.readInt (BC.dropWhile (== '+') (BC.drop 1 ex))) + 1
-      in if y >= 0.1 && y < 1e7 then fixed digits e else scientific digits e
-    fixed ds e
-      | e <= 0 = BB.string7 "0." <> BB.string7 (replicate (negate e) '0') <> BB.byteString ds
-      | otherwise =
-          let (int, frac) = BC.splitAt e ds
-              intPart = int <> BC.replicate (e - BC.length int) '0'
-          in BB.byteString intPart <> BB.char7 '.' <> (if BC.null frac then BB.char7 '0' else BB.byteString frac)
+      in scientific digits e
     scientific ds e = case BC.uncons ds of
       Just (d, rest) -> BB.char7 d <> BB.char7 '.' <> (if BC.null rest then BB.char7 '0' else BB.byteString rest)
                         <> BB.char7 'e' <> BB.intDec (e - 1)

@@ -13,12 +13,19 @@
 -- failure is a claim about the request, a 'LandingFailed' one only about the generator.
 module VProf.Profile.Generate.Seed
   ( seed
+  , bestSeed
+  , variantsApply
+  , ladderSamples
+  , seedVariants
+  , improveSeed
+  , Variant
   , SeedFailure (..)
   , brakeStopDistance
   , mirror
   , restFrom
   ) where
 
+import Data.List (foldl')
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Profile.Generate.Seed.Brake
@@ -26,7 +33,9 @@ import VProf.Profile.Generate.Seed.Explain
 import VProf.Profile.Generate.Seed.Greedy (forward, passStepCap)
 import VProf.Profile.Generate.Seed.LeadIn (leadIn, startStuck)
 import VProf.Profile.Generate.Seed.Meet (meet)
+import VProf.Profile.Legality (Rule (..), Violation (..), check)
 import VProf.Profile.Problem (Problem (..))
+import VProf.Profile.Sampled (Profile (..), trapezoidDistances)
 import VProf.Profile.Problem.Transform (mirror)
 import VProf.Profile.Request (maxSamples)
 
@@ -53,28 +62,113 @@ seedWithin depth pb = case seedFrom pb of
 -- | The seed without a lead-in: a start acceleration that sinks the velocity is refused,
 -- a moving end is met from both sides, and an end at rest is landed by one pass.
 seedFrom :: Problem -> Either SeedFailure (U.Vector Double)
-seedFrom pb = do
+seedFrom pb
+  | sinksBelowZero pb = Left (startSinks pb)
+  | pbVEnd pb > 0 || pbAEnd pb /= 0 = meet pb
+  | otherwise = landing passStepCap pb
+
+-- | Ending at rest: the pass brakes to a standstill on the route end; near rest it
+-- creeps, so it lands within the tolerance. At most @limit@ steps: a pass that has not
+-- landed by then fails.
+landing :: Int -> Problem -> Either SeedFailure (U.Vector Double)
+landing limit pb = do
   let dt = pbDt pb
       st0 = St (pbV0 pb) (pbA0 pb) 0
-  if sinksBelowZero pb
-    then Left (startSinks pb)
-  else if pbVEnd pb > 0 || pbAEnd pb /= 0
-    then meet pb
-  else do
-      -- ending at rest: the pass brakes to a standstill on the route end; near rest it
-      -- creeps, so it lands within the tolerance
-      let term = Term (pbLength pb) 0
-          landTol = pbTol pb / 2
-      e0 <- either (Left . startInfeasible pb (SeedEnv pb term True)) Right (policyFor pb term st0)
-      let middle = forward e0 landTol passStepCap st0
-          sEnd = if null middle then 0 else stS (last middle)
-          aRest = if null middle then pbA0 pb else stA (last middle)
-          -- at rest with an acceleration that cannot return to zero in one jerk step:
-          -- stand still for one more sample
-          settle = let j = negate aRest / dt in if j >= pbJMin pb && j <= pbJMax pb then [] else [St 0 0 sEnd]
-      if abs (sEnd - pbLength pb) <= landTol || null middle && pbLength pb <= landTol
-        then Right (U.fromList (pbV0 pb : map stV (middle ++ settle)))
-        else Left (LandingFailed ("the forward pass stopped at " ++ num sEnd ++ " m, aiming at " ++ num (pbLength pb) ++ " m"))
+      term = Term (pbLength pb) 0
+      landTol = pbTol pb / 2
+  e0 <- either (Left . startInfeasible pb (SeedEnv pb term True)) Right (policyFor pb term st0)
+  let middle = forward e0 landTol limit st0
+      sEnd = if null middle then 0 else stS (last middle)
+      aRest = if null middle then pbA0 pb else stA (last middle)
+      -- at rest with an acceleration that cannot return to zero in one jerk step:
+      -- stand still for one more sample
+      settle = let j = negate aRest / dt in if j >= pbJMin pb && j <= pbJMax pb then [] else [St 0 0 sEnd]
+  if abs (sEnd - pbLength pb) <= landTol || null middle && pbLength pb <= landTol
+    then Right (U.fromList (pbV0 pb : map stV (middle ++ settle)))
+    else Left (LandingFailed ("the forward pass stopped at " ++ num sEnd ++ " m, aiming at " ++ num (pbLength pb) ++ " m"))
+
+-- | A seed of at most this many samples is compared with the seeds of the variants of
+-- its problem ('bestSeed'); a longer one is kept as it is (the variants would
+-- cost up to five more greedy passes of its length).
+ladderSamples :: Int
+ladderSamples = 131072
+
+-- | Does the seed get compared with the variants' ('bestSeed')? Only a seed of at most
+-- 'ladderSamples' samples.
+variantsApply :: Problem -> U.Vector Double -> Bool
+variantsApply _ v0 = U.length v0 <= ladderSamples
+
+-- | A variant's seed, given the most steps it may take (beyond them it cannot be shorter).
+type Variant = Int -> Maybe (U.Vector Double)
+
+-- | The default generator's seed: 'seed', or a shorter one from a variant of the problem
+-- ('seedVariants') when one is legal for the problem.
+--
+-- The greedy pass is not time-optimal. It speeds up into every higher zone it can reach,
+-- and where the jerk that ends a braking is much weaker than the one that starts it
+-- (asymmetric ranges), the braking before the next lower zone, begun at the last moment,
+-- sinks far below that zone's limit while its acceleration slowly returns to zero: in a
+-- cluster of short zones the profile nearly stops before each low one. The same pass with
+-- symmetric ranges (the weaker side's magnitude both ways) starts braking earlier and
+-- gentler and, there, arrives seconds sooner; with every zone lowered to the lowest limit
+-- a steady plateau can beat a chain of such dips. And the two-sided meet of a route that
+-- ends in motion may join its passes only on a plateau far below the limits, where
+-- stopping once and running in to the end state (thesis mode's way) is faster. So the
+-- greedy pass also runs on each variant, each stopped once it is no shorter than the best
+-- so far ('improveSeed'), and the shortest seed wins. Each variant's limits are at most
+-- the problem's and its ranges inside the problem's, so its seed is legal for the problem
+-- too (the checker confirms it, crawl aside: the generator cuts a profile at its
+-- arrival). Because the lowered problem's own variants are among them, lowering the
+-- limits never makes the default generator's profile faster.
+bestSeed :: Problem -> Either SeedFailure (U.Vector Double)
+bestSeed pb = do
+  v0 <- seed pb
+  pure $ if variantsApply pb v0 then foldl' (improveSeed pb) v0 (seedVariants pb) else v0
+
+-- | The variants of a problem whose seeds 'bestSeed' compares: the problem with symmetric
+-- jerk ranges, with symmetric acceleration and jerk ranges, and the same three with every
+-- zone lowered to the lowest limit (when the start and end velocities fit under it), each
+-- only once. A route that ends at rest lands each (but the problem itself) by one greedy
+-- pass; a route that ends in motion lands each (the problem itself too) at rest where the
+-- end state's run-in begins, and then runs in.
+seedVariants :: Problem -> [Variant]
+seedVariants pb
+  | moving = map viaRest (dedupe [] problems)
+  | otherwise = map landed (dedupe [pb] problems)
+  where
+    moving = pbVEnd pb > 0 || pbAEnd pb /= 0
+    vLow = U.minimum (pbZoneSpeeds pb)
+    problems = [ t q | q <- pb : [ lowered | pbV0 pb <= vLow && pbVEnd pb <= vLow ], t <- [id, symJerk, symJerk . symAcc] ]
+    lowered = pb { pbZoneStarts = U.singleton 0, pbZoneSpeeds = U.singleton vLow }
+    symJerk q = let m = min (negate (pbJMin q)) (pbJMax q) in q { pbJMin = negate m, pbJMax = m }
+    symAcc q = let m = min (negate (pbAMin q)) (pbAMax q) in q { pbAMin = negate m, pbAMax = m }
+    dedupe _ [] = []
+    dedupe seen (q : qs) | q `elem` seen = dedupe seen qs
+                         | otherwise = q : dedupe (q : seen) qs
+    landed q limit
+      | sinksBelowZero q = Nothing
+      | otherwise = either (const Nothing) Just (landing limit q)
+    -- thesis mode's way to a moving end ("VProf.Profile.Generate.Thesis"): at rest where
+    -- the hardest braking from the end state, backwards in time, begins; two samples at
+    -- rest there, so that the acceleration is zero between the landing and the run-in
+    viaRest q limit = do
+      tailV <- either (const Nothing) (Just . U.reverse) (restFrom (mirror q))
+      let dE = U.last (trapezoidDistances (pbDt q) tailV)
+          restPb = q { pbLength = pbLength q - dE, pbVEnd = 0, pbAEnd = 0 }
+      if pbLength restPb <= 0 || sinksBelowZero restPb then Nothing else Just ()
+      v <- either (const Nothing) Just (landing (limit - U.length tailV) restPb)
+      pure (v U.++ tailV)
+
+-- | The better of a seed and a variant's: the variant's when it is shorter and legal for
+-- the problem. The variant's pass stops once it is no shorter, so it costs at most a pass
+-- of the seed's length.
+improveSeed :: Problem -> U.Vector Double -> Variant -> U.Vector Double
+improveSeed pb best variant = case variant (U.length best - 2) of
+  Just v | U.length v < U.length best, legalForProblem v -> v
+  _ -> best
+  where
+    legalForProblem v =
+      all (\(Violation r _ _ _) -> r == Crawl) (check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)))
 
 -- | The hardest legal braking from the start state to a standstill within the route,
 -- v_0 .. 0 (just v_0 when the start is at rest): the thesis mode's way into its band,
