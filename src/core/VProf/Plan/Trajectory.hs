@@ -481,6 +481,9 @@ planPath rq@PlanRequest{..} = do
       , rqMaxJerk = (margin tol a b * si prJerk) *~ mps3
       , rqTimeStep = Just prTimeStep
       , rqEndTolerance = Just (tol *~ meter)
+        -- the planner searches over its parts' accelerations itself and keeps the fastest
+        -- profile whose joint motion keeps the limits: the generator's greedy seed alone
+      , rqSeedSearch = False
       }
     dt = si prTimeStep
     assemble jp parts =

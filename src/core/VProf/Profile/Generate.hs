@@ -219,7 +219,7 @@ generateWithin pb t0 latest = do
       (sn, reason) <- walk snaps
       let r0 = finish pb 0 (snIteration sn) (snDone sn) reason (snVel sn)
       _ <- evaluate (length (resViolations r0))
-      r <- if pbAlgorithm pb == Band && resOutcome r0 == Generated && U.length (snVel sn) <= thesisVariantSamples
+      r <- if pbAlgorithm pb == Band && pbSeedSearch pb && resOutcome r0 == Generated && U.length (snVel sn) <= thesisVariantSamples
              then viaThesis pb elapsed r0
              else pure r0
       secs <- elapsed

@@ -38,4 +38,5 @@ data Problem = Problem
   , pbBudget     :: !Double
   , pbTol        :: !Double
   , pbAlgorithm  :: !Algorithm
+  , pbSeedSearch :: !Bool     -- ^ try the seed's variants and thesis mode ('rqSeedSearch')
   } deriving (Eq, Show)

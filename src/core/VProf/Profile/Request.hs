@@ -59,6 +59,10 @@ data Request = Request
   , rqTimeBudget        :: !(Maybe (Time Double))      -- ^ default 'defaultTimeBudget'
   , rqEndTolerance      :: !(Maybe (Length Double))    -- ^ default 'defaultEndTolerance'
   , rqAlgorithm         :: !Algorithm
+  , rqSeedSearch        :: !Bool   -- ^ the default generator tries the seed's variants and thesis
+                                   --   mode for a shorter profile (default True; a caller that
+                                   --   searches over many requests itself, as the planner does,
+                                   --   may turn it off: the greedy seed alone, as before)
   } deriving (Eq, Show)
 
 -- | A request with everything at its default: a 10 m route at 1 m/s, ±1 m/s², ±1 m/s³,
@@ -81,6 +85,7 @@ defaultRequest = Request
   , rqTimeBudget = Nothing
   , rqEndTolerance = Nothing
   , rqAlgorithm = Band
+  , rqSeedSearch = True
   }
 
 defaultTimeStep :: Double
@@ -243,5 +248,5 @@ validate rq =
       , pbAMin = aMin, pbAMax = aMax, pbJMin = jMin, pbJMax = jMax
       , pbV0 = v0, pbA0 = a0, pbVEnd = vE, pbAEnd = aE
       , pbDt = dt, pbDv = dv, pbMaxIter = maxIt, pbBudget = budget, pbTol = tol
-      , pbAlgorithm = rqAlgorithm rq
+      , pbAlgorithm = rqAlgorithm rq, pbSeedSearch = rqSeedSearch rq
       }

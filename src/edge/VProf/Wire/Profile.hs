@@ -49,6 +49,7 @@ requestFromMsg m = Request
   , rqAlgorithm = case getEnum (getField (prqAlgorithm m)) of
       AlgorithmThesis -> Thesis
       _ -> Band
+  , rqSeedSearch = True
   }
   where
     -- 0 (absent) means the default; any other value, even a bad one, goes to validation

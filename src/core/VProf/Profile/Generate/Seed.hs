@@ -96,7 +96,7 @@ ladderSamples = 131072
 -- | Does the seed get compared with the variants' ('bestSeed')? Only a seed of at most
 -- 'ladderSamples' samples.
 variantsApply :: Problem -> U.Vector Double -> Bool
-variantsApply _ v0 = U.length v0 <= ladderSamples
+variantsApply pb v0 = pbSeedSearch pb && U.length v0 <= ladderSamples
 
 -- | A variant's seed, given the most steps it may take (beyond them it cannot be shorter).
 type Variant = Int -> Maybe (U.Vector Double)

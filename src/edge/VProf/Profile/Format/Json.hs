@@ -120,6 +120,7 @@ parseRequest = withObject "ProfileRequest" $ \o -> do
     , rqTimeBudget = fmap (*~ second) (opt budget)
     , rqEndTolerance = fmap (*~ meter) (opt tol)
     , rqAlgorithm = alg
+    , rqSeedSearch = True
     }
 
 parseZone :: Value -> Parser SpeedZone
