@@ -7,8 +7,8 @@
 -- 'show' is not the shortest ("4.0507431968278096e16" is also "4.05074319682781e16"), and
 -- where two shortest candidates are equally near and 'show' takes the upper one.
 --
--- In the common range the digits are written by double-conversion's C function straight
--- into the builder's buffer (a bounded primitive): no string or bytestring a number.
+-- The digits are written by double-conversion's C functions straight
+-- into the builder's buffer (bounded primitives): no string or bytestring a number.
 module VProf.Format.Number
   ( doubleBuilder
   , showDouble
@@ -17,9 +17,7 @@ module VProf.Format.Number
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Builder.Prim as BP
 import Data.ByteString.Builder.Prim.Internal (boundedPrim)
-import qualified Data.ByteString.Char8 as BC
 import qualified Data.ByteString.Lazy.Char8 as BLC
-import Data.Double.Conversion.ByteString (toExponential)
 import Data.Word (Word8)
 import Foreign.C.Types (CDouble (..), CInt (..))
 import Foreign.Ptr (Ptr, plusPtr)
@@ -29,6 +27,31 @@ import Foreign.Storable (peekByteOff, pokeByteOff)
 -- most 26 bytes and returns how many.
 foreign import ccall unsafe "_hs_ToShortest"
   c_toShortest :: CDouble -> Ptr Word8 -> IO CInt
+
+-- | double-conversion's shortest exponential form (the C function behind its
+-- @toExponential (-1)@): "d.dddeN", or "deN" for a single digit; at most 26 bytes and a NUL.
+foreign import ccall unsafe "_hs_ToExponential"
+  c_toExponential :: CDouble -> Ptr Word8 -> CInt -> IO CInt
+
+-- | The shortest exponential form in 'show''s layout ("d.0eN" for a single digit): at most
+-- 27 + 2 bytes.
+shortestExponential :: BP.BoundedPrim Double
+shortestExponential = boundedPrim 32 $ \x p -> do
+  n <- fromIntegral <$> c_toExponential (CDouble x) p (-1)
+  let byte k = peekByteOff p k :: IO Word8
+      findFrom k c = if k >= n then pure n else byte k >>= \b -> if b == c then pure k else findFrom (k + 1) c
+  e <- findFrom 0 101          -- 'e'
+  dot <- findFrom 0 46         -- '.'
+  if dot < e
+    then pure (p `plusPtr` n)
+    else do
+      -- "deN": move "eN" two bytes on and put ".0" before it
+      let move k = if k < e then pure () else byte k >>= pokeByteOff p (k + 2) >> move (k - 1)
+      move (n - 1)
+      pokeByteOff p e (46 :: Word8)
+      pokeByteOff p (e + 1) (48 :: Word8)
+      pure (p `plusPtr` (n + 2))
+{-# INLINE shortestExponential #-}
 
 -- | The shortest form of a double in the fixed range, with ".0" after an integer: at most
 -- 26 + 2 bytes.
@@ -58,21 +81,10 @@ doubleBuilder x
   | isNaN x = BB.string7 "NaN"
   | isInfinite x = BB.string7 (if x > 0 then "Infinity" else "-Infinity")
   | x == 0 = BB.string7 (if isNegativeZero x then "-0.0" else "0.0")
-  | x < 0 = BB.char7 '-' <> general y
-  | otherwise = general y
+  -- elsewhere show's exponential layout, "d.ddddeN", in one call too
+  | otherwise = BP.primBounded shortestExponential x
   where
     y = abs x
-    general z =
-      -- "d.ddddeN" (or "deN"): the shortest digits d ddddd and z = 0.dddddd · 10^(N+1)
-      let s = toExponential (-1) z
-          (mant, ex) = BC.break (== 'e') s
-          digits = BC.filter (/= '.') mant
-          e = maybe 0 fst (BC.readInt (BC.dropWhile (== '+') (BC.drop 1 ex))) + 1
-      in scientific digits e
-    scientific ds e = case BC.uncons ds of
-      Just (d, rest) -> BB.char7 d <> BB.char7 '.' <> (if BC.null rest then BB.char7 '0' else BB.byteString rest)
-                        <> BB.char7 'e' <> BB.intDec (e - 1)
-      Nothing -> BB.string7 "0.0e0"
 
 -- | 'doubleBuilder' as a string (for tests and small outputs).
 showDouble :: Double -> String
