@@ -68,10 +68,16 @@ problems ch target seed =
 -- | Solve for a tool transform (pure: the numerical solver's budget is its iteration and restart
 -- counts).
 solveIk :: IkOptions -> Kinematics -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
-solveIk opts (Kinematics ch m) target seed = case checkRequest ch target seed of
+solveIk = solveWith solveSixAxis
+
+-- | The request checked, then the solver of the kinematics' method, with the given six-axis
+-- closed-form solver.
+solveWith :: (IkOptions -> Chain -> CF.Solver -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution])
+          -> IkOptions -> Kinematics -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
+solveWith sixAxis opts (Kinematics ch m) target seed = case checkRequest ch target seed of
   [] -> case m of
     ClosedFormDobot g -> solveDobot opts ch g target seed
-    ClosedFormSixAxis solver -> solveSixAxis opts ch solver target seed
+    ClosedFormSixAxis solver -> sixAxis opts ch solver target seed
     NumericLM -> solveNumeric opts ch target seed
   errs -> Left (InvalidRequest errs)
 
@@ -81,14 +87,7 @@ solveIk opts (Kinematics ch m) target seed = case checkRequest ch target seed of
 -- ±360° limits give 512 solutions, 8 branches), nearest the seed first; the Dobot closed form and
 -- the numerical solver answer as 'solveIk' does. Same failures as 'solveIk'.
 solveIkDistinct :: IkOptions -> Kinematics -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
-solveIkDistinct opts0 (Kinematics ch m) target seed = case checkRequest ch target seed of
-  [] -> case m of
-    ClosedFormDobot g -> solveDobot opts ch g target seed
-    ClosedFormSixAxis solver -> solveSixAxisDistinct opts ch solver target seed
-    NumericLM -> solveNumeric opts ch target seed
-  errs -> Left (InvalidRequest errs)
-  where
-    opts = opts0 {ikAllSolutions = True}
+solveIkDistinct opts = solveWith solveSixAxisDistinct opts {ikAllSolutions = True}
 
 -- | Like 'solveIk' with a wall-time budget (seconds) for the numerical solver.
 solveIkIO :: Double -> IkOptions -> Kinematics -> Tf -> Maybe (U.Vector Double) -> IO (Either IkFailure [IkSolution])
