@@ -5,8 +5,8 @@
 -- between stops, some cut at their slow corners), with the TCP's jerk range at the controller's
 -- time step and an acceleration range chosen per part: by the joints' acceleration rule, then
 -- faster variants admitted only by the check of the sampled joint motion ('jointsKeepLimits'):
--- boosts, braking and speeding up raised apart, zones flattened where the joints turn fast
--- (docs/plan.md, section 3). The generator's samples s(t) give the joint values q(t) on the smooth
+-- boosts, braking and speeding up raised apart, zones flattened where the joints turn fast and
+-- lifted where the rule is too strict (docs/plan.md, section 3). The generator's samples s(t) give the joint values q(t) on the smooth
 -- joint path through the tracked samples (cubic Hermite, 'jointPathAt'; 1 mm apart by default)
 -- and the joint speeds by central differences in time. Request and result are plain records, SI
 -- inside and units at the boundary, so that a wire layer can convert them.
@@ -353,29 +353,19 @@ planPath rq@PlanRequest{..} = do
                   a0 = max br0 up0
                   hiA = min (si prAcceleration) (3 * tangentialCeiling lo pb x y)
                   accs = [ acc | f <- [2, 1.4], let acc = min hiA (f * a0), acc > 1.05 * a0 ]
-                  attempt acc = go flattenRounds zs0'
-                    where
-                      go k zs =
-                        let c = timed (x, y) vx vy (acc, acc) st zs
-                            ss = samplesOf c
-                            vs = maybe U.empty (colVelocity . columns) (let (_, _, _, _, r) = c in resProfile r)
-                        in if timeOf c == 1 / 0 then Nothing
-                           else case runsOf ss (jointViolations lo jp dt False ss) of
-                             [] -> Just c
-                             runs | k <= (0 :: Int) -> Nothing
-                                  | otherwise ->
-                                      let caps = [ (s0 - flattenMargin, s1 + flattenMargin, vcap)
-                                                 | (s0, s1) <- runs
-                                                 , let inR = U.findIndices (\u -> u >= s0 - flattenMargin && u <= s1 + flattenMargin) ss
-                                                 , not (U.null inR)
-                                                 , let vmin = U.minimum (U.map (vs U.!) inR)
-                                                   -- never below the speed the part starts or ends at
-                                                   -- when the run reaches its start or end
-                                                 , let vcap = maximum (vmin : [ vx | s0 - flattenMargin <= x ] ++ [ vy | s1 + flattenMargin >= y ]) ]
-                                      in if any (\(_, _, v) -> v < 1e-3) caps then Nothing
-                                         else go (k - 1) (foldr (\(s0, s1, v) -> capZones s0 s1 v) zs caps)
-                  better c d = if timeOf d < timeOf c then d else c
-              in foldl better c0 [ c | Just c <- map attempt accs ]
+                  -- each run capped at the lowest speed the profile had on it (±margin), never
+                  -- below the speed the part starts or ends at when the run reaches its start or end
+                  capRuns c ss runs zs =
+                    let vs = maybe U.empty (colVelocity . columns) (let (_, _, _, _, r) = c in resProfile r)
+                        caps = [ (s0 - flattenMargin, s1 + flattenMargin, vcap)
+                               | (s0, s1) <- runs
+                               , let inR = U.findIndices (\u -> u >= s0 - flattenMargin && u <= s1 + flattenMargin) ss
+                               , not (U.null inR)
+                               , let vmin = U.minimum (U.map (vs U.!) inR)
+                               , let vcap = maximum (vmin : [ vx | s0 - flattenMargin <= x ] ++ [ vy | s1 + flattenMargin >= y ]) ]
+                    in if any (\(_, _, v) -> v < 1e-3) caps then Nothing
+                       else Just (foldr (\(s0, s1, v) -> capZones s0 s1 v) zs caps)
+              in fastestOf c0 [ repairZones (timed (x, y) vx vy (acc, acc) st) capRuns zs0' | acc <- accs ]
             -- the zones a joint's acceleration binds (the rule takes |q'|·A + |q''|·v² with the
             -- largest slope and curvature of each step and both parts at full size, while the two
             -- parts often differ in sign: braking into a corner lowers a joint's acceleration
@@ -388,27 +378,31 @@ planPath rq@PlanRequest{..} = do
               let (_, acc, _, zs0', _) = c0
                   hard = stepLimitsAt lo { loJointAcceleration = U.map (const (1 / 0)) (loJointAcceleration lo) } route pb 0 x y
                   hardOn z = U.minimum (U.cons (1 / 0) (U.ifilter (\k _ -> slS hard U.! (k + 1) > lzStart z && slS hard U.! k < lzEnd z) (slLimit hard)))
-                  lifted f = [ case lzBinding z of
-                                 ByJointAcceleration _ -> z { lzSpeed = max (lzSpeed z) (min (hardOn z) (f * lzSpeed z)) }
-                                 _ -> z
+                  byJointAcceleration z = case lzBinding z of { ByJointAcceleration _ -> True; _ -> False }
+                  lifted f = [ if byJointAcceleration z then z { lzSpeed = max (lzSpeed z) (min (hardOn z) (f * lzSpeed z)) } else z
                              | z <- zs0' ]
-                  attempt f = go flattenRounds (lifted f)
-                    where
-                      go k zs =
-                        let c = timed (x, y) vx vy acc st zs
-                            ss = samplesOf c
-                        in if timeOf c == 1 / 0 then Nothing
-                           else case runsOf ss (jointViolations lo jp dt False ss) of
-                             [] -> Just c
-                             runs | k <= (0 :: Int) -> Nothing
-                                  | otherwise ->
-                                      let near z = or [ lzEnd z > s0 - flattenMargin && lzStart z < s1 + flattenMargin | (s0, s1) <- runs ]
-                                          back = [ if near z then z0 else z | (z, z0) <- zip zs zs0' ]
-                                      in if back == zs then Nothing else go (k - 1) back
-                  better c d = if timeOf d < timeOf c then d else c
-              in if any (\z -> case lzBinding z of { ByJointAcceleration _ -> True; _ -> False }) zs0'
-                   then foldl better c0 [ c | Just c <- map attempt [1.5, 1.2] ]
+                  restoreRuns _ _ runs zs =
+                    let near z = or [ lzEnd z > s0 - flattenMargin && lzStart z < s1 + flattenMargin | (s0, s1) <- runs ]
+                        back = [ if near z then z0 else z | (z, z0) <- zip zs zs0' ]
+                    in if back == zs then Nothing else Just back
+              in if any byJointAcceleration zs0'
+                   then fastestOf c0 [ repairZones (timed (x, y) vx vy acc st) restoreRuns (lifted f) | f <- [1.5, 1.2] ]
                    else c0
+            -- The profile under the zones zs, and while its sampled joint motion breaks the limits
+            -- the zones adjusted over the runs of breaking samples (@adjust@ the profile, its
+            -- samples, the runs, the zones; Nothing gives up), up to 'flattenRounds' times: the
+            -- first profile that keeps the limits, if any.
+            repairZones mk adjust = go flattenRounds
+              where
+                go k zs =
+                  let c = mk zs
+                      ss = samplesOf c
+                  in if timeOf c == 1 / 0 then Nothing
+                     else case runsOf ss (jointViolations lo jp dt False ss) of
+                       [] -> Just c
+                       runs | k <= (0 :: Int) -> Nothing
+                            | otherwise -> adjust c ss runs zs >>= go (k - 1)
+            fastestOf c0 cs = foldl (\c d -> if timeOf d < timeOf c then d else c) c0 [ c | Just c <- cs ]
             -- runs of breaking samples (indices into ss) no more than 2 margins apart, as [s0, s1]
             runsOf ss = foldr join [] . map (\k -> (ss U.! k, ss U.! k))
               where
