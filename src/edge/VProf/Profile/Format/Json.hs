@@ -147,6 +147,12 @@ parseAlgorithm = \case
 -- | The result as JSON, with the response's field names.
 profileToJson :: Result -> Value
 profileToJson r = object $
+  summaryPairs r
+  ++ [ k .= U.toList xs | Just p <- [resProfile r], (k, xs) <- sampleColumns p ]
+
+-- | Every field of the result's JSON but the sample columns.
+summaryPairs :: Result -> [(Key, Value)]
+summaryPairs r =
   [ "time_step" .= resTimeStep r
   , "velocity_step" .= resVelStep r
   , "iterations" .= resIterations r
@@ -157,34 +163,27 @@ profileToJson r = object $
   , "violations" .= [ object [ "rule" .= ruleName (vRule v), "sample" .= vSample v, "value" .= vValue v
                              , "limit" .= vLimit v, "message" .= renderViolation v ]
                     | v <- resViolations r ]
-  ] ++ case resProfile r of
-         Nothing -> []
-         Just p ->
-           [ "duration" .= duration p
-           , "time" .= U.toList (colTime c)
-           , "distance" .= U.toList (colDistance c)
-           , "velocity" .= U.toList (colVelocity c)
-           , "acceleration" .= U.toList (colAcceleration c)
-           , "jerk" .= U.toList (colJerk c)
-           ]
-           where c = columns p
+  ] ++ [ "duration" .= duration p | Just p <- [resProfile r] ]
     ++ case resOutcome r of
          Generated -> []
          Failed f -> [ "error" .= object [ "field" .= failureField f, "message" .= renderFailure f ] ]
 
+-- | The sample columns of a profile, by their JSON names.
+sampleColumns :: Profile -> [(Key, U.Vector Double)]
+sampleColumns p =
+  [ ("time", colTime c), ("distance", colDistance c), ("velocity", colVelocity c)
+  , ("acceleration", colAcceleration c), ("jerk", colJerk c) ]
+  where c = columns p
+
 -- | 'profileToJson' as the bytes the CLI writes, fast at the sample cap's scale: the sample
 -- columns are written with the exact number format of the CSV ("VProf.Format.Number", which
--- reads back to the same double), not through a 'Value' (aeson's own double printing takes
--- some 20 µs a number). A non-finite number, which a profile never holds, would be @null@.
+-- reads back to the same double) straight into the builder, never as aeson 'Value's (a
+-- million of them per column, and aeson's own double printing takes some 20 µs a number).
+-- A non-finite number, which a profile never holds, would be @null@.
 profileJson :: Result -> BL.ByteString
-profileJson r = E.encodingToLazyByteString $ case (profileToJson r, resProfile r) of
-  (Object o, Just p) ->
-    let c = columns p
-        cols = [ ("time", colTime c), ("distance", colDistance c), ("velocity", colVelocity c)
-               , ("acceleration", colAcceleration c), ("jerk", colJerk c) ]
-        rest = KM.toList (foldr (KM.delete . fst) o cols)
-    in E.pairs (mconcat [ k .= v | (k, v) <- rest ] <> mconcat [ E.pair k (doubles xs) | (k, xs) <- cols ])
-  (v, _) -> toEncoding v
+profileJson r = E.encodingToLazyByteString $
+  E.pairs (mconcat [ k .= v | (k, v) <- summaryPairs r ]
+           <> mconcat [ E.pair k (doubles xs) | Just p <- [resProfile r], (k, xs) <- sampleColumns p ])
   where
     -- a column straight into the builder: '[', the numbers with commas, ']'
     doubles xs = E.unsafeToEncoding $
