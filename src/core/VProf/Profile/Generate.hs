@@ -137,28 +137,28 @@ generate rq = case validate rq of
   Right pb -> generateProblem pb
 
 -- | The wall-clock budget binds the whole generation: iterations are checked between
--- passes, and a pass (or the first pass that seeds them) still running at the hard limit
--- ('hardLimit': the budget and a tenth of it, at least 20 ms and at most 100 ms) is
+-- passes, and a stage (the seed, a seed variant, a pass) still running at the hard limit
+-- ('hardLimit': the budget and a twentieth of it, at least 10 ms and at most 50 ms) is
 -- stopped by a timeout. The answer is then NOT_CONVERGED, naming the stage that ran out,
--- with the profile of the last finished pass and the checker's verdict on it; before the
--- first pass has finished there is no profile to give.
+-- with the last profile a finished stage left (the best seed so far, or the profile of the
+-- last finished pass) and the checker's verdict on it; before the seed has finished there
+-- is no profile to give.
 generateProblem :: Problem -> IO Result
 generateProblem pb = do
   t0 <- getMonotonicTime
-  latest <- newIORef Nothing
+  latest <- newIORef (Nothing, seedStage pb)
   r <- timeout (ceiling (hardLimit pb * 1e6)) (generateWithin pb t0 latest)
   case r of
     Just res -> pure res
     Nothing -> do
-      best <- readIORef latest
+      (best, stage) <- readIORef latest
       let spent = "time budget of " ++ show (pbBudget pb) ++ " s spent "
       res <- case best of
-        Nothing -> pure (failed pb (NotConverged (spent ++ "before the first pass finished")))
-        Just sn -> do
+        Nothing -> pure (failed pb (NotConverged (spent ++ stage ++ ", before the first pass finished")))
+        Just (sn, kept) -> do
           -- (a fixed point reached just before the limit: only its verdict ran out of time)
           let reason | snDone sn = Nothing
-                     | otherwise = Just (spent ++ "during pass " ++ show (snIteration sn + 1)
-                                         ++ "; the profile is that of pass " ++ show (snIteration sn))
+                     | otherwise = Just (spent ++ stage ++ "; the profile is " ++ kept)
               r0 = finish pb 0 (snIteration sn) (snDone sn) reason (snVel sn)
           _ <- evaluate (length (resViolations r0))
           pure r0
@@ -167,29 +167,41 @@ generateProblem pb = do
 
 -- | The wall-clock time after which a running pass is stopped (s).
 hardLimit :: Problem -> Double
-hardLimit pb = pbBudget pb + min 0.1 (max 0.02 (pbBudget pb / 10))
+hardLimit pb = pbBudget pb + min 0.05 (max 0.01 (pbBudget pb / 20))
+
+-- | What a generation does before its first profile: the words for a timeout then.
+seedStage :: Problem -> String
+seedStage pb = case pbAlgorithm pb of
+  Band -> "in the greedy seed"
+  Thesis -> "in thesis mode's first stage"
+
+-- | The last profile a finished stage left, with the words for it, and the stage running
+-- now: what a timeout answers with.
+type Latest = IORef (Maybe (Snapshot, String), String)
 
 -- | The default generator's seed within the wall-clock budget: the greedy seed, then the
 -- variants of 'bestSeed' one after the other while less than half the budget is spent
 -- (each at most a pass of the seed's length); the best so far is the latest snapshot.
-seedWithin :: Problem -> IO Double -> IORef (Maybe Snapshot) -> IO (Either Failure [Snapshot])
+seedWithin :: Problem -> IO Double -> Latest -> IO (Either Failure [Snapshot])
 seedWithin pb elapsed latest = case seed pb of
   Left f -> pure (Left (seedFailure f))
   Right v0 -> do
     _ <- evaluate v0
-    let try best [] = pure best
-        try best (q : qs) = do
+    let variants = seedVariants pb
+        try _ best [] = pure best
+        try k best (q : qs) = do
           secs <- elapsed
           if secs > pbBudget pb / 2
             then pure best
             else do
-              writeIORef latest (Just (Snapshot best 0 0 False))
+              writeIORef latest (Just (Snapshot best 0 0 False, "the best seed so far")
+                                , "in seed variant " ++ show k ++ " of " ++ show (length variants))
               best' <- evaluate (improveSeed pb best q)
-              try best' qs
-    best <- if variantsApply pb v0 then try v0 (seedVariants pb) else pure v0
+              try (k + 1 :: Int) best' qs
+    best <- if variantsApply pb v0 then try 1 v0 variants else pure v0
     pure (Right (bandFrom pb best))
 
-generateWithin :: Problem -> Double -> IORef (Maybe Snapshot) -> IO Result
+generateWithin :: Problem -> Double -> Latest -> IO Result
 generateWithin pb t0 latest = do
   let elapsed = do t <- getMonotonicTime; pure (t - t0)
   snapshots <- case pbAlgorithm pb of
@@ -203,7 +215,8 @@ generateWithin pb t0 latest = do
     Right snaps -> do
       let walk (sn : rest) = do
             _ <- evaluate (snVel sn)
-            writeIORef latest (Just sn)
+            writeIORef latest (Just (sn, if snIteration sn == 0 then "the seed" else "that of pass " ++ show (snIteration sn))
+                              , "during pass " ++ show (snIteration sn + 1))
             secs <- elapsed
             if snDone sn
               then pure (sn, Nothing)
