@@ -77,14 +77,15 @@ landing limit pb = do
       term = Term (pbLength pb) 0
       landTol = pbTol pb / 2
   e0 <- either (Left . startInfeasible pb (SeedEnv pb term True)) Right (policyFor pb term st0)
-  let middle = forward e0 landTol limit st0
-      sEnd = if null middle then 0 else stS (last middle)
-      aRest = if null middle then pbA0 pb else stA (last middle)
+  -- the pass unboxed as it is made (a boxed list of states takes some 100 bytes a state)
+  let (vs, as, ss) = U.unzip3 (U.fromList [ (v, a, s) | St v a s <- forward e0 landTol limit st0 ])
+      sEnd = if U.null ss then 0 else U.last ss
+      aRest = if U.null as then pbA0 pb else U.last as
       -- at rest with an acceleration that cannot return to zero in one jerk step:
       -- stand still for one more sample
-      settle = let j = negate aRest / dt in if j >= pbJMin pb && j <= pbJMax pb then [] else [St 0 0 sEnd]
-  if abs (sEnd - pbLength pb) <= landTol || null middle && pbLength pb <= landTol
-    then Right (U.fromList (pbV0 pb : map stV (middle ++ settle)))
+      settle = let j = negate aRest / dt in if j >= pbJMin pb && j <= pbJMax pb then [] else [0]
+  if abs (sEnd - pbLength pb) <= landTol || U.null vs && pbLength pb <= landTol
+    then Right (U.concat [U.singleton (pbV0 pb), vs, U.fromList settle])
     else Left (LandingFailed ("the forward pass stopped at " ++ num sEnd ++ " m, aiming at " ++ num (pbLength pb) ++ " m"))
 
 -- | A seed of at most this many samples is compared with the seeds of the variants of

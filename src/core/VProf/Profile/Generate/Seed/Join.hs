@@ -56,13 +56,24 @@ data MeetContext = MeetContext
   , mcEnd      :: !St                -- ^ the end state, as the start of the mirror
   , mcFEnv     :: !SeedEnv
   , mcBEnv     :: !SeedEnv
-  , mcFAll     :: [St]               -- ^ the forward pass, from the start state on
-  , mcBAll     :: [St]               -- ^ the backward pass (on the mirror), from the end state on
+  , mcFAll     :: Pass               -- ^ the forward pass, from the start state on
+  , mcBAll     :: Pass               -- ^ the backward pass (on the mirror), from the end state on
   , mcFS       :: U.Vector Double    -- ^ the forward pass's positions
   , mcEnvelope :: U.Vector Double    -- ^ the lower envelope at those positions, up to the route end
   , mcPeak     :: Int                -- ^ the index of the envelope's highest point
   , mcTop      :: Double             -- ^ the envelope's highest point
   }
+
+-- | A pass's states, unboxed (velocity, acceleration, position): a boxed list of them
+-- would take some 100 bytes a state, and the uncapped passes are kept for all the joins.
+type Pass = U.Vector (Double, Double, Double)
+
+toPass :: [St] -> Pass
+toPass sts = U.fromList [ (v, a, s) | St v a s <- sts ]
+
+-- | The states of a pass, from the given one on, as a lazy list (made again for each use).
+statesFrom :: Int -> Pass -> [St]
+statesFrom k p = [ St v a s | (v, a, s) <- U.toList (U.drop k p) ]
 
 ctxLength, ctxTol, ctxDt :: MeetContext -> Double
 ctxLength = pbLength . mcPb
@@ -120,12 +131,12 @@ meetContext pb = do
   if sinksBelowZero rv then Left (endAccFailure pb) else Right ()
   fEnv <- either (Left . startInfeasible pb (SeedEnv pb fTerm True)) Right (policyFor pb fTerm st0)
   bEnv <- either (Left . endInfeasible pb (SeedEnv rv bTerm True)) Right (policyFor rv bTerm rt0)
-  let fAll = st0 : passFrom fEnv passStepCap (\st -> stS st >= len) st0
-      bAll = rt0 : passFrom bEnv passStepCap (\st -> stS st >= len) rt0
-      fS = U.fromList (map stS fAll)
-      fV = U.fromList (map stV fAll)
-      bX = U.fromList (reverse (map ((len -) . stS) bAll))
-      bW = U.fromList (reverse (map stV bAll))
+  let fAll = toPass (st0 : passFrom fEnv passStepCap (\st -> stS st >= len) st0)
+      bAll = toPass (rt0 : passFrom bEnv passStepCap (\st -> stS st >= len) rt0)
+      (fV, _, fS) = U.unzip3 fAll
+      (bV, _, bS) = U.unzip3 bAll
+      bX = U.reverse (U.map (len -) bS)
+      bW = U.reverse bV
       -- the lower envelope at the forward pass's samples up to the route end
       h = U.generate (U.length (U.takeWhile (<= len) fS)) (\k -> min (fV U.! k) (lerpAt bX bW (fS U.! k)))
       kStar = U.maxIndex h
@@ -168,7 +179,7 @@ cruising v st = abs (stV st - v) <= cruiseTolerance * max 1 v && abs (stA st) <=
 -- v, and the distance the cruise between them must cover; the uncapped passes' states
 -- are reused as far as the cap cannot have changed them.
 capped :: MeetContext -> Double -> Double -> Double -> Maybe Capped
-capped c = cappedOn c (mcPb c) (mcMirror c) (drop 1 (mcFAll c)) (drop 1 (mcBAll c))
+capped c = cappedOn c (mcPb c) (mcMirror c) (statesFrom 1 (mcFAll c)) (statesFrom 1 (mcBAll c))
 
 -- | 'capped' on a problem and mirror of one's own (the same route and states), reusing
 -- the given uncapped states.
