@@ -9,7 +9,14 @@
 module VProf.Profile.WideSpec (spec) where
 
 import qualified Data.ByteString.Lazy as BL
-import Data.List (isInfixOf, isPrefixOf)
+import qualified Data.Aeson as A
+import qualified Data.Aeson.Key as K
+import qualified Data.Aeson.KeyMap as KM
+import qualified Data.Text as T
+import Data.List (isInfixOf, isPrefixOf, isSuffixOf, sort)
+import System.Directory (listDirectory)
+import System.Environment (lookupEnv)
+import System.FilePath ((</>))
 import GHC.Clock (getMonotonicTime)
 import System.IO.Unsafe (unsafePerformIO)
 import Test.Hspec
@@ -149,6 +156,13 @@ spec = describe "the wide world of requests" $ do
         Failed (InvalidRequest _) -> capRefusal r
         Failed (NotConverged _) -> True
 
+  it "the infeasibility claims of bench/fuzz-requests (test/data/claims, or $VPROF_CLAIMS_DIR) are made again and confirmed by an independent proof" $ do
+    dir <- maybe "test/data/claims" id <$> lookupEnv "VPROF_CLAIMS_DIR"
+    files <- sort . filter (".json" `isSuffixOf`) <$> listDirectory dir
+    length files `shouldSatisfy` (> 0)
+    bad <- concat <$> mapM (confirmClaim . (dir </>)) files
+    bad `shouldBe` []
+
   it "the 16 m cluster route: the default generator is not slower than thesis mode (was 30.75 s against 30.20 s)" $ do
     band <- notSlowerThanThesis =<< counterexample16m
     durationOf band `shouldSatisfy` maybe False (< 30.2)
@@ -201,6 +215,26 @@ spec = describe "the wide world of requests" $ do
                   (Just d, Just dl) -> Just (d <= dl + dtOf rq + 1e-9, "as asked " ++ show d ++ " s, lowered " ++ show dl ++ " s")
                   _ -> Nothing
           settle claim rq0
+
+-- | A request the CLI answered infeasible (the field in its "claimed" key): generated again
+-- within its own budget, the answer must claim the same field and one of the independent
+-- proofs must confirm it. The words of what does not hold, if anything.
+confirmClaim :: FilePath -> IO [String]
+confirmClaim f = do
+  bytes <- BL.readFile f
+  let claimed = case A.decode bytes of
+        Just (A.Object o) | Just (A.String t) <- KM.lookup (K.fromString "claimed") o -> Just (T.unpack t)
+        _ -> Nothing
+  case requestFromJson bytes of
+    Left e -> pure [f ++ ": " ++ e]
+    Right rq -> do
+      r <- generate rq
+      pure $ case resOutcome r of
+        Failed (InfeasibleRequest fld _)
+          | claimed /= Just fld -> [f ++ ": claimed " ++ show claimed ++ ", now " ++ fld]
+          | sound rq r -> []
+          | otherwise -> [f ++ ": no independent proof confirms the claim on " ++ fld]
+        _ -> [f ++ ": now answered " ++ kind r]
 
 -- | A metamorphic claim on a request: checked on the answers within the wide budget; where
 -- they break it, on the answers of the full search. The default generator's search is an
