@@ -299,6 +299,25 @@ spec = do
           map feField es `shouldBe` ["route_length"]
           concatMap feRule es `shouldSatisfy` ("above the cap of 1048576 samples" `isInfixOf`)
         other -> expectationFailure (show other)
+    it "a route whose greedy pass needs more than 2^20 samples is refused from the seed, naming route_length (8190 m at 1 m/s, 0.01 m/s^2)" $ do
+      -- at its limit the route needs 1 048 320 samples, under the cap; the slow start makes
+      -- the profile longer. The pass stops at the cap (it used to run on to 8 x 2^20 steps:
+      -- 30 s and a timeout at rest, 8 s and 0.5 GB in motion)
+      let rq ve = defaultRequest { rqRouteLength = 8190 *~ meter
+                                 , rqZones = [ SpeedZone (0 *~ meter) (1 *~ mps) ]
+                                 , rqMinAcceleration = (-0.01) *~ mps2, rqMaxAcceleration = 0.01 *~ mps2
+                                 , rqMinJerk = (-0.01) *~ mps3, rqMaxJerk = 0.01 *~ mps3
+                                 , rqTimeStep = Just (0.0078125 *~ second)
+                                 , rqEndVelocity = ve *~ mps
+                                 , rqTimeBudget = Just (30 *~ second) }
+      (8190 / 1 / 0.0078125 :: Double) `shouldSatisfy` (< 1048576)
+      forM_ [0, 0.5] $ \ve -> do
+        r <- generate (rq ve)
+        case resOutcome r of
+          Failed (InvalidRequest es) -> do
+            map feField es `shouldBe` ["route_length"]
+            concatMap feRule es `shouldSatisfy` ("needs more than 1048576 samples" `isInfixOf`)
+          other -> expectationFailure ("end velocity " ++ show ve ++ ": " ++ show other)
     it "an iteration cap of 0 passes is refused by validation, naming the field" $
       case resOutcome (generatePure defaultRequest { rqMaxIterations = Just 0 }) of
         Failed (InvalidRequest es) -> map feField es `shouldBe` ["max_iterations"]

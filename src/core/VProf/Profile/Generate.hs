@@ -46,24 +46,27 @@ data Snapshot = Snapshot
 iterations :: Problem -> Either Failure [Snapshot]
 iterations pb = case pbAlgorithm pb of
   Band -> case bestSeed pb of
-    Left f -> Left (seedFailure f)
+    Left f -> Left (seedFailure pb f)
     Right v0 -> Right (bandFrom pb v0)
   Thesis -> case thesisStages pb of
     -- the thesis mode's start and run-in fail where the request may be infeasible: the
     -- default generator's analysis says whether it is (and why)
     Left tf -> Left (case seed pb of
-                       Left f@(Unattainable _ _) -> seedFailure f
+                       Left f@(Unattainable _ _) -> seedFailure pb f
+                       Left f@(OverCap _) -> seedFailure pb f
                        _ -> NotConverged ("thesis mode: " ++ seedMessage tf))
     Right stages -> Right [ Snapshot (stgVel st) (stgPasses st) (stgChanged st) (stgDone st) | st <- stages ]
   where
     seedMessage = \case
       Unattainable _ m -> m
       LandingFailed m -> m
+      OverCap m -> m
 
-seedFailure :: SeedFailure -> Failure
-seedFailure = \case
+seedFailure :: Problem -> SeedFailure -> Failure
+seedFailure pb = \case
   Unattainable f m -> InfeasibleRequest f m
   LandingFailed m -> NotConverged ("seed: " ++ m)
+  OverCap m -> InvalidRequest [FieldError "route_length" (Number (pbLength pb)) "m" m]
 
 -- | The default generator's passes from a seed: the seed (iteration 0) and the profile
 -- after each raising pass, up to the fixed point.
@@ -184,7 +187,7 @@ type Latest = IORef (Maybe (Snapshot, String), String)
 -- (each at most a pass of the seed's length); the best so far is the latest snapshot.
 seedWithin :: Problem -> IO Double -> Latest -> IO (Either Failure [Snapshot])
 seedWithin pb elapsed latest = case seed pb of
-  Left f -> pure (Left (seedFailure f))
+  Left f -> pure (Left (seedFailure pb f))
   Right v0 -> do
     _ <- evaluate v0
     let variants = seedVariants pb

@@ -30,7 +30,7 @@ import qualified Data.Vector.Unboxed as U
 
 import VProf.Profile.Generate.Seed.Brake
 import VProf.Profile.Generate.Seed.Explain
-import VProf.Profile.Generate.Seed.Greedy (forward, passStepCap)
+import VProf.Profile.Generate.Seed.Greedy (forward, passCapMessage, passStepCap)
 import VProf.Profile.Generate.Seed.LeadIn (leadIn, startStuck)
 import VProf.Profile.Generate.Seed.Meet (meet)
 import VProf.Profile.Legality (Rule (..), Violation (..), check)
@@ -86,7 +86,9 @@ landing limit pb = do
       settle = let j = negate aRest / dt in if j >= pbJMin pb && j <= pbJMax pb then [] else [0]
   if abs (sEnd - pbLength pb) <= landTol || U.null vs && pbLength pb <= landTol
     then Right (U.concat [U.singleton (pbV0 pb), vs, U.fromList settle])
-    else Left (LandingFailed ("the forward pass stopped at " ++ num sEnd ++ " m, aiming at " ++ num (pbLength pb) ++ " m"))
+    else if U.length vs >= passStepCap
+      then Left (OverCap (passCapMessage pb "forward" sEnd))
+      else Left (LandingFailed ("the forward pass stopped at " ++ num sEnd ++ " m, aiming at " ++ num (pbLength pb) ++ " m"))
 
 -- | A seed of at most this many samples is compared with the seeds of the variants of
 -- its problem ('bestSeed'); a longer one is kept as it is (the variants would

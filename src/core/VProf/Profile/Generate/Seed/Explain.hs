@@ -21,11 +21,13 @@ import VProf.Profile.Problem (Problem (..))
 import VProf.Profile.Problem.Transform (mirror)
 import VProf.Profile.SpeedLimit (minLimitOn)
 
--- | Why no seed could be made: the request is infeasible (with where and why), or the
--- landing could not be tuned (a generator limitation, reported as such).
+-- | Why no seed could be made: the request is infeasible (with where and why), the
+-- landing could not be tuned (a generator limitation, reported as such), or a pass
+-- needs more samples than the cap (the request is refused as for any profile over it).
 data SeedFailure
   = Unattainable String String   -- ^ offending field, explanation
   | LandingFailed String
+  | OverCap String
   deriving (Eq, Show)
 
 -- | A number as the messages show it: rounded to six decimals, no trailing zeros.

@@ -10,15 +10,28 @@ module VProf.Profile.Generate.Seed.Greedy
   , forward
   , passFrom
   , passStepCap
+  , passCapMessage
   ) where
 
 import VProf.Profile.Generate.Seed.Brake
+import VProf.Profile.Generate.Seed.Explain (num)
+import VProf.Profile.Problem (Problem (..))
+import VProf.Profile.Request (maxSamples)
 import VProf.Profile.SpeedLimit (limitAt)
 
--- | The most steps a pass takes (8·2²⁰, eight times the largest profile): a pass that
--- has not landed by then never will.
+-- | The most steps a pass takes: the sample cap and two. A pass is never slower than the
+-- profile made of it (the landing pass is the seed; the meet's profile lies under both of
+-- its passes), so a pass that has not arrived by then belongs to a profile over the cap,
+-- and no pass allocates beyond it.
 passStepCap :: Int
-passStepCap = 8 * 1048576
+passStepCap = maxSamples + 2
+
+-- | Why a pass stopped at 'passStepCap' without arriving.
+passCapMessage :: Problem -> String -> Double -> String
+passCapMessage pb which s =
+  "the profile needs more than " ++ show maxSamples ++ " samples at time_step " ++ show (pbDt pb)
+  ++ " s, above the cap (the generator's " ++ which ++ " pass was at " ++ num s ++ " m after them);"
+  ++ " split the route or raise time_step"
 
 -- | The probe just above the brake policy sits this fraction of the way from it to the
 -- highest acceleration allowed (1/32 of the range).

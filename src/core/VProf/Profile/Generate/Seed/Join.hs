@@ -41,7 +41,7 @@ import qualified Data.Vector.Unboxed as U
 
 import VProf.Profile.Generate.Seed.Brake
 import VProf.Profile.Generate.Seed.Explain
-import VProf.Profile.Generate.Seed.Greedy (passFrom, passStepCap)
+import VProf.Profile.Generate.Seed.Greedy (passCapMessage, passFrom, passStepCap)
 import VProf.Profile.Legality (legalVelocities)
 import VProf.Profile.Problem (Problem (..))
 import VProf.Profile.Problem.Transform (capOn, mirror)
@@ -135,7 +135,10 @@ meetContext pb = do
       bAll = toPass (rt0 : passFrom bEnv passStepCap (\st -> stS st >= len) rt0)
       (fV, _, fS) = U.unzip3 fAll
       (bV, _, bS) = U.unzip3 bAll
-      bX = U.reverse (U.map (len -) bS)
+      unfinished ss = U.length ss > passStepCap && U.last ss < len
+  if unfinished fS then Left (OverCap (passCapMessage pb "forward" (U.last fS))) else Right ()
+  if unfinished bS then Left (OverCap (passCapMessage pb "backward" (U.last bS))) else Right ()
+  let bX = U.reverse (U.map (len -) bS)
       bW = U.reverse bV
       -- the lower envelope at the forward pass's samples up to the route end
       h = U.generate (U.length (U.takeWhile (<= len) fS)) (\k -> min (fV U.! k) (lerpAt bX bW (fS U.! k)))

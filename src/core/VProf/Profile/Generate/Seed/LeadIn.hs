@@ -72,7 +72,8 @@ leadIn seedRest depth pb = case [ r | Right r <- tries ] of
     unclaimed (s1, g) = LandingFailed ("braking from the start breaks a rule, and after a legal first step (to "
                                        ++ num s1 ++ " m) the rest fails: " ++ case g of
                                          Unattainable _ m -> m
-                                         LandingFailed m -> m)
+                                         LandingFailed m -> m
+                                         OverCap m -> m)
 
 -- | The end state's own infeasibility, when it ends in motion: its acceleration cannot
 -- be reached, or the end pass (on the mirror) cannot be saved by its brake policy.
