@@ -302,10 +302,9 @@ planPath rq@PlanRequest{..} = do
       -- acceleration is the fastest on the ladder whose joint motion keeps the limits
       planStretch (a, b) =
         let boosted = boost True 0 0 (descend timeOf (tries (a, b) 0 0))
-            whole = let ((x, y), _, st, zs, _) = boosted
+            whole = let ((x, y), _, _, _, _) = boosted
                     in if score True boosted < 1 / 0
-                         then refine ((< 1 / 0) . score True) (timed (x, y) 0 0) st zs
-                                (min (si prAcceleration) (3 * tangentialCeiling lo pb x y)) boosted
+                         then refine ((< 1 / 0) . score True) (timed (x, y) 0 0) (accelerationCap (x, y)) boosted
                          else boosted
             (_, _, _, zs0, _) = whole
             fastest = if null zs0 then 0 else maximum (map lzSpeed zs0)
@@ -340,7 +339,7 @@ planPath rq@PlanRequest{..} = do
                   rung = descendAdmitted timeOf ok
                            [ timed (x, y) vx vy (sym acc) st zs
                            | f <- accelerationFractions ++ boostFractions, let acc = min (si prAcceleration) (f * ceil') ]
-              in if ok rung then lift (x, y) vx vy st (flatten (x, y) vx vy st (refine ok (timed (x, y) vx vy) st zs (min (si prAcceleration) (3 * ceil')) rung)) else rung
+              in if ok rung then lift (x, y) vx vy st (flatten (x, y) vx vy st (refine ok (timed (x, y) vx vy) (accelerationCap (x, y)) rung)) else rung
             -- a part at a higher acceleration than it keeps the joints' limits with, its zones
             -- lowered where the sampled joint motion breaks them: over each run of breaking
             -- samples (and 'flattenMargin' either side) to the lowest speed the profile had
@@ -351,7 +350,7 @@ planPath rq@PlanRequest{..} = do
             flatten (x, y) vx vy st c0 =
               let (_, (br0, up0), _, zs0', _) = c0
                   a0 = max br0 up0
-                  hiA = min (si prAcceleration) (3 * tangentialCeiling lo pb x y)
+                  hiA = accelerationCap (x, y)
                   accs = [ acc | f <- [2, 1.4], let acc = min hiA (f * a0), acc > 1.05 * a0 ]
                   -- each run capped at the lowest speed the profile had on it (±margin), never
                   -- below the speed the part starts or ends at when the run reaches its start or end
@@ -421,8 +420,9 @@ planPath rq@PlanRequest{..} = do
       -- while the sampled joint motion keeps the limits (@ok@), keeping the fastest profile. The
       -- joints that bind while a part speeds up (leaving a corner) are seldom the ones that bind
       -- while it brakes into the next.
-      refine ok mk st zs hi c0 = foldl raise c0 [(snd, \x (br, _) -> (br, x)), (fst, \x (_, up) -> (x, up))]
+      refine ok mk hi c0 = foldl raise c0 [(snd, \x (br, _) -> (br, x)), (fst, \x (_, up) -> (x, up))]
         where
+          (_, _, st, zs, _) = c0
           raise c (get, set) =
             let (_, acc, _, _, _) = c
                 go best l h k
@@ -433,6 +433,9 @@ planPath rq@PlanRequest{..} = do
                       in if ok cx then go (if timeOf cx < timeOf best then cx else best) x h (k - 1)
                                   else go best l x (k - 1)
             in go c (get acc) (min hi (1.6 * get acc)) (3 :: Int)
+      -- the most acceleration a part's search tries: three times its tangential ceiling, at
+      -- most the TCP's
+      accelerationCap (x, y) = min (si prAcceleration) (3 * tangentialCeiling lo pb x y)
       minPartLength = 0.01
       flattenRounds = 4
       flattenMargin = 1e-3
