@@ -83,18 +83,17 @@ finish :: Problem -> Double -> Int -> Bool -> Maybe String -> U.Vector Double ->
 finish pb secs iters done stopReason v
   | sampleCount prof > maxSamples =
       Result (Failed (InvalidRequest [overCap])) Nothing [] iters False (pbAlgorithm pb) (pbDt pb) (pbDv pb) secs
-  | otherwise = finishWithin pb secs iters done stopReason prof
+  | otherwise = finishWithin pb secs iters done stopReason prof vs
   where
-    prof = endAtArrival pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
+    (prof, vs) = arrived pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
     overCap = FieldError "route_length" (Number (pbLength pb)) "m"
       ("the profile needs " ++ show (sampleCount prof) ++ " samples at time_step " ++ show (pbDt pb)
        ++ " s, above the cap of " ++ show maxSamples ++ " samples; split the route or raise time_step")
 
--- | The result of a profile within the sample cap.
-finishWithin :: Problem -> Double -> Int -> Bool -> Maybe String -> Profile -> Result
-finishWithin pb secs iters done stopReason prof =
-  let vs = check pb prof
-      outcome
+-- | The result of a profile within the sample cap, given the checker's verdict on it.
+finishWithin :: Problem -> Double -> Int -> Bool -> Maybe String -> Profile -> [Violation] -> Result
+finishWithin pb secs iters done stopReason prof vs =
+  let outcome
         | null vs && done = Generated
         | null vs = Failed (NotConverged (maybe "stopped before the fixed point" id stopReason
                                           ++ "; the best profile so far is legal"))
@@ -106,11 +105,14 @@ finishWithin pb secs iters done stopReason prof =
     summarise vs = show (length vs) ++ " violation(s), first " ++ renderViolation (head vs)
 
 -- | The profile ends at the first sample at which it has arrived (the checker's @crawl@
--- rule): whatever follows, creeping or standing at the end, is cut off.
-endAtArrival :: Problem -> Profile -> Profile
-endAtArrival pb p = case [ k | Violation Crawl k _ _ <- check pb p ] of
-  k : _ -> p { prVelocities = U.take (k + 1) (prVelocities p) }
-  [] -> p
+-- rule): whatever follows, creeping or standing at the end, is cut off. With the checker's
+-- verdict on the profile it ends: the verdict already made when nothing is cut (one pass of
+-- the checker, not two, on up to 2²⁰ samples; it is also what a timeout waits for).
+arrived :: Problem -> Profile -> (Profile, [Violation])
+arrived pb p = case [ k | Violation Crawl k _ _ <- vs0 ] of
+  k : _ -> let p' = p { prVelocities = U.take (k + 1) (prVelocities p) } in (p', check pb p')
+  [] -> (p, vs0)
+  where vs0 = check pb p
 
 -- | Generate with the iteration cap only (no clock): a pure function of the problem.
 generatePure :: Request -> Result
@@ -168,9 +170,16 @@ generateProblem pb = do
       t1 <- getMonotonicTime
       pure res { resSeconds = t1 - t0 }
 
--- | The wall-clock time after which a running pass is stopped (s).
+-- | The wall-clock time after which a running stage is stopped (s): the budget and a
+-- twentieth of it (10-50 ms), less the time a long answer's verdict, garbage collection
+-- and exit may take (up to 0.15 s for an answer of 2²⁰ samples, by the fewest samples the
+-- route needs; at most half the budget), so that the whole run stays within the budget and
+-- a quarter second.
 hardLimit :: Problem -> Double
-hardLimit pb = pbBudget pb + min 0.05 (max 0.01 (pbBudget pb / 20))
+hardLimit pb = pbBudget pb + min 0.05 (max 0.01 (pbBudget pb / 20)) - reserve
+  where
+    reserve = min (pbBudget pb / 2) (0.15 * least / fromIntegral maxSamples)
+    least = leastSamples (pbLength pb) (pbDt pb) (zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb)))
 
 -- | What a generation does before its first profile: the words for a timeout then.
 seedStage :: Problem -> String
@@ -264,8 +273,8 @@ viaThesis pb elapsed r0 = do
         Right stages -> case last stages of
           st | stgDone st -> Just (stgVel st)
           _ -> Nothing
-      better v = let prof = endAtArrival pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
-                 in sampleCount prof < n0 && null (check pb prof)
+      better v = let (prof, vs) = arrived pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
+                 in sampleCount prof < n0 && null vs
       attempt = case fixedPoint of
         Just v | better v ->
           let snaps = bandFrom pb v

@@ -23,6 +23,7 @@ module VProf.Profile.Request
   , defaultEndTolerance
   , defaultMaxIterations
   , maxSamples
+  , leastSamples
   , autoVelocityStep
   , largestVelocityStep
   , isPowerOfTwo
@@ -111,6 +112,15 @@ defaultMaxIterations = \case
 -- longer (accelerating and braking take time too) is refused after generation.
 maxSamples :: Int
 maxSamples = 1048576
+
+-- | The samples a profile of a route needs at the very least (route length, time step, the
+-- zones' starts and limits in order): every zone driven at its own speed limit (no legal
+-- profile is faster anywhere), so the time is at least the sum of the zones' lengths over
+-- their limits.
+leastSamples :: Double -> Double -> [(Double, Double)] -> Double
+leastSamples len dt zones =
+  let ends = drop 1 (map fst zones) ++ [len]
+  in sum [ max 0 (min len e - max 0 st) / v | ((st, v), e) <- zip zones ends ] / dt
 
 -- | The automatic velocity step: the largest power of two that is at most a quarter of
 -- the smallest of |j|·dt² and |a|·dt, so that one step of velocity changes acceleration
@@ -232,8 +242,7 @@ validate rq =
     sizeErrors
       | all finite [len, dt] && len > 0 && dt > 0 && not (null zones)
       , all (\(st, v) -> finite st && finite v && v > 0) zones =
-          let ends = drop 1 (map fst sorted) ++ [len]
-              lower = sum [ max 0 (min len e - max 0 st) / v | ((st, v), e) <- zip sorted ends ] / dt
+          let lower = leastSamples len dt sorted
           in check (lower <= fromIntegral maxSamples) "route_length" len "m"
                ("needs at least " ++ show (ceiling lower :: Integer) ++ " samples at time_step " ++ num dt
                 ++ " s (each zone at its speed limit), above the cap of " ++ show maxSamples
