@@ -143,8 +143,7 @@ generate rq = case validate rq of
 
 -- | The wall-clock budget binds the whole generation: iterations are checked between
 -- passes, and a stage (the seed, a seed variant, a pass) still running at the hard limit
--- ('hardLimit': the budget and a twentieth of it, at least 10 ms and at most 50 ms) is
--- stopped by a timeout. The answer is then NOT_CONVERGED, naming the stage that ran out,
+-- ('hardLimit': about the budget) is stopped by a timeout. The answer is then NOT_CONVERGED, naming the stage that ran out,
 -- with the last profile a finished stage left (the best seed so far, or the profile of the
 -- last finished pass) and the checker's verdict on it; before the seed has finished there
 -- is no profile to give.
