@@ -299,6 +299,13 @@ spec = do
           map feField es `shouldBe` ["route_length"]
           concatMap feRule es `shouldSatisfy` ("above the cap of 1048576 samples" `isInfixOf`)
         other -> expectationFailure (show other)
+    it "a start that cannot stop by the route end but can within its end tolerance gets a legal profile (was claimed infeasible)" $ do
+      Right rq <- requestFromJson <$> BL.readFile "test/data/overrun-within-tolerance-7cm.json"
+      r <- generate rq
+      resOutcome r `shouldBe` Generated
+      sound rq r `shouldBe` True
+      fmap finalDistance (resProfile r) `shouldSatisfy` maybe False (> 0.0755)
+
     it "a route whose greedy pass needs more than 2^20 samples is refused from the seed, naming route_length (8190 m at 1 m/s, 0.01 m/s^2)" $ do
       -- at its limit the route needs 1 048 320 samples, under the cap; the slow start makes
       -- the profile longer. The pass stops at the cap (it used to run on to 8 x 2^20 steps:

@@ -71,12 +71,40 @@ seedFrom pb
 -- creeps, so it lands within the tolerance. At most @limit@ steps: a pass that has not
 -- landed by then fails.
 landing :: Int -> Problem -> Either SeedFailure (U.Vector Double)
-landing limit pb = do
+landing limit pb = either (\f -> maybe (Left f) Right (overrun pb)) Right (landingOnEnd limit pb)
+
+-- | A start too fast to stop by the route end may still stop within its end tolerance past
+-- it (the checker's rule is |s_N - L| <= end_tolerance): the hardest braking to rest, when
+-- it keeps the limits with its terminal there and comes to rest within the tolerance of
+-- the end.
+overrun :: Problem -> Maybe (U.Vector Double)
+overrun pb = case brakeCheck e st0 of
+  Left _ -> Nothing
+  Right () ->
+    let sts = take maxSamples (hardBraking e st0)
+        sEnd = if null sts then 0 else stS (last sts)
+    in if not (null sts) && abs (sEnd - pbLength pb) <= pbTol pb
+         then Just (U.fromList (pbV0 pb : map stV sts)) else Nothing
+  where
+    e = SeedEnv pb (Term (pbLength pb + pbTol pb) 0) True
+    st0 = St (pbV0 pb) (pbA0 pb) 0
+
+-- | The states of the hard brake policy from a state until it is at rest.
+hardBraking :: SeedEnv -> St -> [St]
+hardBraking e st
+  | atRest e st = []
+  | otherwise = let st' = stepTo e st (brakeAcc e st) in st' : hardBraking e st'
+
+-- | 'landing' with the terminal on the route end.
+landingOnEnd :: Int -> Problem -> Either SeedFailure (U.Vector Double)
+landingOnEnd limit pb = do
   let dt = pbDt pb
       st0 = St (pbV0 pb) (pbA0 pb) 0
       term = Term (pbLength pb) 0
       landTol = pbTol pb / 2
-  e0 <- either (Left . startInfeasible pb (SeedEnv pb term True)) Right (policyFor pb term st0)
+  e0 <- case policyFor pb term st0 of
+    Right e -> Right e
+    Left bad -> Left (startInfeasible pb (SeedEnv pb term True) bad)
   -- the pass unboxed as it is made (a boxed list of states takes some 100 bytes a state)
   let (vs, as, ss) = U.unzip3 (U.fromList [ (v, a, s) | St v a s <- forward e0 landTol limit st0 ])
       sEnd = if U.null ss then 0 else U.last ss
@@ -181,10 +209,7 @@ restFrom pb
   | sinksBelowZero pb = Left (startSinks pb)
   | otherwise = case brakeCheck e st0 of
       Left bad -> Left (startInfeasible pb e bad)
-      Right () -> Right (U.fromList (pbV0 pb : map stV (take maxSamples (braking st0))))
+      Right () -> Right (U.fromList (pbV0 pb : map stV (take maxSamples (hardBraking e st0))))
   where
     e = SeedEnv pb (Term (pbLength pb) 0) True
     st0 = St (pbV0 pb) (pbA0 pb) 0
-    braking st
-      | atRest e st = []
-      | otherwise = let st' = stepTo e st (brakeAcc e st) in st' : braking st'
