@@ -102,9 +102,7 @@ landingOnEnd limit pb = do
       st0 = St (pbV0 pb) (pbA0 pb) 0
       term = Term (pbLength pb) 0
       landTol = pbTol pb / 2
-  e0 <- case policyFor pb term st0 of
-    Right e -> Right e
-    Left bad -> Left (startInfeasible pb (SeedEnv pb term True) bad)
+  e0 <- either (Left . startInfeasible pb (SeedEnv pb term True)) Right (policyFor pb term st0)
   -- the pass unboxed as it is made (a boxed list of states takes some 100 bytes a state)
   let (vs, as, ss) = U.unzip3 (U.fromList [ (v, a, s) | St v a s <- forward e0 landTol limit st0 ])
       sEnd = if U.null ss then 0 else U.last ss
