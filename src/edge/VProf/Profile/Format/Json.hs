@@ -23,6 +23,7 @@ import Data.Scientific (toRealFloat)
 import qualified Data.Text as T
 import qualified Data.Vector.Unboxed as U
 
+import VProf.Format.Chunked (chunkRanges, renderChunked)
 import VProf.Format.Number (doubleBuilder)
 import VProf.Profile.Generate
 import VProf.Profile.Legality
@@ -185,12 +186,13 @@ profileJson r = E.encodingToLazyByteString $
   E.pairs (mconcat [ k .= v | (k, v) <- summaryPairs r ]
            <> mconcat [ E.pair k (doubles xs) | Just p <- [resProfile r], (k, xs) <- sampleColumns p ])
   where
-    -- a column straight into the builder: '[', the numbers with commas, ']'
+    -- a column straight into the builder: '[', the numbers with commas, ']'; rendered
+    -- 32768 numbers a piece on every core ("VProf.Format.Chunked")
     doubles xs = E.unsafeToEncoding $
-      if U.null xs
-        then BB.string7 "[]"
-        else BB.char7 '[' <> number (U.head xs)
-             <> U.foldr (\x rest -> BB.char7 ',' <> number x <> rest) (BB.char7 ']') (U.tail xs)
+      BB.char7 '[' <> BB.lazyByteString (renderChunked [ piece i m xs | (i, m) <- chunkRanges 32768 (U.length xs) ])
+      <> BB.char7 ']'
+    piece i m xs = U.ifoldr (\k x rest -> (if i + k == 0 then mempty else BB.char7 ',') <> number x <> rest)
+                            mempty (U.slice i m xs)
     number x
       | isNaN x || isInfinite x = BB.string7 "null"
       | otherwise = doubleBuilder x
