@@ -7,6 +7,7 @@ import qualified Data.ByteString.Lazy as BL
 import Data.List (isInfixOf)
 import qualified Data.Vector.Unboxed as U
 import System.IO.Unsafe (unsafePerformIO)
+import GHC.Clock (getMonotonicTime)
 import Test.Hspec
 import Test.QuickCheck hiding (generate, Result)
 
@@ -325,6 +326,16 @@ spec = do
             map feField es `shouldBe` ["route_length"]
             concatMap feRule es `shouldSatisfy` ("needs more than 1048576 samples" `isInfixOf`)
           other -> expectationFailure ("end velocity " ++ show ve ++ ": " ++ show other)
+    it "a jerk of 5e-20 m/s^3 (a mutated daemon frame that held a worker for ever) is answered within its budget and a quarter second" $ do
+      Right rq <- requestFromJson <$> BL.readFile "test/data/tiny-jerk-5e-20.json"
+      t0 <- getMonotonicTime
+      r <- generate rq
+      t1 <- length (resViolations r) `seq` getMonotonicTime
+      (t1 - t0) `shouldSatisfy` (< 0.05 + 0.25)
+      case resOutcome r of
+        Generated -> sound rq r `shouldBe` True
+        Failed (NotConverged m) -> m `shouldContain` "time budget"
+        other -> expectationFailure (show other)
     it "an iteration cap of 0 passes is refused by validation, naming the field" $
       case resOutcome (generatePure defaultRequest { rqMaxIterations = Just 0 }) of
         Failed (InvalidRequest es) -> map feField es `shouldBe` ["max_iterations"]

@@ -85,6 +85,11 @@ nudgeStep = 1e-12
 nearRamps :: Double
 nearRamps = 3
 
+-- | The most ramp steps 'brakeAcc''s scan tries (four times the sample cap): a longer ramp
+-- has no place in a profile.
+farRamps :: Double
+farRamps = 4 * 1048576
+
 -- | Time steps added to the ramp times in 'brakeBound', for the discrete ramps' rounding.
 boundExtraSteps :: Double
 boundExtraSteps = 6
@@ -197,7 +202,10 @@ brakeAccTo e st@(St v _ _) tau
                     | fits (g - k) && g - k >= 0 = g - k
                     | fits (g + k) = g + k
                     | otherwise = near (k + 1)
-             far m | m > 4 * g + 16 = 0   -- unreachable: some m always fits; 0 is then nudged
+             -- unreachable: some m always fits; 0 is then nudged. The scan stops at
+             -- 'farRamps' too: with a jerk so weak that the ramp needs more steps than any
+             -- profile may have (g near 1e10 for 5e-20 m/s³), it would never end
+             far m | m > min (4 * g + 16) farRamps = 0
                    | fits m = m
                    | otherwise = far (m + 1)
          in near 0
