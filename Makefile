@@ -6,13 +6,14 @@
 #   make bench  criterion benchmarks (bench/), and bench/compare against Ruckig
 #   make compare-kinematics  closed-form and numerical IK beside EAIK, roboticstoolbox, TRAC-IK
 #   make compare-compress  path compression beside TD-TR, the optimal subset, a free LS fit and the floor
+#   make load EXAMPLE=F.pb  requests/s and latency of `vprof serve` at 1, 8 and 64 connections
 
 STACK ?= stack
 # a fixed QuickCheck seed keeps CI reproducible; VPROF_SEED=random explores new cases
 VPROF_SEED ?= 42
 SEED_ARG := $(if $(filter random,$(VPROF_SEED)),,--seed $(VPROF_SEED))
 
-.PHONY: all deps build run test test-fast test-metamorphic hspec check-examples bench compare compare-kinematics clean
+.PHONY: all deps build run test test-fast test-metamorphic hspec check-examples bench compare compare-kinematics load clean
 all: build
 
 deps:
@@ -62,6 +63,11 @@ test: hspec check-examples golden-check interop
 
 bench: build
 	$(STACK) bench vprof:bench:vprof-bench --benchmark-arguments='--output bench/report.html'
+
+# the daemon under load (bench/run-load: the C++ load tool, 10 s a level)
+EXAMPLE ?= examples/route-abcd.pb
+load: build
+	bench/run-load "$$($(STACK) path --local-install-root)/bin/vprof" $(EXAMPLE)
 
 compare: build
 	@python3 -c 'import ruckig' 2>/dev/null || python3 -m pip install -q ruckig
