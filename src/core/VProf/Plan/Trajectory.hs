@@ -223,11 +223,13 @@ descendIndex timeOf xs = go (min startFraction (n - 1))
     up i = ahead [i + 1] (if i + 1 < n && t (i + 1) < t i then up (i + 1) else i)
     down i = ahead [i - 1] (if i > 0 && t (i - 1) < t i then down (i - 1) else i)
 
--- | The fastest rung by @timeOf@ found by 'descend' if @ok@ admits it, else the first rung below
--- it that @ok@ admits (a lower acceleration), else the fastest rung.
+-- | The fastest admitted rung found by 'descend' with the rungs @ok@ refuses counted as
+-- infinitely slow (the climb stops at the first refused rung: a higher acceleration seldom
+-- makes the joints' motion gentler); when the start rung and its neighbours are all refused,
+-- the first rung below it that @ok@ admits (a lower acceleration), else the start rung.
 descendAdmitted :: (a -> Double) -> (a -> Bool) -> [a] -> a
 descendAdmitted timeOf ok xs =
-  let i = descendIndex timeOf xs
+  let i = descendIndex (\x -> if ok x then timeOf x else 1 / 0) xs
   in head ([ x | x <- reverse (take (i + 1) xs), ok x ] ++ [xs !! i])
 
 validateRequest :: PlanRequest -> [FieldError]
@@ -317,15 +319,16 @@ planPath rq@PlanRequest{..} = do
                           , let st = stepLimitsAt lo route pb 0 x0 x1
                           , not (U.null (slLimit st))
                           , Just c <- [nearestSample (slS st U.! U.minIndex (slLimit st)) a b], slow c ]
-            splitAt' cuts =
-              let bounds = a : spaced (filter (<= b - minPartLength) (nubSorted cuts)) ++ [b]
-                  -- cuts at least minPartLength after the previous one: on a shorter part the
-                  -- profile's margin for its end tolerance (1 µm over the part's length) would
-                  -- show as a step in speed where it meets its neighbours
-                  spaced = go a where
-                    go _ [] = []
-                    go prev (c : cs) = if c - prev >= minPartLength then c : go c cs else go prev cs
-                  parts = [ ((x, y), st, limitZones top st x y) | (x, y) <- zip bounds (drop 1 bounds)
+            -- the part bounds for a list of cuts: those at least minPartLength after the previous
+            -- one (on a shorter part the profile's margin for its end tolerance, 1 µm over the
+            -- part's length, would show as a step in speed where it meets its neighbours)
+            boundsFor cuts = a : spaced (filter (<= b - minPartLength) (nubSorted cuts)) ++ [b]
+              where
+                spaced = go a
+                go _ [] = []
+                go prev (c : cs) = if c - prev >= minPartLength then c : go c cs else go prev cs
+            splitAt' bounds =
+              let parts = [ ((x, y), st, limitZones top st x y) | (x, y) <- zip bounds (drop 1 bounds)
                                                                  , let st = stepLimitsAt lo route pb 0 x y ]
                   -- the speed at a cut: the lower of the two parts' zones there
                   speeds = 0 : [ minimum (map lzSpeed (take 1 (reverse zl) ++ take 1 zr))
@@ -409,7 +412,12 @@ planPath rq@PlanRequest{..} = do
                 join r rest = r : rest
             total ps = sum (map (score False) ps)
             joined ps = U.concat (take 1 (map samplesOf ps) ++ map (U.drop 1 . samplesOf) (drop 1 ps))
-            splits = [ ps | cuts <- [middles, slowest], not (null cuts), let ps = splitAt' cuts
+            -- (cuts that leave one part would only time the whole stretch again, and the two
+            -- kinds of cut often give the same parts)
+            splitBounds = [ bs | (i, bs) <- zip [0 :: Int ..] candidatesB, length bs > 2, bs `notElem` take i candidatesB ]
+              where candidatesB = map boundsFor [middles, slowest]
+            splits = [ ps | bounds <- splitBounds
+                          , let ps = splitAt' bounds
                           , all (\(_, _, _, zs, _) -> not (null zs)) ps, total ps < timeOf whole
                           , jointsKeepLimits lo jp dt True (joined ps) ]
         in case splits of
