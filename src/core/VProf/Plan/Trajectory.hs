@@ -420,9 +420,57 @@ planPath rq@PlanRequest{..} = do
                           , let ps = splitAt' bounds
                           , all (\(_, _, _, zs, _) -> not (null zs)) ps, total ps < timeOf whole
                           , jointsKeepLimits lo jp dt True (joined ps) ]
-        in case splits of
-             [] -> [whole]
-             _ -> foldr1 (\x y -> if total x <= total y then x else y) splits
+            chosen0 = case splits of
+              [] -> [whole]
+              _ -> foldr1 (\x y -> if total x <= total y then x else y) splits
+            -- each part cut again in the middle of every run of three or more samples where its
+            -- profile cruises (a = 0: the pieces meet there at the profile's speed and with no
+            -- acceleration, as the part's own profile does), so that every piece takes its own
+            -- acceleration: one acceleration a part is set by its worst sample. A part's pieces
+            -- are kept when together faster than the part, and all of them when the stretch's
+            -- pieces, joined, keep the joints' limits.
+            pieces c@((x, y), _, _, _, r) = case resProfile r of
+              Nothing -> [c]
+              Just prof ->
+                let cs = columns prof
+                    ss = samplesOf c
+                    vs = colVelocity cs
+                    as = colAcceleration cs
+                    m = U.length ss
+                    cruising k = abs (as U.! k) < 1e-9
+                    runs = cruiseRuns [ k | k <- [1 .. m - 2], cruising k ]
+                    cruiseRuns ks = case ks of
+                      [] -> []
+                      (k : rest) -> let (run, more) = spanRun k rest in (k, run) : cruiseRuns more
+                    spanRun k (k' : rest) | k' == k + 1 = spanRun k' rest
+                    spanRun k rest = (k, rest)
+                    mids = [ c' | k <- [ (k0 + k1) `div` 2 | (k0, k1) <- runs, k1 - k0 >= 2 ]
+                                , Just c' <- [nearestSample (ss U.! k) x y]
+                                , c' - x >= minPartLength, y - c' >= minPartLength ]
+                    -- the profile's speed at route distance u (linear between its samples)
+                    speedAt u = case U.findIndex (>= u) ss of
+                      Nothing -> U.last vs
+                      Just 0 -> U.head vs
+                      Just k -> let s0 = ss U.! (k - 1); s1 = ss U.! k
+                                    w = if s1 > s0 then (u - s0) / (s1 - s0) else 1
+                                in (1 - w) * vs U.! (k - 1) + w * vs U.! k
+                    bounds = x : spacedFrom x (nubSorted mids) ++ [y]
+                    spacedFrom _ [] = []
+                    spacedFrom prev (u : us) = if u - prev >= minPartLength && y - u >= minPartLength
+                                                 then u : spacedFrom u us else spacedFrom prev us
+                    v0 = U.head vs / margin (si prEndTolerance) x y
+                    v1 = U.last vs / margin (si prEndTolerance) x y
+                    subs = [ ((u, w), st, limitZones top st u w) | (u, w) <- zip bounds (drop 1 bounds)
+                                                                , let st = stepLimitsAt lo route pb 0 u w ]
+                    speeds = v0 : [ minimum (speedAt u : map lzSpeed (take 1 (reverse zl) ++ take 1 zr))
+                                  | ((_, _, zl), ((u, _), _, zr)) <- zip subs (drop 1 subs) ] ++ [v1]
+                    timedSubs = sparkEach (score False) (zipWith3 part subs speeds (drop 1 speeds))
+                in if length bounds <= 2 || any (\(_, _, zl) -> null zl) subs || total timedSubs >= score False c
+                     then [c] else timedSubs
+            chosen1 = concatMap pieces chosen0
+        in if length chosen1 > length chosen0 && total chosen1 < total chosen0
+                && jointsKeepLimits lo jp dt True (joined chosen1)
+             then chosen1 else chosen0
       -- A part's acceleration range beyond its rung: the speeding-up magnitude, then the braking
       -- one, each raised on its own by bisection between its rung and 1.6 times it (at most hi)
       -- while the sampled joint motion keeps the limits (@ok@), keeping the fastest profile. The
