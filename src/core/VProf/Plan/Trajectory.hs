@@ -2,7 +2,8 @@
 -- | The plan, end to end: the route through the waypoints ("VProf.Plan.Route"), tracked in joint
 -- space ("VProf.Plan.Track"), its speed limits as zones ("VProf.Plan.Limits"), and the timing by
 -- the velocity-profile generator: one profile request per part of the route (the stretches
--- between stops, some cut at their slow corners), with the TCP's jerk range at the controller's
+-- between stops, some cut at their slow corners, and parts cut again where their profiles
+-- cruise), with the TCP's jerk range at the controller's
 -- time step and an acceleration range chosen per part: by the joints' acceleration rule, then
 -- faster variants admitted only by the check of the sampled joint motion ('jointsKeepLimits'):
 -- boosts, braking and speeding up raised apart, zones flattened where the joints turn fast and
