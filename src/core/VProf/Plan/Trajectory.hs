@@ -320,21 +320,26 @@ planPath rq@PlanRequest{..} = do
                           , let st = stepLimitsAt lo route pb 0 x0 x1
                           , not (U.null (slLimit st))
                           , Just c <- [nearestSample (slS st U.! U.minIndex (slLimit st)) a b], slow c ]
-            -- the part bounds for a list of cuts: those at least minPartLength after the previous
-            -- one (on a shorter part the profile's margin for its end tolerance, 1 µm over the
-            -- part's length, would show as a step in speed where it meets its neighbours)
-            boundsFor cuts = a : spaced (filter (<= b - minPartLength) (nubSorted cuts)) ++ [b]
+            -- the part bounds of [x, y] for a list of cuts: those at least minPartLength after the
+            -- previous one and before y (on a shorter part the profile's margin for its end
+            -- tolerance, 1 µm over the part's length, would show as a step in speed where it meets
+            -- its neighbours)
+            boundsIn x y cuts = x : spaced (filter (<= y - minPartLength) (nubSorted cuts)) ++ [y]
               where
-                spaced = go a
+                spaced = go x
                 go _ [] = []
                 go prev (c : cs) = if c - prev >= minPartLength then c : go c cs else go prev cs
-            splitAt' bounds =
+            boundsFor = boundsIn a b
+            -- the parts between the bounds, each timed ('part') from and to the speed at its cuts:
+            -- the lower of the two parts' zones there and of @cap@ at the cut; vx and vy at the ends.
+            -- Also whether every part has zones.
+            timeParts bounds vx vy cap =
               let parts = [ ((x, y), st, limitZones top st x y) | (x, y) <- zip bounds (drop 1 bounds)
                                                                  , let st = stepLimitsAt lo route pb 0 x y ]
-                  -- the speed at a cut: the lower of the two parts' zones there
-                  speeds = 0 : [ minimum (map lzSpeed (take 1 (reverse zl) ++ take 1 zr))
-                               | ((_, _, zl), (_, _, zr)) <- zip parts (drop 1 parts) ] ++ [0]
-              in sparkEach (score False) (zipWith3 part parts speeds (drop 1 speeds))
+                  speeds = vx : [ minimum (cap u : map lzSpeed (take 1 (reverse zl) ++ take 1 zr))
+                                | ((_, _, zl), ((u, _), _, zr)) <- zip parts (drop 1 parts) ] ++ [vy]
+              in (all (\(_, _, zs) -> not (null zs)) parts, sparkEach (score False) (zipWith3 part parts speeds (drop 1 speeds)))
+            splitAt' bounds = snd (timeParts bounds 0 0 (const (1 / 0)))
             -- a part's acceleration: the fastest rung of the ladder whose joint motion keeps the
             -- limits, then refined ('refine')
             part ((x, y), st, zs) vx vy =
@@ -446,8 +451,7 @@ planPath rq@PlanRequest{..} = do
                     spanRun k (k' : rest) | k' == k + 1 = spanRun k' rest
                     spanRun k rest = (k, rest)
                     mids = [ c' | k <- [ (k0 + k1) `div` 2 | (k0, k1) <- runs, k1 - k0 >= 2 ]
-                                , Just c' <- [nearestSample (ss U.! k) x y]
-                                , c' - x >= minPartLength, y - c' >= minPartLength ]
+                                , Just c' <- [nearestSample (ss U.! k) x y] ]
                     -- the profile's speed at route distance u (linear between its samples)
                     speedAt u = case U.findIndex (>= u) ss of
                       Nothing -> U.last vs
@@ -455,18 +459,10 @@ planPath rq@PlanRequest{..} = do
                       Just k -> let s0 = ss U.! (k - 1); s1 = ss U.! k
                                     w = if s1 > s0 then (u - s0) / (s1 - s0) else 1
                                 in (1 - w) * vs U.! (k - 1) + w * vs U.! k
-                    bounds = x : spacedFrom x (nubSorted mids) ++ [y]
-                    spacedFrom _ [] = []
-                    spacedFrom prev (u : us) = if u - prev >= minPartLength && y - u >= minPartLength
-                                                 then u : spacedFrom u us else spacedFrom prev us
-                    v0 = U.head vs / margin (si prEndTolerance) x y
-                    v1 = U.last vs / margin (si prEndTolerance) x y
-                    subs = [ ((u, w), st, limitZones top st u w) | (u, w) <- zip bounds (drop 1 bounds)
-                                                                , let st = stepLimitsAt lo route pb 0 u w ]
-                    speeds = v0 : [ minimum (speedAt u : map lzSpeed (take 1 (reverse zl) ++ take 1 zr))
-                                  | ((_, _, zl), ((u, _), _, zr)) <- zip subs (drop 1 subs) ] ++ [v1]
-                    timedSubs = sparkEach (score False) (zipWith3 part subs speeds (drop 1 speeds))
-                in if length bounds <= 2 || any (\(_, _, zl) -> null zl) subs || total timedSubs >= score False c
+                    bounds = boundsIn x y mids
+                    (zoned, timedSubs) = timeParts bounds (U.head vs / margin (si prEndTolerance) x y)
+                                                          (U.last vs / margin (si prEndTolerance) x y) speedAt
+                in if length bounds <= 2 || not zoned || total timedSubs >= score False c
                      then [c] else timedSubs
             chosen1 = concatMap pieces chosen0
         in if length chosen1 > length chosen0 && total chosen1 < total chosen0
