@@ -249,17 +249,19 @@ trackRoute TrackOptions{..} kin rt start = do
 
     -- the solution nearest the previous sample's: for the six-axis closed forms, each branch's
     -- principal solution with every joint turned by whole turns to lie nearest the previous
-    -- value (within the limits), checked by forward kinematics; else the facade, seeded
+    -- value (within the limits), nearest first, checked by forward kinematics (lazily: the
+    -- tracking takes the first that passes, so usually one check a sample instead of eight);
+    -- else the facade, seeded
     continueIk target prev = case kinMethod kin of
       ClosedFormSixAxis solver
         | Just pose <- CF.poseFromRowMajor (toRows4 target)
         , Right principal <- CF.solvePrincipal solver pose
-        , sols@(_ : _) <- [ IkSolution q pe re (seedDistance q prev) Nothing
-                          | p <- principal
-                          , Just q <- [nearestTurns prev (CF.solQ p)]
+        , sols@(_ : _) <- [ IkSolution q pe re d Nothing
+                          | (d, q) <- sortOn fst [ (seedDistance q prev, q) | p <- principal
+                                                 , Just q <- [nearestTurns prev (CF.solQ p)] ]
                           , let (pe, re) = residual (forward ch q) target
                           , pe <= ikTolPosition defaultIkOptions, re <= ikTolRotation defaultIkOptions ]
-        -> Right (sortOn solSeedDistance sols)
+        -> Right sols
       _ -> solveIk contOpts kin target (Just prev)
     nearestTurns prev q = fmap U.fromList $ sequence $ flip map [0 .. n - 1] $ \i ->
       let x = q U.! i; p = prev U.! i
