@@ -44,6 +44,7 @@ module VProf.Profile.Generate.Seed.Brake
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Profile.Problem (Problem (..))
+import VProf.Profile.Request (maxSamples)
 import VProf.Profile.SpeedLimit
 
 -- | State at sample k: velocity v_k, the acceleration a_{k-1} that led into it, position s_k.
@@ -85,10 +86,10 @@ nudgeStep = 1e-12
 nearRamps :: Double
 nearRamps = 3
 
--- | The most ramp steps 'brakeAcc''s scan tries (four times the sample cap): a longer ramp
--- has no place in a profile.
+-- | The most ramp steps 'brakeAcc''s scan tries (four times the sample cap, 'maxSamples'): a
+-- longer ramp has no place in a profile.
 farRamps :: Double
-farRamps = 4 * 1048576
+farRamps = 4 * fromIntegral maxSamples
 
 -- | Time steps added to the ramp times in 'brakeBound', for the discrete ramps' rounding.
 boundExtraSteps :: Double
