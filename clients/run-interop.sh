@@ -38,11 +38,8 @@ else
   json="$cases"
 fi
 
-"$vprof" serve --port 0 2>"$tmp/daemon.log" &
-pid=$!
-for _ in $(seq 100); do grep -q "listening on" "$tmp/daemon.log" && break; sleep 0.1; done
-port="$(sed -n 's/.*listening on [0-9.]*:\([0-9]*\).*/\1/p' "$tmp/daemon.log" | head -1)"
-[ -n "$port" ] || { echo "daemon did not start"; cat "$tmp/daemon.log"; exit 1; }
+. "$here/start-daemon.sh"
+start_daemon "$vprof" "$tmp/daemon.log"
 echo "daemon $vprof on port $port"
 
 status=0

@@ -5,7 +5,7 @@
 VPROF_BIN ?= $(shell stack path --local-install-root 2>/dev/null)/bin/vprof
 STUB_BIN  ?= $(shell stack path --local-install-root 2>/dev/null)/bin/vprof-stub-daemon
 
-.PHONY: clients golden-check interop interop-stub daemon-check fuzz load
+.PHONY: clients golden-check interop interop-stub daemon-check fuzz
 
 clients:                 ## C++ client + load tool, Python generated code
 	$(MAKE) -C clients/cpp all load
@@ -24,11 +24,3 @@ daemon-check: golden-check interop-stub interop
 
 fuzz:                    ## outside CI: 10^5 mutated frames
 	python3 bench/fuzz.py --daemon $(STUB_BIN) --frames 100000
-
-EXAMPLE ?= examples/route-abcd.pb
-load: clients            ## outside CI: req/s and p50/p95/p99 at 1, 8, 64 connections
-	@$(VPROF_BIN) serve --port 0 --quiet 2> /tmp/vprof-load.log & pid=$$!; \
-	  for i in $$(seq 50); do grep -q listening /tmp/vprof-load.log && break; sleep 0.1; done; \
-	  port=$$(sed -n 's/.*listening on [0-9.]*:\([0-9]*\).*/\1/p' /tmp/vprof-load.log); \
-	  clients/cpp/build/vprof_load --port $$port --request $(EXAMPLE) --connections 1,8,64 --duration 10; rc=$$?; \
-	  kill -TERM $$pid; wait $$pid; exit $$rc
