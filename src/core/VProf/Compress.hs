@@ -36,10 +36,15 @@ data Settings = Settings
   , sPoints    :: !(Maybe Int)
   , sMargin    :: !(Maybe Double)
   , sTolerance :: !(Maybe (Length Double))  -- ^ largest position error allowed
+  , sSearch    :: !Int   -- ^ rounds of the knot fit's wider search ('searchKnots'); 0: none
   } deriving (Show, Eq)
 
 defaultSettings :: Settings
-defaultSettings = Settings MethodKnots defaultWeights Nothing Nothing Nothing
+defaultSettings = Settings MethodKnots defaultWeights Nothing Nothing Nothing 0
+
+-- | The most rounds of the wider search (each about one knot fit).
+maxSearchRounds :: Int
+maxSearchRounds = 1000
 
 -- | A compressed path with its measures, whether the tolerance (if any) is met, the
 -- weighted objective and why the point count stopped where it did.
@@ -53,7 +58,7 @@ data Compressed = Compressed
 
 -- | Check settings against a recording of n samples: every problem at once, in SI and
 -- in the core's field names (@weights.position@, @weights.orientation@,
--- @weights.velocity@, @weights@, @points@, @margin@, @tolerance@); an interface
+-- @weights.velocity@, @weights@, @points@, @margin@, @tolerance@, @search@); an interface
 -- re-expresses them in its own names and units with 'inUserTerms'.
 validateSettings :: Int -> Settings -> [FieldError]
 validateSettings n s = concat
@@ -73,6 +78,11 @@ validateSettings n s = concat
   , case fmap (/~ metre) (sTolerance s) of
       Just t -> ensureFinite "tolerance" t "m" (ensure (t > 0) (fieldError "tolerance" t "m" "must be > 0"))
       Nothing -> []
+  , let r = sSearch s in concat
+      [ ensure (r >= 0 && r <= maxSearchRounds)
+          (literalError "search" (show r) ("must be between 0 and " ++ show maxSearchRounds))
+      , ensure (r == 0 || (sMethod s == MethodKnots && sMargin s == Nothing && sTolerance s == Nothing))
+          (literalError "search" (show r) "only the knot fit to a number of points searches (no margin, tolerance or other method)") ]
   ]
   where Weights p o v = sWeights s
 
@@ -82,7 +92,7 @@ compress :: Settings -> Recording -> Either [FieldError] Compressed
 compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
     MethodKnots | sMargin s == Nothing && tolM == Nothing ->
       let k = maybe (max 2 (round (0.03 * fromIntegral n :: Double))) (max 2) (sPoints s)
-          pa = fitKnots defaultKnotConfig pr (sWeights s) k
+          pa = fitKnots defaultKnotConfig { kcSearch = sSearch s } pr (sWeights s) k
       in Compressed (fromPathA pa) (computeMetrics pr pa) True (totalCost pr (sWeights s) pa) (show ReachedPoints)
     MethodRdp -> rdp
     _ ->

@@ -79,6 +79,16 @@ spec = describe "vprof compress" $ do
     rec <- dataFile "freiburg1_xyz-groundtruth.txt"
     runCli ["/nonexistent/recording.txt"] `shouldReturn` ExitFailure 2
     runCli [rec, "--points", "5000"] `shouldReturn` ExitFailure 2
+  it "--search: exits 2 naming --search with the thesis method or past 1000 rounds" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      rec <- dataFile "freiburg1_xyz-groundtruth.txt"
+      (c1, e1) <- captureStderr (dir </> "e1.txt") (runCli [rec, "--points", "25", "--method", "thesis", "--search", "2"])
+      c1 `shouldBe` ExitFailure 2
+      e1 `shouldSatisfy` ("--search" `isInfixOf`)
+      (c2, e2) <- captureStderr (dir </> "e2.txt") (runCli [rec, "--points", "25", "--search", "1001"])
+      c2 `shouldBe` ExitFailure 2
+      e2 `shouldSatisfy` ("--search" `isInfixOf`)
+      e2 `shouldSatisfy` ("1001" `isInfixOf`)
 
   describe "real recordings" $ do
     it "merges a duplicated timestamp with a different pose (as TUM freiburg2_desk has), exits 0 and warns with the time and lines" $

@@ -98,6 +98,25 @@ spec = do
             fitted = fitKnots defaultKnotConfig pr (Weights 1 0 0) k
         in counterexample (show (knotSse pr start, positionSse pr fitted)) $
              positionSse pr fitted <= knotSse pr start * (1 + 1e-9) + 1e-15
+    it "with a wider search: still k points, pinned ends, increasing times, and never a higher position error than without" $
+      property $ forAll (choose (60, 300)) $ \n -> forAll (choose (4, n `div` 6)) $ \k -> forAll (choose (1, 6)) $ \r -> forAllBlind (genWalk n) $ \pr ->
+        let cfg = defaultKnotConfig { kcSearch = r }
+            base = optimiseKnots defaultKnotConfig pr (startKnots defaultKnotConfig pr k)
+            wide = searchKnots cfg pr base
+            PathA t p _ = fitKnots cfg pr (Weights 1 0 0) k
+        in counterexample (show (knotSse pr base, knotSse pr wide)) $
+             knotSse pr wide <= knotSse pr base .&&. U.length (kT wide) === k .&&. strictlyIncreasing (kT wide)
+               .&&. U.head (kT wide) === U.head (rcT pr) .&&. U.last (kT wide) === U.last (rcT pr)
+               .&&. U.length t === k .&&. strictlyIncreasing t .&&. phead p === phead (rcP pr) .&&. plast p === plast (rcP pr)
+    it "a wider search finds the known path's waypoint times from random starts too (search rounds only, no partition start)" $
+      property $ forAllBlind genKnown $ \(truth, pr) ->
+        let k = U.length truth
+            st = rcT pr
+            -- a poor start: equal times, then the search
+            even' = Knots (U.generate k (\j -> U.head st + (U.last st - U.head st) * fromIntegral j / fromIntegral (k - 1))) (pgenerate k (const (P3 0 0 0)))
+            kn = searchKnots defaultKnotConfig { kcSearch = 6 } pr (solveStretchPositions pr even' 0 (k - 1))
+            base = optimiseKnots defaultKnotConfig pr (startKnots defaultKnotConfig pr k)
+        in counterexample (show (knotSse pr kn, knotSse pr base)) $ k < 4 || knotSse pr kn <= 1.05 * knotSse pr base
     it "recovers the waypoint times of a known K-waypoint path with 1 mm noise (within 2 sample intervals)" $
       property $ forAllBlind genKnown $ \(truth, pr) ->
         let k = U.length truth

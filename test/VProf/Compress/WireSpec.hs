@@ -28,6 +28,7 @@ request tr pts = CompressRequestMsg
   , crqWeightPosition = putField Nothing
   , crqWeightOrientation = putField Nothing
   , crqWeightVelocity = putField Nothing
+  , crqSearchRounds = putField Nothing
   }
 
 spec :: Spec
@@ -68,6 +69,17 @@ spec = describe "serveCompress" $ do
     -- the knot fit and the thesis method are different algorithms: their times differ here
     core MethodKnots `shouldNotBe` core MethodThesis
 
+  it "search_rounds runs the CLI's wider search (the same path as --search), and is refused for the thesis method" $ do
+    Recording tr0 <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let tr = Track (U.take 600 (tTime tr0)) (pifilter (< 600) (tPos tr0)) (pifilter (< 600) (tRot tr0))
+    rsp <- serveCompress (request tr 12) { crqSearchRounds = putField (Just 3) }
+    let core = either (error . show) (tTime . pathTrack . oPath)
+                 (compress defaultSettings { sPoints = Just 12, sSearch = 3 } (Recording tr))
+    fmap (U.fromList . getField . posTime) (getField (cpPath rsp)) `shouldBe` Just core
+    bad <- serveCompress (request tr 12) { crqSearchRounds = putField (Just 3), crqMethod = putField (Just CompressThesis) }
+    let Just err = getField (cpError bad)
+    getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
+    getField (errField err) `shouldBe` Just (T.pack "search_rounds")
   it "answers a bad request with INVALID_ARGUMENT naming the field and the value" $ do
     Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
     let req = (request tr 60) { crqMargin = putField (Just 0.5) }
@@ -81,7 +93,7 @@ spec = describe "serveCompress" $ do
     let poses = PosesMsg (putField [2, 1]) (putField [0, 0]) (putField [0, 0]) (putField [0, 0])
                          (putField [1, 1]) (putField [0, 0]) (putField [0, 0]) (putField [0, 0])
         req = CompressRequestMsg (putField Nothing) (putField (Just poses)) (putField Nothing) (putField Nothing)
-                (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
+                (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
     rsp <- serveCompress req
     let Just err = getField (cpError rsp)
     getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
@@ -113,7 +125,7 @@ spec = describe "serveCompress" $ do
     validateWire TCompressedPath (encodeBare rsp) `shouldBe` Right ()
   it "names the missing recording" $ do
     let req = CompressRequestMsg (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
-                (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
+                (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
     rsp <- serveCompress req
     let Just err = getField (cpError rsp)
     getField (errField err) `shouldBe` Just (T.pack "recording")

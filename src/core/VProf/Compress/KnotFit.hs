@@ -9,16 +9,21 @@
 -- finally solves the orientations (Gauss–Newton, "VProf.Compress.Fit") and the positions
 -- under the full weighted objective for those times. First and last waypoint pinned to the
 -- first and last sample. The times are chosen for the position error alone; the orientation
--- and velocity weights act on the values at them.
+-- and velocity weights act on the values at them. On request a wider search ('searchKnots')
+-- runs the same optimisation from random starts and from perturbations of the best path.
 module VProf.Compress.KnotFit
   ( KnotConfig (..)
   , defaultKnotConfig
   , fitKnots
   , startKnots
   , exchangeKnots
+  , optimiseKnots
+  , searchKnots
   ) where
 
-import Data.List (sortBy)
+import Data.Bits (shiftR, xor)
+import Data.List (nub, sort, sortBy)
+import Data.Word (Word64)
 import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
 
@@ -36,10 +41,11 @@ data KnotConfig = KnotConfig
   , kcExchanges    :: !Int   -- ^ exchange passes at most
   , kcOrientRounds :: !Int   -- ^ Gauss–Newton rounds for the orientations at most
   , kcPolish       :: !Int   -- ^ rounds of the thesis's update under the full weights at the end
+  , kcSearch       :: !Int   -- ^ rounds of the wider search ('searchKnots'); 0: none
   } deriving (Show, Eq)
 
 defaultKnotConfig :: KnotConfig
-defaultKnotConfig = KnotConfig 4 100 30 10 3
+defaultKnotConfig = KnotConfig 4 100 30 10 3 0
 
 -- | The start: k waypoint times at the boundaries of a line partition into k−1 groups
 -- (midway between a group's last sample and the next group's first), positions the
@@ -124,6 +130,76 @@ exchangeKnots pr iters passes kn0 = go passes kn0
       in Knots (U.generate (kk + 1) (\i -> if i <= s then ts U.! i else if i == s + 1 then tm else ts U.! (i - 1)))
                (pgenerate (kk + 1) (\i -> if i <= s then pindex ps i else if i == s + 1 then pm else pindex ps (i - 1)))
 
+-- | Steps 2 and 3 of the fit from given knots: all times and positions refined together,
+-- the exchanges, and the refinement again when an exchange was kept.
+optimiseKnots :: KnotConfig -> Prepared -> Knots -> Knots
+optimiseKnots cfg pr kn0 = if kn2 == kn1 then kn1 else fst (refineAll pr (kcIterations cfg) kn2)
+  where
+    kn1 = fst (refineAll pr (kcIterations cfg) kn0)
+    kn2 = exchangeKnots pr (kcIterations cfg) (kcExchanges cfg) kn1
+
+-- | The wider search ('kcSearch' rounds; none by default): odd rounds start afresh from
+-- k−2 interior times drawn uniformly over the recording, even rounds from the best path so
+-- far with two interior waypoints (drawn at random) removed and two inserted at the middle
+-- of segments drawn from those with the largest error; each start is optimised as the fit's
+-- own ('optimiseKnots') and kept when its position error is lower. The draws are a fixed
+-- pseudo-random sequence, so a run is repeatable. Never worse than the knots given.
+searchKnots :: KnotConfig -> Prepared -> Knots -> Knots
+searchKnots cfg pr kn0
+  | kcSearch cfg <= 0 || k < 4 = kn0
+  | otherwise = go 1 (splitmix 0x5eed) kn0 (knotSse pr kn0)
+  where
+    k = U.length (kT kn0)
+    st = rcT pr
+    tA = U.head st; tB = U.last st
+    go r g best fBest
+      | r > kcSearch cfg = best
+      | otherwise =
+          let (start, g') = if odd r then randomStart g else perturbed g best
+              cand = optimiseKnots cfg pr start
+              f = knotSse pr cand
+          in if U.length (kT cand) == k && f < fBest then go (r + 1) g' cand f else go (r + 1) g' best fBest
+    -- k−2 distinct uniform interior times (a repeated draw is drawn again)
+    randomStart g0 = draw g0 []
+      where
+        draw g acc
+          | length acc == k - 2 = (atTimes (U.fromList ([tA] ++ sort acc ++ [tB])), g)
+          | otherwise = let (u, g') = unit g
+                            t = tA + u * (tB - tA)
+                        in if t > tA && t < tB && t `notElem` acc then draw g' (t : acc) else draw g' acc
+    perturbed g0 kn =
+      let ts = kT kn
+          (d1, g1) = below (k - 2) g0
+          (d2, g2) = below (k - 2) g1
+          drops = nub [1 + d1, 1 + d2]
+          worst = map snd (sortBy (comparing fst) [ (negate (stretchSse pr kn s (s + 1)), s) | s <- [0 .. k - 2] ])
+          pool = take (min (k - 1) 9) worst
+          (e1, g3) = below (length pool) g2
+          (e2, g4) = below (length pool) g3
+          ins = [ 0.5 * (ts U.! s + ts U.! (s + 1)) | s <- nub [pool !! e1, pool !! e2] ]
+          kept = [ ts U.! j | j <- [0 .. k - 1], j `notElem` drops ]
+          times = U.fromList (nub (sort (kept ++ take (length drops) (ins ++ filler kept))))
+          filler kp = [ 0.5 * (a + b) | (a, b) <- zip kp (drop 1 kp) ]
+      in if U.length times == k then (atTimes times, g4) else randomStart g4
+    atTimes ts = Knots ts (pgenerate (U.length ts) (\j -> fst (polylineAt st (rcP pr) (rcQ pr) (ts U.! j))))
+
+-- | SplitMix64: the next state and its output.
+splitmix :: Word64 -> Word64
+splitmix x = x + 0x9e3779b97f4a7c15
+
+mix :: Word64 -> Word64
+mix z0 = let z1 = (z0 `xor` (z0 `shiftR` 30)) * 0xbf58476d1ce4e5b9
+             z2 = (z1 `xor` (z1 `shiftR` 27)) * 0x94d049bb133111eb
+         in z2 `xor` (z2 `shiftR` 31)
+
+-- | A uniform draw in [0, 1).
+unit :: Word64 -> (Double, Word64)
+unit g = (fromIntegral (mix g `shiftR` 11) / 9007199254740992, splitmix g)
+
+-- | A uniform draw in [0, m).
+below :: Int -> Word64 -> (Int, Word64)
+below m g = let (u, g') = unit g in (min (m - 1) (floor (u * fromIntegral m)), g')
+
 -- | The whole knot fit to k points (2 <= k <= samples).
 fitKnots :: KnotConfig -> Prepared -> Weights -> Int -> PathA
 fitKnots cfg pr w k0
@@ -133,9 +209,7 @@ fitKnots cfg pr w k0
     st = rcT pr
     n = U.length st
     k = max 2 k0
-    kn1 = fst (refineAll pr (kcIterations cfg) (startKnots cfg pr k))
-    kn2 = exchangeKnots pr (kcIterations cfg) (kcExchanges cfg) kn1
-    Knots ts ps = if kn2 == kn1 then kn1 else fst (refineAll pr (kcIterations cfg) kn2)
+    Knots ts ps = searchKnots cfg pr (optimiseKnots cfg pr (startKnots cfg pr k))
     qs0 = pgenerate k (\j -> snd (polylineAt st (rcP pr) (rcQ pr) (ts U.! j)))
     oriW = Weights 0 1 0
     polish pa = if kcPolish cfg > 0 then updatePathWith pr w TimesAll (kcPolish cfg) pa else pa

@@ -42,6 +42,7 @@ data CompressOptions = CompressOptions
   , coWeights      :: (Double, Double, Double)
   , coStop         :: Maybe Stop
   , coMethod       :: Method
+  , coSearch       :: Int
   , coOutput       :: Maybe FilePath
   , coOutputFormat :: Maybe OutFormat
   , coReport       :: Bool
@@ -70,6 +71,8 @@ compressOptions' = CompressOptions
   <*> optional stopP
   <*> option (eitherReader method) (long "method" <> metavar "knots|thesis|rdp" <> value MethodKnots
         <> help "knots: weighted least squares with the waypoint times optimised from a line-partition start (default; with --margin or --tolerance it runs thesis); thesis: the thesis's grow/shrink weighted least squares; rdp: 3-D Ramer-Douglas-Peucker baseline")
+  <*> option (eitherReader searchRounds) (long "search" <> metavar "N" <> value 0
+        <> help "knot fit only: N more rounds from random starts and from perturbations of the best path, the best kept (each round costs about one fit; default 0)")
   <*> optional (strOption (short 'o' <> long "output" <> metavar "OUT" <> help "write the path here"))
   <*> optional (option (eitherReader outFmt) (long "output-format" <> metavar "tum|mod|csv"
         <> help "format of OUT (default: from its extension, .mod RAPID, .csv CSV, else TUM)"))
@@ -117,6 +120,9 @@ compressOptions' = CompressOptions
       "thesis" -> Right MethodThesis
       "rdp" -> Right MethodRdp
       _ -> Left ("--method " ++ s ++ ": expected knots, thesis or rdp")
+    searchRounds s = case reads s of
+      [(r, "")] | r >= (0 :: Int) -> Right r
+      _ -> Left ("--search " ++ s ++ ": expected a whole number >= 0")
     posInt s = case reads s of
       [(k, "")] | k >= (2 :: Int) -> Right k
       _ -> Left ("--points " ++ s ++ ": expected a whole number >= 2")
@@ -133,6 +139,7 @@ optionName = \case
   "points" -> Just (UserField "--points" "" 1)
   "margin" -> Just (UserField "--margin" "" 1)
   "tolerance" -> Just (UserField "--tolerance" "mm" 1000)
+  "search" -> Just (UserField "--search" "" 1)
   f | "weights" `isPrefixOf` f -> Just (UserField "--weights" "" 1)
   _ -> Nothing
 
@@ -175,6 +182,7 @@ runCompress o = do
       , sPoints = case coStop o of Just (StopPoints k) -> Just k; _ -> Nothing
       , sMargin = case coStop o of Just (StopMargin m) -> Just m; _ -> Nothing
       , sTolerance = case coStop o of Just (StopTolerance t) -> Just (t *~ milli metre); _ -> Nothing
+      , sSearch = coSearch o
       }
     go warns rec = do
       t0 <- getMonotonicTime

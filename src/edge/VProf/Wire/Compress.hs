@@ -65,6 +65,7 @@ requestToDomainW m = do
         , sPoints = if pts == 0 then Nothing else Just (fromIntegral pts)
         , sMargin = if margin == 0 then Nothing else Just margin
         , sTolerance = if tol == 0 then Nothing else Just (tol *~ metre)
+        , sSearch = fromIntegral (orDefault (getField (crqSearchRounds m)))
         }
   validated [inUserTerms protoField (validateSettings n settings)] (Recording tr, settings, clWarnings cl)
   where
@@ -72,6 +73,7 @@ requestToDomainW m = do
       "weights.position" -> Just (UserField "weight_position" "" 1)
       "weights.orientation" -> Just (UserField "weight_orientation" "" 1)
       "weights.velocity" -> Just (UserField "weight_velocity" "" 1)
+      "search" -> Just (UserField "search_rounds" "" 1)
       _ -> Nothing
 
 -- | How the wire names samples and fields: @recording.time@ and so on, samples by their

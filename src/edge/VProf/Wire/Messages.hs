@@ -237,6 +237,7 @@ data CompressRequestMsg = CompressRequestMsg
   , crqWeightPosition    :: Optional 7 (Value Double)
   , crqWeightOrientation :: Optional 8 (Value Double)
   , crqWeightVelocity    :: Optional 9 (Value Double)
+  , crqSearchRounds      :: Optional 10 (Value Word32)
   } deriving (Generic, Show, Eq)
 instance Encode CompressRequestMsg
 instance Decode CompressRequestMsg

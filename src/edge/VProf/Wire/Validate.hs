@@ -55,7 +55,7 @@ fields t n = case t of
   TError -> lookup n [(1, KVarint), (2, KStr), (3, KStr)]
   TPoses -> if n >= 1 && n <= 8 then Just KPackedF64 else Nothing
   TCompressRequest
-    | n `elem` [1, 3, 4] -> Just KVarint
+    | n `elem` [1, 3, 4, 10] -> Just KVarint
     | n == 2 -> Just (KMsg TPoses)
     | n >= 5 && n <= 9 -> Just KF64
     | otherwise -> Nothing
