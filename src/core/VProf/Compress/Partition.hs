@@ -61,13 +61,19 @@ groupSse s a b
 
 -- | Boundaries 0 = b_0 < b_1 < … < b_m = n of m groups (group g holds samples
 -- b_g .. b_{g+1}−1), each group at least 2 samples, at most w, unless n < 2m (then equal
--- groups). The window w is widened to ⌈n/m⌉ when it is shorter.
+-- groups). The window w is widened to ⌈n/m⌉ when it is shorter. Never worse than m equal
+-- groups: the search is a heuristic (a priced count and greedy repairs), so it keeps the
+-- equal split when that is better, or when the repairs cannot reach m groups.
 linePartition :: U.Vector Double -> V3s -> Int -> Int -> U.Vector Int
 linePartition ts ps m w0
   | m <= 1 = U.fromList [0, n]
-  | n < 2 * m = U.generate (m + 1) (\g -> (g * n) `div` m)
-  | otherwise = adjust (bracket lam0 (dp lam0) (12 :: Int))
+  | n < 2 * m = equal
+  | groups found == m && sse found <= sse equal = found
+  | otherwise = equal
   where
+    equal = U.generate (m + 1) (\g -> (g * n) `div` m)
+    found = adjust (bracket lam0 (dp lam0) (12 :: Int))
+    sse v = sum [ groupSse s (v U.! g) (v U.! (g + 1)) | g <- [0 .. U.length v - 2] ]
     n = U.length ts
     w = max w0 ((n + m - 1) `div` m + 1)
     s = prefixSums ts ps
