@@ -89,6 +89,13 @@ spec = describe "vprof compress" $ do
       c2 `shouldBe` ExitFailure 2
       e2 `shouldSatisfy` ("--search" `isInfixOf`)
       e2 `shouldSatisfy` ("1001" `isInfixOf`)
+  it "--search with --report keeps the comparison column (RDP at the same points) and names the rounds" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      rec <- dataFile "freiburg1_xyz-groundtruth.txt"
+      (code, out) <- captureHandle stdout (dir </> "stdout.txt") (runCli [rec, "--points", "20", "--search", "1", "--report"])
+      code `shouldBe` ExitSuccess
+      out `shouldSatisfy` ("search 1 round," `isInfixOf`)
+      out `shouldSatisfy` ("rdp (same points)" `isInfixOf`)
 
   describe "real recordings" $ do
     it "merges a duplicated timestamp with a different pose (as TUM freiburg2_desk has), exits 0 and warns with the time and lines" $

@@ -183,10 +183,11 @@ searchKnots cfg pr kn0
       in if U.length times == k then (atTimes times, g4) else randomStart g4
     atTimes ts = Knots ts (pgenerate (U.length ts) (\j -> fst (polylineAt st (rcP pr) (rcQ pr) (ts U.! j))))
 
--- | SplitMix64: the next state and its output.
+-- | SplitMix64 (Steele, Lea and Flood 2014): the state's step ...
 splitmix :: Word64 -> Word64
 splitmix x = x + 0x9e3779b97f4a7c15
 
+-- | ... and the output drawn from a state.
 mix :: Word64 -> Word64
 mix z0 = let z1 = (z0 `xor` (z0 `shiftR` 30)) * 0xbf58476d1ce4e5b9
              z2 = (z1 `xor` (z1 `shiftR` 27)) * 0x94d049bb133111eb

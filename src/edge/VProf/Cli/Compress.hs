@@ -197,7 +197,7 @@ runCompress o = do
               ran = if coMethod o == MethodKnots && (sMargin settings /= Nothing || sTolerance settings /= Nothing)
                       then MethodThesis else coMethod o
               other = if coMethod o == MethodRdp then MethodKnots else MethodRdp
-              cmpSettings = settings { sMethod = other, sPoints = Just k, sMargin = Nothing, sTolerance = Nothing }
+              cmpSettings = settings { sMethod = other, sPoints = Just k, sMargin = Nothing, sTolerance = Nothing, sSearch = 0 }
               name m = case m of
                 MethodKnots -> "knots"
                 MethodThesis -> "thesis"
@@ -216,6 +216,7 @@ runCompress o = do
           when (coReport o) $ do
             putStrLn ("vprof compress " ++ coInput o ++ ": " ++ show (mSamples (oMetrics out)) ++ " samples -> "
                       ++ show k ++ " points (" ++ name ran ++ ", weights " ++ intercalate "," (map show [wp, wo, wv])
+                      ++ (case sSearch settings of { 0 -> ""; 1 -> ", search 1 round"; r -> ", search " ++ show r ++ " rounds" })
                       ++ ", stop: " ++ oStop out ++ ")")
             mapM_ (\w -> putStrLn (label w ++ ": " ++ renderCleanWarning fileLocator w)) warns
             putStr (renderReport (wp, wo, wv) cols)
