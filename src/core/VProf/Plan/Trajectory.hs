@@ -438,10 +438,8 @@ planPath rq@PlanRequest{..} = do
             pieces c@((x, y), _, _, _, r) = case resProfile r of
               Nothing -> [c]
               Just prof ->
-                let cs = columns prof
-                    ss = samplesOf c
-                    vs = colVelocity cs
-                    as = colAcceleration cs
+                let ss = samplesOf c
+                    as = colAcceleration (columns prof)
                     m = U.length ss
                     cruising k = abs (as U.! k) < 1e-9
                     runs = cruiseRuns [ k | k <- [1 .. m - 2], cruising k ]
@@ -452,22 +450,60 @@ planPath rq@PlanRequest{..} = do
                     spanRun k rest = (k, rest)
                     mids = [ c' | k <- [ (k0 + k1) `div` 2 | (k0, k1) <- runs, k1 - k0 >= 2 ]
                                 , Just c' <- [nearestSample (ss U.! k) x y] ]
-                    -- the profile's speed at route distance u (linear between its samples)
-                    speedAt u = case U.findIndex (>= u) ss of
-                      Nothing -> U.last vs
-                      Just 0 -> U.head vs
-                      Just k -> let s0 = ss U.! (k - 1); s1 = ss U.! k
-                                    w = if s1 > s0 then (u - s0) / (s1 - s0) else 1
-                                in (1 - w) * vs U.! (k - 1) + w * vs U.! k
-                    bounds = boundsIn x y mids
-                    (zoned, timedSubs) = timeParts bounds (U.head vs / margin (si prEndTolerance) x y)
-                                                          (U.last vs / margin (si prEndTolerance) x y) speedAt
-                in if length bounds <= 2 || not zoned || total timedSubs >= score False c
-                     then [c] else timedSubs
-            chosen1 = concatMap pieces chosen0
-        in if length chosen1 > length chosen0 && total chosen1 < total chosen0
-                && jointsKeepLimits lo jp dt True (joined chosen1)
-             then chosen1 else chosen0
+                in recut 1 c prof mids
+            -- each piece cut again where its joints' ceiling (tangentialCeiling) rises out of a
+            -- slow corner: a part's one acceleration is set by its worst step, often the few
+            -- millimetres next to a corner where a wrist still turns fast. The cut goes to the
+            -- first grid sample after which the ceiling of the rest is 'exitRise' times the
+            -- part's, when that is within the first third of the part (and likewise from its
+            -- end), so that the rest takes its own acceleration. The pieces meet at 'exitSpeed'
+            -- times the part's own speed there, with no acceleration.
+            exits c@((x, y), _, _, _, r) = case resProfile r of
+              Nothing -> [c]
+              Just prof ->
+                let t0 = tangentialCeiling lo pb x y
+                    inner = U.filter (\g -> g >= x + minPartLength && g <= y - minPartLength) grid
+                    ni = U.length inner
+                    rises g = tangentialCeiling lo pb g y >= exitRise * t0      -- false, then true as g grows
+                    holds g = tangentialCeiling lo pb x g >= exitRise * t0      -- true, then false as g grows
+                    -- the least index in [lo', hi') where p turns true (hi' when it never does)
+                    firstTrue p lo' hi'
+                      | lo' >= hi' = lo'
+                      | otherwise = let md = (lo' + hi') `div` 2
+                                    in if p (inner U.! md) then firstTrue p lo' md else firstTrue p (md + 1) hi'
+                    iStart = firstTrue rises 0 ni
+                    iEnd = firstTrue (not . holds) 0 ni - 1
+                    third = (y - x) / 3
+                    cutsAt = [ g | ni > 0, iStart < ni, let g = inner U.! iStart, g - x <= third ]
+                             ++ [ g | ni > 0, iEnd >= 0, let g = inner U.! iEnd, y - g <= third ]
+                in if isInfinite t0 || null cutsAt then [c] else recut exitSpeed c prof cutsAt
+            -- a part cut at the given places into pieces, each timed as a part ('timeParts'),
+            -- meeting at the part's own speed there times @f@ and with no acceleration; the
+            -- pieces when together faster than the part, else the part
+            recut f c@((x, y), _, _, _, _) prof cutsAt =
+              let ss = samplesOf c
+                  vs = colVelocity (columns prof)
+                  -- the profile's speed at route distance u (linear between its samples)
+                  speedAt u = case U.findIndex (>= u) ss of
+                    Nothing -> U.last vs
+                    Just 0 -> U.head vs
+                    Just k -> let s0 = ss U.! (k - 1); s1 = ss U.! k
+                                  w = if s1 > s0 then (u - s0) / (s1 - s0) else 1
+                              in (1 - w) * vs U.! (k - 1) + w * vs U.! k
+                  bounds = boundsIn x y cutsAt
+                  (zoned, timedSubs) = timeParts bounds (U.head vs / margin (si prEndTolerance) x y)
+                                                        (U.last vs / margin (si prEndTolerance) x y) ((f *) . speedAt)
+              in if length bounds <= 2 || not zoned || total timedSubs >= score False c
+                   then [c] else timedSubs
+            keepIfFaster before after =
+              if length after > length before && total after < total before
+                   && jointsKeepLimits lo jp dt True (joined after)
+                then after else before
+            chosen1 = keepIfFaster chosen0 (concatMap pieces chosen0)
+            exitRounds k ps = if k <= (0 :: Int) then ps
+                              else let ps' = keepIfFaster ps (concatMap exits ps)
+                                   in if length ps' == length ps then ps else exitRounds (k - 1) ps'
+        in exitRounds exitRoundsMax chosen1
       -- A part's acceleration range beyond its rung: the speeding-up magnitude, then the braking
       -- one, each raised on its own by bisection between its rung and 1.6 times it (at most hi)
       -- while the sampled joint motion keeps the limits (@ok@), keeping the fastest profile. The
@@ -490,6 +526,9 @@ planPath rq@PlanRequest{..} = do
       -- most the TCP's
       accelerationCap (x, y) = min (si prAcceleration) (3 * tangentialCeiling lo pb x y)
       minPartLength = 0.01
+      exitRise = 1.5
+      exitSpeed = 0.97
+      exitRoundsMax = 3
       flattenRounds = 4
       flattenMargin = 1e-3
       -- the grid sample nearest s, strictly inside (a, b)
