@@ -450,7 +450,7 @@ planPath rq@PlanRequest{..} = do
                     spanRun k rest = (k, rest)
                     mids = [ c' | k <- [ (k0 + k1) `div` 2 | (k0, k1) <- runs, k1 - k0 >= 2 ]
                                 , Just c' <- [nearestSample (ss U.! k) x y] ]
-                in recut 1 c prof mids
+                in recut (const id) c prof mids
             -- each piece cut again where its joints' ceiling (tangentialCeiling) rises out of a
             -- slow corner: a part's one acceleration is set by its worst step, often the few
             -- millimetres next to a corner where a wrist still turns fast. The cut goes to the
@@ -476,11 +476,11 @@ planPath rq@PlanRequest{..} = do
                     third = (y - x) / 3
                     cutsAt = [ g | ni > 0, iStart < ni, let g = inner U.! iStart, g - x <= third ]
                              ++ [ g | ni > 0, iEnd >= 0, let g = inner U.! iEnd, y - g <= third ]
-                in if isInfinite t0 || null cutsAt then [c] else recut exitSpeed c prof cutsAt
+                in if isInfinite t0 || null cutsAt then [c] else recut (const (exitSpeed *)) c prof cutsAt
             -- a part cut at the given places into pieces, each timed as a part ('timeParts'),
-            -- meeting at the part's own speed there times @f@ and with no acceleration; the
-            -- pieces when together faster than the part, else the part
-            recut f c@((x, y), _, _, _, _) prof cutsAt =
+            -- meeting at @speed u v@ at a cut u where the part's own speed is v, with no
+            -- acceleration; the pieces when together faster than the part, else the part
+            recut speed c@((x, y), _, _, _, _) prof cutsAt =
               let ss = samplesOf c
                   vs = colVelocity (columns prof)
                   -- the profile's speed at route distance u (linear between its samples)
@@ -492,7 +492,7 @@ planPath rq@PlanRequest{..} = do
                               in (1 - w) * vs U.! (k - 1) + w * vs U.! k
                   bounds = boundsIn x y cutsAt
                   (zoned, timedSubs) = timeParts bounds (U.head vs / margin (si prEndTolerance) x y)
-                                                        (U.last vs / margin (si prEndTolerance) x y) ((f *) . speedAt)
+                                                        (U.last vs / margin (si prEndTolerance) x y) (\u -> speed u (speedAt u))
               in if length bounds <= 2 || not zoned || total timedSubs >= score False c
                    then [c] else timedSubs
             keepIfFaster before after =
@@ -503,7 +503,45 @@ planPath rq@PlanRequest{..} = do
             exitRounds k ps = if k <= (0 :: Int) then ps
                               else let ps' = keepIfFaster ps (concatMap exits ps)
                                    in if length ps' == length ps then ps else exitRounds (k - 1) ps'
-        in exitRounds exitRoundsMax chosen1
+            chosen2 = exitRounds exitRoundsMax chosen1
+            -- a long speed-up whose first half has a much higher ceiling than its second half
+            -- cut in the middle, the pieces meeting at the speed the first half reaches at its
+            -- ceiling (never below the part's own speed there)
+            speedUps c@((x, y), _, _, _, r) = case resProfile r of
+              Nothing -> [c]
+              Just prof ->
+                let ss = samplesOf c
+                    vs = colVelocity (columns prof)
+                    as = colAcceleration (columns prof)
+                    m = U.length ss
+                    runsWhere p = go 1 where
+                      go k | k >= m - 1 = []
+                           | p k = let e = until (\j -> j >= m - 1 || not (p j)) (+ 1) k in (k, e - 1) : go e
+                           | otherwise = go (k + 1)
+                    -- (the cut, the end of the run it speeds from, the speed there, the ceiling
+                    -- between them): speeding up forward from a run's start, braking backward
+                    -- from its end
+                    cands = [ (g, (d, v0, t1))
+                            | (k0, k1) <- runsWhere (\k -> as U.! k > 1e-9), k1 - k0 >= 20
+                            , let s0 = ss U.! k0; s1 = ss U.! k1
+                            , Just g <- [nearestSample (0.5 * (s0 + s1)) x y]
+                            , let t1 = tangentialCeiling lo pb s0 g; t2 = tangentialCeiling lo pb g s1
+                            , t1 >= riseRatio * t2
+                            , let v0 = vs U.! k0; d = g - s0 ]
+                         ++ [ (g, (d, v1, t2))
+                            | (k0, k1) <- runsWhere (\k -> as U.! k < -1e-9), k1 - k0 >= 20
+                            , let s0 = ss U.! k0; s1 = ss U.! (k1 + 1)
+                            , Just g <- [nearestSample (0.5 * (s0 + s1)) x y]
+                            , let t1 = tangentialCeiling lo pb s0 g; t2 = tangentialCeiling lo pb g s1
+                            , t2 >= riseRatio * t1
+                            , let v1 = vs U.! (k1 + 1); d = s1 - g ]
+                    -- at a share f of the ceiling over the distance d from the run's end
+                    speed f u v = case [ e | (g, e) <- cands, g == u ] of
+                      ((d, ve, t) : _) -> max v (sqrt (ve * ve + 2 * min (si prAcceleration) (f * t) * d))
+                      [] -> v
+                    tries = [ recut (speed f) c prof (map fst cands) | f <- speedUpShares ]
+                in if null cands then [c] else foldr1 (\p q -> if total p <= total q then p else q) tries
+        in keepIfFaster chosen2 (concatMap speedUps chosen2)
       -- A part's acceleration range beyond its rung: the speeding-up magnitude, then the braking
       -- one, each raised on its own by bisection between its rung and 1.6 times it (at most hi)
       -- while the sampled joint motion keeps the limits (@ok@), keeping the fastest profile. The
@@ -529,6 +567,8 @@ planPath rq@PlanRequest{..} = do
       exitRise = 1.5
       exitSpeed = 0.97
       exitRoundsMax = 3
+      riseRatio = 1.3
+      speedUpShares = [0.4, 0.6]
       flattenRounds = 4
       flattenMargin = 1e-3
       -- the grid sample nearest s, strictly inside (a, b)
