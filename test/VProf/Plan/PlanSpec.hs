@@ -173,6 +173,21 @@ spec = describe "VProf.Plan" $ do
         checkTrajectory r (positions wps) 0.01 defaultAcceleration defaultJerk defaultTimeStep plan `shouldBe` []
         planDuration plan `shouldSatisfy` (> routeLength (planRoute plan) / 0.25)
 
+  it "plans the same recording at 3 m/s, where the joints bind and the route is timed in parts: legal by the independent checker" $ do
+    rec <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let Right c = compress defaultSettings { sPoints = Just 40 } rec
+        Path tr = oPath c
+        wps = placeRecording (ptoList (tPos tr)) (ptoList (tRot tr))
+        r = robot "ur5"
+        acc = 10; jerk = 200
+        rq = (planRequest r wps) { prSpeed = 3 *~ mps, prAcceleration = acc *~ mps2, prJerk = jerk *~ mps3 }
+    case planPath rq of
+      Left f -> expectationFailure (describePlanFailure f)
+      Right plan -> do
+        checkTrajectory r (positions wps) 0.01 acc jerk defaultTimeStep plan `shouldBe` []
+        -- a route without stops, timed in parts (docs/plan.md, steps 3, 7, 8 and 9)
+        length (planStretches plan) `shouldSatisfy` (> 1)
+
   -- the README's workflow: freiburg1_xyz compressed, turned by 180° about z and moved over the
   -- table of cell.obj (examples/freiburg-task.yaml), planned for a UR10 holding a camera
   it "in the work cell, without a start: the most dexterous first solution that keeps the clearance, and a clear trajectory (brute force over every triangle)" $ do
