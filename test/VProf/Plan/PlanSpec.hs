@@ -161,12 +161,9 @@ spec = describe "VProf.Plan" $ do
       _ -> expectationFailure "accepted a negative speed"
 
   it "plans a real recording (freiburg1_xyz, compressed, scaled by 0.5 and placed in front of a UR5)" $ do
-    rec <- loadTum "freiburg1_xyz-groundtruth.txt"
-    let Right c = compress defaultSettings { sPoints = Just 40 } rec
-        Path tr = oPath c
-        wps = placeRecording (ptoList (tPos tr)) (ptoList (tRot tr))
-        r = robot "ur5"
-    let rq = (planRequest r wps) { prSpeed = 0.25 *~ mps }
+    wps <- placedFreiburg
+    let r = robot "ur5"
+        rq = (planRequest r wps) { prSpeed = 0.25 *~ mps }
     case planPath rq of
       Left f -> expectationFailure (describePlanFailure f)
       Right plan -> do
@@ -174,11 +171,8 @@ spec = describe "VProf.Plan" $ do
         planDuration plan `shouldSatisfy` (> routeLength (planRoute plan) / 0.25)
 
   it "plans the same recording at 3 m/s, where the joints bind and the route is timed in parts: legal by the independent checker" $ do
-    rec <- loadTum "freiburg1_xyz-groundtruth.txt"
-    let Right c = compress defaultSettings { sPoints = Just 40 } rec
-        Path tr = oPath c
-        wps = placeRecording (ptoList (tPos tr)) (ptoList (tRot tr))
-        r = robot "ur5"
+    wps <- placedFreiburg
+    let r = robot "ur5"
         acc = 10; jerk = 200
         rq = (planRequest r wps) { prSpeed = 3 *~ mps, prAcceleration = acc *~ mps2, prJerk = jerk *~ mps3 }
     case planPath rq of
@@ -226,6 +220,14 @@ spec = describe "VProf.Plan" $ do
         manip q0 `shouldSatisfy` (>= maximum (map manip clear) - 1e-9)
         mapM_ (\k -> oracleClearance cm tris (U.toList (trajectoryQ traj k)) `shouldSatisfy` (>= 0.01 - 1e-6)) [0, n `div` 10 .. n - 1]
         checkTrajectory r (positions wps) 0.01 defaultAcceleration defaultJerk defaultTimeStep plan `shouldBe` []
+
+-- | freiburg1_xyz compressed to 40 waypoints and placed by 'placeRecording'.
+placedFreiburg :: IO [Waypoint]
+placedFreiburg = do
+  rec <- loadTum "freiburg1_xyz-groundtruth.txt"
+  let Right c = compress defaultSettings { sPoints = Just 40 } rec
+      Path tr = oPath c
+  pure (placeRecording (ptoList (tPos tr)) (ptoList (tRot tr)))
 
 -- | A recording placed in the UR5's workspace: positions relative to the first sample, scaled
 -- by 0.5, from (0.45, 0, 0.30) m; orientations the tool-down orientation turned by the

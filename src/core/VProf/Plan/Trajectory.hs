@@ -504,9 +504,11 @@ planPath rq@PlanRequest{..} = do
                               else let ps' = keepIfFaster ps (concatMap exits ps)
                                    in if length ps' == length ps then ps else exitRounds (k - 1) ps'
             chosen2 = exitRounds exitRoundsMax chosen1
-            -- a long speed-up whose first half has a much higher ceiling than its second half
-            -- cut in the middle, the pieces meeting at the speed the first half reaches at its
-            -- ceiling (never below the part's own speed there)
+            -- a long speed-up (20 samples or more) whose first half has a ceiling 'riseRatio'
+            -- times its second half's cut in the middle, the pieces meeting at the speed the
+            -- first half reaches from the run's start at a share ('speedUpShares') of its
+            -- ceiling, never below the part's own speed there; a long braking likewise,
+            -- mirrored. Each share is timed, the faster pieces kept.
             speedUps c@((x, y), _, _, _, r) = case resProfile r of
               Nothing -> [c]
               Just prof ->
@@ -518,9 +520,9 @@ planPath rq@PlanRequest{..} = do
                       go k | k >= m - 1 = []
                            | p k = let e = until (\j -> j >= m - 1 || not (p j)) (+ 1) k in (k, e - 1) : go e
                            | otherwise = go (k + 1)
-                    -- (the cut, the end of the run it speeds from, the speed there, the ceiling
-                    -- between them): speeding up forward from a run's start, braking backward
-                    -- from its end
+                    -- (the cut, (its distance from the run's end it is reached from, the speed at
+                    -- that end, the ceiling between them)): speeding up forward from a run's
+                    -- start, braking backward from its end
                     cands = [ (g, (d, v0, t1))
                             | (k0, k1) <- runsWhere (\k -> as U.! k > 1e-9), k1 - k0 >= 20
                             , let s0 = ss U.! k0; s1 = ss U.! k1
