@@ -440,14 +440,7 @@ planPath rq@PlanRequest{..} = do
               Just prof ->
                 let ss = samplesOf c
                     as = colAcceleration (columns prof)
-                    m = U.length ss
-                    cruising k = abs (as U.! k) < 1e-9
-                    runs = cruiseRuns [ k | k <- [1 .. m - 2], cruising k ]
-                    cruiseRuns ks = case ks of
-                      [] -> []
-                      (k : rest) -> let (run, more) = spanRun k rest in (k, run) : cruiseRuns more
-                    spanRun k (k' : rest) | k' == k + 1 = spanRun k' rest
-                    spanRun k rest = (k, rest)
+                    runs = sampleRuns (U.length ss) (\k -> abs (as U.! k) < 1e-9)
                     mids = [ c' | k <- [ (k0 + k1) `div` 2 | (k0, k1) <- runs, k1 - k0 >= 2 ]
                                 , Just c' <- [nearestSample (ss U.! k) x y] ]
                 in recut (const id) c prof mids
@@ -495,6 +488,13 @@ planPath rq@PlanRequest{..} = do
                                                         (U.last vs / margin (si prEndTolerance) x y) (\u -> speed u (speedAt u))
               in if length bounds <= 2 || not zoned || total timedSubs >= score False c
                    then [c] else timedSubs
+            -- the runs (first, last) of consecutive samples 1 .. m−2 of a profile of m samples
+            -- where p holds
+            sampleRuns m p = go 1
+              where
+                go k | k >= m - 1 = []
+                     | p k = let e = until (\j -> j >= m - 1 || not (p j)) (+ 1) k in (k, e - 1) : go e
+                     | otherwise = go (k + 1)
             keepIfFaster before after =
               if length after > length before && total after < total before
                    && jointsKeepLimits lo jp dt True (joined after)
@@ -515,11 +515,7 @@ planPath rq@PlanRequest{..} = do
                 let ss = samplesOf c
                     vs = colVelocity (columns prof)
                     as = colAcceleration (columns prof)
-                    m = U.length ss
-                    runsWhere p = go 1 where
-                      go k | k >= m - 1 = []
-                           | p k = let e = until (\j -> j >= m - 1 || not (p j)) (+ 1) k in (k, e - 1) : go e
-                           | otherwise = go (k + 1)
+                    runsWhere = sampleRuns (U.length ss)
                     -- (the cut, (its distance from the run's end it is reached from, the speed at
                     -- that end, the ceiling between them)): speeding up forward from a run's
                     -- start, braking backward from its end
