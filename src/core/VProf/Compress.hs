@@ -37,10 +37,11 @@ data Settings = Settings
   , sMargin    :: !(Maybe Double)
   , sTolerance :: !(Maybe (Length Double))  -- ^ largest position error allowed
   , sSearch    :: !Int   -- ^ rounds of the knot fit's wider search ('searchKnots'); 0: none
+  , sEnds      :: !Ends  -- ^ first and last waypoint pinned to the recording's or fitted
   } deriving (Show, Eq)
 
 defaultSettings :: Settings
-defaultSettings = Settings MethodKnots defaultWeights Nothing Nothing Nothing 0
+defaultSettings = Settings MethodKnots defaultWeights Nothing Nothing Nothing 0 EndsPinned
 
 -- | The most rounds of the wider search (each about one knot fit).
 maxSearchRounds :: Int
@@ -58,7 +59,7 @@ data Compressed = Compressed
 
 -- | Check settings against a recording of n samples: every problem at once, in SI and
 -- in the core's field names (@weights.position@, @weights.orientation@,
--- @weights.velocity@, @weights@, @points@, @margin@, @tolerance@, @search@); an interface
+-- @weights.velocity@, @weights@, @points@, @margin@, @tolerance@, @search@, @ends@); an interface
 -- re-expresses them in its own names and units with 'inUserTerms'.
 validateSettings :: Int -> Settings -> [FieldError]
 validateSettings n s = concat
@@ -83,6 +84,8 @@ validateSettings n s = concat
           (literalError "search" (show r) ("must be between 0 and " ++ show maxSearchRounds))
       , ensure (r == 0 || (sMethod s == MethodKnots && sMargin s == Nothing && sTolerance s == Nothing))
           (literalError "search" (show r) "only the knot fit to a number of points searches (no margin, tolerance or other method)") ]
+  , ensure (sEnds s == EndsPinned || sMethod s /= MethodRdp)
+      (literalError "ends" "free" "RDP keeps the first and last sample; only the knot fit and the thesis method fit the ends")
   ]
   where Weights p o v = sWeights s
 
@@ -111,6 +114,6 @@ compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
           m = computeMetrics pr pa
           tolOk = maybe True (\e -> mGeometricMax m <= e + 1e-12) tolM
       in Compressed (fromPathA pa) m tolOk (totalCost pr (sWeights s) pa) (show stop)
-    pr = prepareRecording rec
+    pr = (prepareRecording rec) { rcEnds = sEnds s }
     tolM = fmap (/~ metre) (sTolerance s)
     n = U.length (rcT pr)

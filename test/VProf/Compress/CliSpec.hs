@@ -18,6 +18,7 @@ import VProf.Compress.Format.Rapid (parseRapid)
 import VProf.Compress.Format.Tum (parseTum)
 import Support.Recordings
 import VProf.Compress.Types
+import VProf.Geometry.Vec (norm, phead, (^-^))
 
 -- | Run an action with stderr going to a file; what it wrote there.
 captureStderr :: FilePath -> IO a -> IO (a, String)
@@ -89,6 +90,24 @@ spec = describe "vprof compress" $ do
       c2 `shouldBe` ExitFailure 2
       e2 `shouldSatisfy` ("--search" `isInfixOf`)
       e2 `shouldSatisfy` ("1001" `isInfixOf`)
+  it "--ends free: the first and last waypoint fitted (not the first and last sample) at their times; refused with rdp and for an unknown word" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      recF <- dataFile "V101_gt.txt"
+      Recording rec <- loadTum "V101_gt.txt"
+      let out = dir </> "path.txt"
+      runCli [recF, "--points", "14", "--ends", "free", "-o", out] `shouldReturn` ExitSuccess
+      Right tr <- parseTum <$> B.readFile out
+      trackLength tr `shouldBe` 14
+      abs (U.head (tTime tr) - U.head (tTime rec)) `shouldSatisfy` (< 1e-6)
+      abs (U.last (tTime tr) - U.last (tTime rec)) `shouldSatisfy` (< 1e-6)
+      -- V1_01's first waypoint moves by centimetres when fitted (it is not the first sample)
+      norm (phead (tPos tr) ^-^ phead (tPos rec)) `shouldSatisfy` (> 1e-4)
+      (c1, e1) <- captureStderr (dir </> "e1.txt") (runCli [recF, "--points", "14", "--ends", "free", "--method", "rdp"])
+      c1 `shouldBe` ExitFailure 2
+      e1 `shouldSatisfy` ("--ends = free" `isInfixOf`)
+      case execParserPure defaultPrefs (info compressCommand mempty) [recF, "--ends", "loose"] of
+        Failure f -> fst (renderFailure f "vprof") `shouldSatisfy` ("--ends loose: expected pinned or free" `isInfixOf`)
+        _ -> expectationFailure "--ends loose was accepted"
   it "--search with --report keeps the comparison column (RDP at the same points) and names the rounds" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       rec <- dataFile "freiburg1_xyz-groundtruth.txt"

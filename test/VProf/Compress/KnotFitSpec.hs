@@ -1,6 +1,7 @@
 -- | The knot fit and its parts: the line partition start, the joint refinement of waypoint
 -- times and positions, the exchanges, and the whole fit's contract (k points, pinned ends,
--- strictly increasing times, never worse than its start, a known path recovered).
+-- strictly increasing times, never worse than its start, a known path recovered); with the
+-- ends fitted, the end positions checked as least-squares optima by perturbation.
 module VProf.Compress.KnotFitSpec (spec) where
 
 import qualified Data.Vector.Unboxed as U
@@ -8,6 +9,7 @@ import Test.Hspec
 import Test.QuickCheck
 
 import VProf.Compress.KnotFit
+import VProf.Compress.Metrics
 import VProf.Compress.KnotTimes
 import VProf.Compress.Objective
 import VProf.Compress.Partition
@@ -15,6 +17,7 @@ import VProf.Compress.Types
 import VProf.Geometry.Polyline (polylineAt)
 import VProf.Geometry.Quaternion
 import VProf.Geometry.Vec
+import Support.Recordings (loadTum)
 
 -- | A random walk of n samples (steps up to 2 cm, 10 ms apart with jitter), turning slowly.
 genWalk :: Int -> Gen Prepared
@@ -49,6 +52,17 @@ genKnown = do
 strictlyIncreasing :: U.Vector Double -> Bool
 strictlyIncreasing v = U.and (U.zipWith (<) v (U.tail v))
 
+-- | The objective never falls when the first or the last waypoint's position moves by ±h
+-- along any axis (an optimality check independent of the solver: the objective is a
+-- quadratic in each position, so this holds at its minimum and fails away from it).
+endsAreOptimal :: (PathA -> Double) -> PathA -> Double -> Property
+endsAreOptimal cost pa@(PathA t p q) h =
+  conjoin [ counterexample (show (j, d, c0, c)) (c >= c0 - 1e-9 * c0 - 1e-15)
+          | j <- [0, plength p - 1], d <- dirs, let c = cost (PathA t (pupdate p [(j, pindex p j ^+^ d)]) q) ]
+  where
+    c0 = cost pa
+    dirs = [ s *^ e | s <- [h, negate h], e <- [P3 1 0 0, P3 0 1 0, P3 0 0 1] ]
+
 positionSse :: Prepared -> PathA -> Double
 positionSse pr (PathA t p _) = knotSse pr (Knots t p)
 
@@ -81,6 +95,45 @@ spec = do
              f <= f0 * (1 + 1e-12) .&&. strictlyIncreasing (kT kn)
                .&&. U.head (kT kn) === U.head st .&&. U.last (kT kn) === U.last st
                .&&. abs (knotSse pr kn - f) <= 1e-9 * max 1e-12 f
+
+  describe "free ends (--ends free)" $ do
+    it "at fixed times: never a higher position error than pinned ends, the end positions the least-squares ones" $
+      property $ forAll (choose (30, 300)) $ \n -> forAll (choose (2, n `div` 5)) $ \k -> forAllBlind (genWalk n) $ \pr ->
+        let st = rcT pr
+            ts = U.generate k (\j -> st U.! ((j * (n - 1)) `div` (k - 1)))
+            kn0 = Knots ts (pgenerate k (\j -> fst (polylineAt st (rcP pr) (rcQ pr) (ts U.! j))))
+            prF = pr { rcEnds = EndsFree }
+            pinned = solveStretchPositions pr kn0 0 (k - 1)
+            free = solveStretchPositions prF kn0 0 (k - 1)
+            sse = knotSse pr
+            asPath (Knots t p) = PathA t p (pgenerate (U.length t) (const (Q4 1 0 0 0)))
+            scale = sqrt (sse free / fromIntegral n) + 1e-6
+        in counterexample (show (sse pinned, sse free)) $
+             sse free <= sse pinned * (1 + 1e-9) + 1e-15
+               .&&. kT free === ts
+               .&&. endsAreOptimal (positionSse pr) (asPath free) (0.01 * scale)
+    it "the optimised knots: end positions least-squares, never worse than the start; the fit: k points, end times the first and last sample's, times increasing" $
+      property $ forAll (choose (30, 300)) $ \n -> forAll (choose (2, n `div` 4)) $ \k -> forAllBlind (genWalk n) $ \pr ->
+        let prF = pr { rcEnds = EndsFree }
+            start = solveStretchPositions prF (startKnots defaultKnotConfig prF k) 0 (k - 1)
+            kn = optimiseKnots defaultKnotConfig prF start
+            asPath (Knots t p) = PathA t p (pgenerate (U.length t) (const (Q4 1 0 0 0)))
+            scale = sqrt (knotSse pr kn / fromIntegral n) + 1e-6
+            PathA t p _ = fitKnots defaultKnotConfig prF defaultWeights k
+        in counterexample (show (U.toList (kT kn), knotSse pr start, knotSse pr kn)) $
+             knotSse pr kn <= knotSse pr start * (1 + 1e-9) + 1e-15
+               .&&. endsAreOptimal (positionSse pr) (asPath kn) (0.01 * scale)
+               .&&. U.length t === k .&&. plength p === k .&&. strictlyIncreasing t
+               .&&. U.head t === U.head (rcT pr) .&&. U.last t === U.last (rcT pr)
+    it "on freiburg1_xyz at 0.5 %: lower position and orientation error than pinned ends, and the first waypoint is not the first sample" $ do
+      pr <- prepareRecording <$> loadTum "freiburg1_xyz-groundtruth.txt"
+      let k = 15
+          pinned = fitKnots defaultKnotConfig pr defaultWeights k
+          free = fitKnots defaultKnotConfig pr { rcEnds = EndsFree } defaultWeights k
+          m = computeMetrics pr
+      mPositionRmse (m free) `shouldSatisfy` (< mPositionRmse (m pinned))
+      mOrientationRmse (m free) `shouldSatisfy` (< mOrientationRmse (m pinned))
+      phead (paP free) `shouldNotBe` phead (rcP pr)
 
   describe "fitKnots" $ do
     it "k points, ends pinned to the first and last sample, times strictly increasing" $

@@ -10,7 +10,7 @@ import Test.Hspec
 
 import VProf.Compress
 import VProf.Compress.Clean
-import VProf.Geometry.Vec (pifilter)
+import VProf.Geometry.Vec (P3 (..), pifilter, pindex, ptoList)
 import Support.Recordings
 import VProf.Service.Compress (serveCompress)
 import VProf.Wire.Compress
@@ -29,6 +29,7 @@ request tr pts = CompressRequestMsg
   , crqWeightOrientation = putField Nothing
   , crqWeightVelocity = putField Nothing
   , crqSearchRounds = putField Nothing
+  , crqFreeEnds = putField Nothing
   }
 
 spec :: Spec
@@ -80,6 +81,21 @@ spec = describe "serveCompress" $ do
     let Just err = getField (cpError bad)
     getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
     getField (errField err) `shouldBe` Just (T.pack "search_rounds")
+  it "free_ends fits the first and last waypoint as --ends free does, and is refused for RDP naming free_ends" $ do
+    Recording tr0 <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let tr = Track (U.take 600 (tTime tr0)) (pifilter (< 600) (tPos tr0)) (pifilter (< 600) (tRot tr0))
+    rsp <- serveCompress (request tr 12) { crqFreeEnds = putField (Just True) }
+    let core = either (error . show) (tPos . pathTrack . oPath)
+                 (compress defaultSettings { sPoints = Just 12, sEnds = EndsFree } (Recording tr))
+        xs = fmap (getField . posX) (getField (cpPath rsp))
+    xs `shouldBe` Just [ x | P3 x _ _ <- ptoList core ]
+    -- fitted, not pinned: the first waypoint is not the first sample
+    fmap head xs `shouldNotBe` Just (let P3 x _ _ = pindex (tPos tr) 0 in x)
+    bad <- serveCompress (request tr 12) { crqFreeEnds = putField (Just True), crqMethod = putField (Just CompressRdp) }
+    let Just err = getField (cpError bad)
+    getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
+    getField (errField err) `shouldBe` Just (T.pack "free_ends")
+    fmap (T.isInfixOf (T.pack "free_ends = true")) (getField (errMessage err)) `shouldBe` Just True
   it "answers a bad request with INVALID_ARGUMENT naming the field and the value" $ do
     Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
     let req = (request tr 60) { crqMargin = putField (Just 0.5) }
@@ -93,7 +109,7 @@ spec = describe "serveCompress" $ do
     let poses = PosesMsg (putField [2, 1]) (putField [0, 0]) (putField [0, 0]) (putField [0, 0])
                          (putField [1, 1]) (putField [0, 0]) (putField [0, 0]) (putField [0, 0])
         req = CompressRequestMsg (putField Nothing) (putField (Just poses)) (putField Nothing) (putField Nothing)
-                (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
+                (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
     rsp <- serveCompress req
     let Just err = getField (cpError rsp)
     getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
@@ -125,7 +141,7 @@ spec = describe "serveCompress" $ do
     validateWire TCompressedPath (encodeBare rsp) `shouldBe` Right ()
   it "names the missing recording" $ do
     let req = CompressRequestMsg (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
-                (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
+                (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
     rsp <- serveCompress req
     let Just err = getField (cpError rsp)
     getField (errField err) `shouldBe` Just (T.pack "recording")

@@ -209,7 +209,7 @@ compressRequest o = CompressRequestMsg
   <$> (putField <$> u64 o "request_id") <*> (putField <$> msg poses o "recording")
   <*> (putField <$> enum compressMethodNames o "method") <*> (putField <$> u32 o "points")
   <*> d "margin" <*> d "tolerance" <*> d "weight_position" <*> d "weight_orientation" <*> d "weight_velocity"
-  <*> (putField <$> u32 o "search_rounds")
+  <*> (putField <$> u32 o "search_rounds") <*> (putField <$> bool o "free_ends")
   where d k = putField <$> dbl o k
 
 compressMetrics :: Obj -> Parser CompressMetricsMsg

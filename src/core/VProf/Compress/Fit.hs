@@ -141,7 +141,8 @@ updatePathUntil pr w mode stopBelow maxRounds pa0
              else go (r + 1) pa1 c1
 
 -- | With waypoint times fixed, the positions of all waypoints minimising
--- wp Σ|p_i − p̂(t_i)|² + wv Σ|v_i − v̂_i|², endpoints pinned. Exact linear least squares.
+-- wp Σ|p_i − p̂(t_i)|² + wv Σ|v_i − v̂_i|², endpoints pinned unless 'rcEnds' frees them.
+-- Exact linear least squares.
 solvePositions :: Prepared -> Weights -> PathA -> PathA
 solvePositions pr (Weights wp _ wv) pa@(PathA ts ps qs)
   | wp == 0 && wv == 0 = pa
@@ -171,8 +172,9 @@ solvePositions pr (Weights wp _ wv) pa@(PathA ts ps qs)
         addObs bs wv [(j1, (1 - a1) / d), (j1 + 1, a1 / d), (j0, negate (1 - a0) / d), (j0 + 1, negate a0 / d)]
                (pindex (rcV pr) i)
       forM_ [0 .. k - 1] $ \j -> addObs bs lam [(j, 1)] (pindex ps j)
-      pinValue bs 0 (phead (rcP pr))
-      pinValue bs (k - 1) (plast (rcP pr))
+      when (rcEnds pr == EndsPinned) $ do
+        pinValue bs 0 (phead (rcP pr))
+        pinValue bs (k - 1) (plast (rcP pr))
       solveBand bs
 
 -- | Gauss–Newton steps for the orientations: the error of sample i is the rotation vector
@@ -206,8 +208,9 @@ solveOrientations pr (Weights _ wo _) pa@(PathA ts ps qs)
                   e = qlog (qmul (pindex (rcQ pr) i) (qconj qh))
               addObs2 bs 1 j (1 - a) a e
             forM_ [0 .. k - 1] $ \j -> addObs bs (1e-9 * fromIntegral n / fromIntegral k) [(j, 1)] (P3 0 0 0)
-            pinValue bs 0 (P3 0 0 0)
-            pinValue bs (k - 1) (P3 0 0 0)
+            when (rcEnds pr == EndsPinned) $ do
+              pinValue bs 0 (P3 0 0 0)
+              pinValue bs (k - 1) (P3 0 0 0)
             solveBand bs
           apply s ds = PathA ts ps (pgenerate k (\j -> normQ (qmul (qexp (s *^ pindex ds j)) (pindex q0 j))))
           tryStep ds = case [x' | s <- [1, 0.5, 0.25], let x' = apply s ds, oriCost x' < c0] of
@@ -218,7 +221,9 @@ solveOrientations pr (Weights _ wo _) pa@(PathA ts ps qs)
            Right ds -> case tryStep ds of
              Just x' -> iter (m - 1) (pinQ x')
              Nothing -> x
-    pinQ (PathA t p q) = PathA t p (pupdate q [(0, phead (rcQ pr)), (k - 1, plast (rcQ pr))])
+    pinQ x'@(PathA t p q)
+      | rcEnds pr == EndsFree = x'
+      | otherwise = PathA t p (pupdate q [(0, phead (rcQ pr)), (k - 1, plast (rcQ pr))])
     _unused = qs
 
 normQ :: Q4 -> Q4

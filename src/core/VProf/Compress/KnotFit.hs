@@ -95,7 +95,7 @@ exchangeKnots pr iters passes kn0 = go passes kn0
           ja = max 0 (j - 2); jb = min (k - 1) (j + 2)
           sub = sliceKnots ja jb kn
           m = jb - ja
-          kr = solveStretchPositions pr (dropKnot (j - ja) sub) 0 (m - 1)
+          kr = solveSlicePositions pr (ja == 0, jb == k - 1) (dropKnot (j - ja) sub) 0 (m - 1)
       in stretchSse pr kr 0 (m - 1) - stretchSse pr sub 0 m
     -- insert into segment s at its middle: stretch s−1 .. s+2 becomes s−1 .. s+3
     insertionDelta kn s =
@@ -103,7 +103,7 @@ exchangeKnots pr iters passes kn0 = go passes kn0
           ja = max 0 (s - 1); jb = min (k - 1) (s + 2)
           sub = sliceKnots ja jb kn
           m = jb - ja
-          ki = solveStretchPositions pr (insertKnot (s - ja) sub) 0 (m + 1)
+          ki = solveSlicePositions pr (ja == 0, jb == k - 1) (insertKnot (s - ja) sub) 0 (m + 1)
       in stretchSse pr ki 0 (m + 1) - stretchSse pr sub 0 m
     sliceKnots ja jb (Knots ts (V3s v)) = Knots (U.slice ja (jb - ja + 1) ts) (V3s (U.slice (3 * ja) (3 * (jb - ja + 1)) v))
     -- the exchange with both stretches re-optimised (3 waypoints each side held outside)

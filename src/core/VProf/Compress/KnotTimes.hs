@@ -13,6 +13,7 @@ module VProf.Compress.KnotTimes
   , knotSse
   , stretchSse
   , solveStretchPositions
+  , solveSlicePositions
   , refineStretch
   , refineAll
   ) where
@@ -23,6 +24,7 @@ import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as MU
 
 import VProf.Compress.Objective (Prepared (..), samplesIn)
+import VProf.Compress.Types (Ends (..))
 import VProf.Geometry.Vec
 import VProf.Numeric.BandSolve (solveBandSPD)
 import VProf.Numeric.BandedLeastSquares
@@ -53,12 +55,25 @@ knotSse :: Prepared -> Knots -> Double
 knotSse pr k = stretchSse pr k 0 (U.length (kT k) - 1)
 
 -- | Exact least-squares positions of the waypoints ja+1 .. jb−1 for their times (ends of the
--- stretch held). Unchanged when the system is singular.
+-- stretch held, except the path's own first and last waypoint when 'rcEnds' frees them).
+-- Unchanged when the system is singular.
 solveStretchPositions :: Prepared -> Knots -> Int -> Int -> Knots
-solveStretchPositions pr kn@(Knots ts ps) ja jb
-  | jb - ja < 2 = kn
+solveStretchPositions pr kn ja jb = solveStretchWith (free && ja == 0) (free && jb == plength (kP kn) - 1) pr kn ja jb
+  where free = rcEnds pr == EndsFree
+
+-- | 'solveStretchPositions' for knots that are a slice of a path: whether the slice's first
+-- and last waypoint are the path's own (and so free when 'rcEnds' frees them).
+solveSlicePositions :: Prepared -> (Bool, Bool) -> Knots -> Int -> Int -> Knots
+solveSlicePositions pr (atStart, atEnd) kn ja jb =
+  solveStretchWith (free && atStart && ja == 0) (free && atEnd && jb == plength (kP kn) - 1) pr kn ja jb
+  where free = rcEnds pr == EndsFree
+
+-- | The stretch's least-squares positions, its first and last waypoint free or held.
+solveStretchWith :: Bool -> Bool -> Prepared -> Knots -> Int -> Int -> Knots
+solveStretchWith freeA freeB pr kn@(Knots ts ps) ja jb
+  | jb - ja < 2 && not (freeA || freeB) = kn
   | otherwise = case sol of
-      Right xs -> Knots ts (pgenerate (plength ps) (\j -> if j > ja && j < jb then pindex xs (j - ja) else pindex ps j))
+      Right xs -> Knots ts (pgenerate (plength ps) (\j -> if j >= ja && j <= jb then pindex xs (j - ja) else pindex ps j))
       Left _ -> kn
   where
     m = jb - ja + 1
@@ -78,8 +93,8 @@ solveStretchPositions pr kn@(Knots ts ps) ja jb
                 go (i + 1) j'
       go i0 ja
       forM_ [0 .. m - 1] $ \l -> addObs bs lam [(l, 1)] (pindex ps (ja + l))
-      pinValue bs 0 (pindex ps ja)
-      pinValue bs (m - 1) (pindex ps jb)
+      when (not freeA) $ pinValue bs 0 (pindex ps ja)
+      when (not freeB) $ pinValue bs (m - 1) (pindex ps jb)
       solveBand bs
     advance j t | j + 1 < jb && U.unsafeIndex ts (j + 1) <= t = advance (j + 1) t
                 | otherwise = j

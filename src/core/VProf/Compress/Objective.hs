@@ -37,7 +37,9 @@ import VProf.Geometry.Quaternion
 import VProf.Compress.Types
 import VProf.Geometry.Vec
 
--- | A recording made ready for fitting: quaternions sign-aligned, interval velocities.
+-- | A recording made ready for fitting: quaternions sign-aligned, interval velocities, and
+-- whether a path's first and last waypoint are pinned to the first and last sample
+-- ('prepareRecording' pins them; set 'rcEnds' to fit them).
 data Prepared = Prepared
   { rcT  :: !(U.Vector Double)
   , rcP  :: !V3s
@@ -45,10 +47,11 @@ data Prepared = Prepared
   , rcV  :: !V3s                      -- ^ length N−1
   , rcDt :: !(U.Vector Double)        -- ^ length N−1
   , rcInvDt :: !(U.Vector Double)     -- ^ 1 / dt
+  , rcEnds :: !Ends
   }
 
 prepareRecording :: Recording -> Prepared
-prepareRecording (Recording (Track t p q)) = Prepared t p (alignHemisphere q) v dt (U.map (1 /) dt)
+prepareRecording (Recording (Track t p q)) = Prepared t p (alignHemisphere q) v dt (U.map (1 /) dt) EndsPinned
   where
     n = U.length t
     dt = U.generate (n - 1) (\i -> t U.! (i + 1) - t U.! i)

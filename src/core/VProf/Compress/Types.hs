@@ -25,6 +25,7 @@ module VProf.Compress.Types
   , Weights (..)
   , defaultWeights
   , thesisWeights
+  , Ends (..)
   ) where
 
 import qualified Data.Vector.Unboxed as U
@@ -132,3 +133,9 @@ thesisWeights p o v = Weights p (o * 1e-6 * (180 / pi) ^ (2 :: Int)) (v * 1e-6)
 -- | The thesis's default @vekt = [1 1 1]@.
 defaultWeights :: Weights
 defaultWeights = thesisWeights 1 1 1
+
+-- | What the first and last waypoint are: pinned to the first and last sample's pose (the
+-- thesis; a program that starts and ends where the recording did), or fitted by least
+-- squares like every other waypoint (lower error; the path then starts near, not at, the
+-- first sample). Their times are the first and last sample's either way.
+data Ends = EndsPinned | EndsFree deriving (Show, Eq)

@@ -43,6 +43,7 @@ data CompressOptions = CompressOptions
   , coStop         :: Maybe Stop
   , coMethod       :: Method
   , coSearch       :: Int
+  , coEnds         :: Ends
   , coOutput       :: Maybe FilePath
   , coOutputFormat :: Maybe OutFormat
   , coReport       :: Bool
@@ -73,6 +74,8 @@ compressOptions' = CompressOptions
         <> help "knots: weighted least squares with the waypoint times optimised from a line-partition start (default; with --margin or --tolerance it runs thesis); thesis: the thesis's grow/shrink weighted least squares; rdp: 3-D Ramer-Douglas-Peucker baseline")
   <*> option (eitherReader searchRounds) (long "search" <> metavar "N" <> value 0
         <> help "knot fit only: N more rounds from random starts and from perturbations of the best path, the best kept (each round costs about one fit; default 0)")
+  <*> option (eitherReader ends) (long "ends" <> metavar "pinned|free" <> value EndsPinned
+        <> help "pinned: the first and last waypoint are the first and last sample's pose (default); free: they are fitted by least squares like the others (lower error; the path starts near, not at, the first sample; not with rdp)")
   <*> optional (strOption (short 'o' <> long "output" <> metavar "OUT" <> help "write the path here"))
   <*> optional (option (eitherReader outFmt) (long "output-format" <> metavar "tum|mod|csv"
         <> help "format of OUT (default: from its extension, .mod RAPID, .csv CSV, else TUM)"))
@@ -120,6 +123,10 @@ compressOptions' = CompressOptions
       "thesis" -> Right MethodThesis
       "rdp" -> Right MethodRdp
       _ -> Left ("--method " ++ s ++ ": expected knots, thesis or rdp")
+    ends s = case map toLower s of
+      "pinned" -> Right EndsPinned
+      "free" -> Right EndsFree
+      _ -> Left ("--ends " ++ s ++ ": expected pinned or free")
     searchRounds s = case reads s of
       [(r, "")] | r >= (0 :: Int) -> Right r
       _ -> Left ("--search " ++ s ++ ": expected a whole number >= 0")
@@ -140,6 +147,7 @@ optionName = \case
   "margin" -> Just (UserField "--margin" "" 1)
   "tolerance" -> Just (UserField "--tolerance" "mm" 1000)
   "search" -> Just (UserField "--search" "" 1)
+  "ends" -> Just (UserField "--ends" "" 1)
   f | "weights" `isPrefixOf` f -> Just (UserField "--weights" "" 1)
   _ -> Nothing
 
@@ -183,6 +191,7 @@ runCompress o = do
       , sMargin = case coStop o of Just (StopMargin m) -> Just m; _ -> Nothing
       , sTolerance = case coStop o of Just (StopTolerance t) -> Just (t *~ milli metre); _ -> Nothing
       , sSearch = coSearch o
+      , sEnds = coEnds o
       }
     go warns rec = do
       t0 <- getMonotonicTime
@@ -197,7 +206,8 @@ runCompress o = do
               ran = if coMethod o == MethodKnots && (sMargin settings /= Nothing || sTolerance settings /= Nothing)
                       then MethodThesis else coMethod o
               other = if coMethod o == MethodRdp then MethodKnots else MethodRdp
-              cmpSettings = settings { sMethod = other, sPoints = Just k, sMargin = Nothing, sTolerance = Nothing, sSearch = 0 }
+              cmpSettings = settings { sMethod = other, sPoints = Just k, sMargin = Nothing, sTolerance = Nothing, sSearch = 0
+                                    , sEnds = if other == MethodRdp then EndsPinned else sEnds settings }
               name m = case m of
                 MethodKnots -> "knots"
                 MethodThesis -> "thesis"
@@ -217,6 +227,7 @@ runCompress o = do
             putStrLn ("vprof compress " ++ coInput o ++ ": " ++ show (mSamples (oMetrics out)) ++ " samples -> "
                       ++ show k ++ " points (" ++ name ran ++ ", weights " ++ intercalate "," (map show [wp, wo, wv])
                       ++ (case sSearch settings of { 0 -> ""; 1 -> ", search 1 round"; r -> ", search " ++ show r ++ " rounds" })
+                      ++ (if sEnds settings == EndsFree then ", ends free" else "")
                       ++ ", stop: " ++ oStop out ++ ")")
             mapM_ (\w -> putStrLn (label w ++ ": " ++ renderCleanWarning fileLocator w)) warns
             putStr (renderReport (wp, wo, wv) cols)

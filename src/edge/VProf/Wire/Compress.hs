@@ -66,15 +66,20 @@ requestToDomainW m = do
         , sMargin = if margin == 0 then Nothing else Just margin
         , sTolerance = if tol == 0 then Nothing else Just (tol *~ metre)
         , sSearch = fromIntegral (orDefault (getField (crqSearchRounds m)))
+        , sEnds = if orDefault (getField (crqFreeEnds m)) then EndsFree else EndsPinned
         }
-  validated [inUserTerms protoField (validateSettings n settings)] (Recording tr, settings, clWarnings cl)
+  validated [map asSent (inUserTerms protoField (validateSettings n settings))] (Recording tr, settings, clWarnings cl)
   where
     protoField = \case
       "weights.position" -> Just (UserField "weight_position" "" 1)
       "weights.orientation" -> Just (UserField "weight_orientation" "" 1)
       "weights.velocity" -> Just (UserField "weight_velocity" "" 1)
       "search" -> Just (UserField "search_rounds" "" 1)
+      "ends" -> Just (UserField "free_ends" "" 1)
       _ -> Nothing
+    -- the core names the ends "free"; the wire sent a boolean
+    asSent e | feField e == "free_ends" = e { feValue = Literal "true" }
+             | otherwise = e
 
 -- | How the wire names samples and fields: @recording.time@ and so on, samples by their
 -- index from 0.

@@ -238,6 +238,7 @@ data CompressRequestMsg = CompressRequestMsg
   , crqWeightOrientation :: Optional 8 (Value Double)
   , crqWeightVelocity    :: Optional 9 (Value Double)
   , crqSearchRounds      :: Optional 10 (Value Word32)
+  , crqFreeEnds          :: Optional 11 (Value Bool)
   } deriving (Generic, Show, Eq)
 instance Encode CompressRequestMsg
 instance Decode CompressRequestMsg
