@@ -69,7 +69,7 @@ validateSettings n s = concat
       (literalError "weights" (show (p, o, v)) "the position or the velocity weight must be > 0")
   , case sPoints s of
       Just k -> ensure (k >= 2 && k <= n)
-                  (fieldError "points" (fromIntegral k) "" ("must be between 2 and the number of samples, " ++ show n))
+                  (literalError "points" (show k) ("must be between 2 and the number of samples, " ++ show n))
       Nothing -> []
   , case sMargin s of
       Just m -> ensureFinite "margin" m "" $ concat

@@ -79,7 +79,11 @@ spec = describe "vprof compress" $ do
   it "exits 2 on a missing file and on more points than samples" $ do
     rec <- dataFile "freiburg1_xyz-groundtruth.txt"
     runCli ["/nonexistent/recording.txt"] `shouldReturn` ExitFailure 2
-    runCli [rec, "--points", "5000"] `shouldReturn` ExitFailure 2
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      (c, e) <- captureStderr (dir </> "e.txt") (runCli [rec, "--points", "5000"])
+      c `shouldBe` ExitFailure 2
+      -- a whole number, as typed
+      e `shouldSatisfy` ("--points = 5000: must be between 2 and the number of samples, 3000" `isInfixOf`)
   it "--search: exits 2 naming --search with the thesis method or past 1000 rounds" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       rec <- dataFile "freiburg1_xyz-groundtruth.txt"

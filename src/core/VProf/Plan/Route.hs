@@ -111,7 +111,7 @@ mkRoute zones wps = validated [errors] route
     qs = [ Q4 w a b c | Waypoint _ (L.Quaternion w (L.V3 a b c)) <- wps ]
     nums (V3 x y z) = [x, y, z]
     errors = concat
-      [ ensure (n >= 2) (fieldError "waypoints" (fromIntegral n) "" "a route needs at least 2 waypoints")
+      [ ensure (n >= 2) (literalError "waypoints" (show n) "a route needs at least 2 waypoints")
       , concat [ [ fieldError ("waypoints[" ++ show i ++ "].position") v "m" "must be a finite number" | v <- nums p, not (finite v) ]
                | (i, p) <- zip [0 :: Int ..] pts ]
       , concat [ ensure (all finite [w, a, b, c] && nq > 0.5 && nq < 2)

@@ -2,7 +2,7 @@
 -- | Path planning on the wire: a 'PlanRequestMsg' to the core's 'PlanRequest' (the robot placed
 -- by its base and tool, the waypoints, the limits, the environment as a collision model and a
 -- hierarchy), with every validation problem at once, each naming the proto field and the value in
--- its unit (@speed = -1.0 m/s@, @waypoints[2].qx = NaN@, @waypoints = 1.0: a route needs at
+-- its unit (@speed = -1.0 m/s@, @waypoints[2].qx = NaN@, @waypoints = 1: a route needs at
 -- least 2 waypoints@, @start = 5 values: the robot UR5 has 6 joints@, @robot.name = "ur55"@); and
 -- the core's plan, or the reason and the distance where it stops, back to a 'PlanResponseMsg'.
 --
