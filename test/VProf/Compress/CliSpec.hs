@@ -106,6 +106,13 @@ spec = describe "vprof compress" $ do
       abs (U.last (tTime tr) - U.last (tTime rec)) `shouldSatisfy` (< 1e-6)
       -- V1_01's first waypoint moves by centimetres when fitted (it is not the first sample)
       norm (phead (tPos tr) ^-^ phead (tPos rec)) `shouldSatisfy` (> 1e-4)
+      -- the thesis method honours it too
+      let outT = dir </> "thesis.txt"
+      runCli [recF, "--points", "20", "--method", "thesis", "--ends", "free", "-o", outT] `shouldReturn` ExitSuccess
+      Right trT <- parseTum <$> B.readFile outT
+      trackLength trT `shouldBe` 20
+      abs (U.head (tTime trT) - U.head (tTime rec)) `shouldSatisfy` (< 1e-6)
+      norm (phead (tPos trT) ^-^ phead (tPos rec)) `shouldSatisfy` (> 1e-4)
       (c1, e1) <- captureStderr (dir </> "e1.txt") (runCli [recF, "--points", "14", "--ends", "free", "--method", "rdp"])
       c1 `shouldBe` ExitFailure 2
       e1 `shouldSatisfy` ("--ends = free" `isInfixOf`)
