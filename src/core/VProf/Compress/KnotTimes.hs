@@ -58,8 +58,7 @@ knotSse pr k = stretchSse pr k 0 (U.length (kT k) - 1)
 -- stretch held, except the path's own first and last waypoint when 'rcEnds' frees them).
 -- Unchanged when the system is singular.
 solveStretchPositions :: Prepared -> Knots -> Int -> Int -> Knots
-solveStretchPositions pr kn ja jb = solveStretchWith (free && ja == 0) (free && jb == plength (kP kn) - 1) pr kn ja jb
-  where free = rcEnds pr == EndsFree
+solveStretchPositions pr = solveSlicePositions pr (True, True)
 
 -- | 'solveStretchPositions' for knots that are a slice of a path: whether the slice's first
 -- and last waypoint are the path's own (and so free when 'rcEnds' frees them).
