@@ -43,6 +43,13 @@ runCli args = case execParserPure defaultPrefs (info compressCommand mempty) arg
   Success act -> act
   _ -> pure (ExitFailure 99)
 
+-- | Run the command with @-o FILE@ (a TUM file in dir), expect exit 0, and read FILE back.
+writtenTum :: FilePath -> String -> [String] -> IO Track
+writtenTum dir name args = do
+  let out = dir </> name
+  runCli (args ++ ["-o", out]) `shouldReturn` ExitSuccess
+  either (\e -> expectationFailure e >> error e) pure . parseTum =<< B.readFile out
+
 spec :: Spec
 spec = describe "vprof compress" $ do
   it "writes a RAPID module with the requested number of moves and exits 0" $
@@ -59,9 +66,7 @@ spec = describe "vprof compress" $ do
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       recF <- dataFile "V101_gt.txt"
       Recording rec <- loadTum "V101_gt.txt"
-      let out = dir </> "path.txt"
-      runCli [recF, "--method", "rdp", "--points", "30", "-o", out] `shouldReturn` ExitSuccess
-      Right tr <- parseTum <$> B.readFile out
+      tr <- writtenTum dir "path.txt" [recF, "--method", "rdp", "--points", "30"]
       trackLength tr `shouldBe` 30
       abs (U.head (tTime tr) - U.head (tTime rec)) `shouldSatisfy` (< 1e-6)
   it "exits 1 when the tolerance cannot be met (and still writes the best path)" $
@@ -98,18 +103,14 @@ spec = describe "vprof compress" $ do
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       recF <- dataFile "V101_gt.txt"
       Recording rec <- loadTum "V101_gt.txt"
-      let out = dir </> "path.txt"
-      runCli [recF, "--points", "14", "--ends", "free", "-o", out] `shouldReturn` ExitSuccess
-      Right tr <- parseTum <$> B.readFile out
+      tr <- writtenTum dir "path.txt" [recF, "--points", "14", "--ends", "free"]
       trackLength tr `shouldBe` 14
       abs (U.head (tTime tr) - U.head (tTime rec)) `shouldSatisfy` (< 1e-6)
       abs (U.last (tTime tr) - U.last (tTime rec)) `shouldSatisfy` (< 1e-6)
       -- V1_01's first waypoint moves by centimetres when fitted (it is not the first sample)
       norm (phead (tPos tr) ^-^ phead (tPos rec)) `shouldSatisfy` (> 1e-4)
       -- the thesis method honours it too
-      let outT = dir </> "thesis.txt"
-      runCli [recF, "--points", "20", "--method", "thesis", "--ends", "free", "-o", outT] `shouldReturn` ExitSuccess
-      Right trT <- parseTum <$> B.readFile outT
+      trT <- writtenTum dir "thesis.txt" [recF, "--points", "20", "--method", "thesis", "--ends", "free"]
       trackLength trT `shouldBe` 20
       abs (U.head (tTime trT) - U.head (tTime rec)) `shouldSatisfy` (< 1e-6)
       norm (phead (tPos trT) ^-^ phead (tPos rec)) `shouldSatisfy` (> 1e-4)
