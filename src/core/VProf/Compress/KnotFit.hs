@@ -8,14 +8,16 @@
 -- re-optimised, kept only if the position error falls), optimises the times again, and
 -- finally solves the orientations (Gauss–Newton, "VProf.Compress.Fit") and the positions
 -- under the full weighted objective for those times. First and last waypoint pinned to the
--- first and last sample. The times are chosen for the position error alone; the orientation
+-- first and last sample unless 'rcEnds' frees them. The times are chosen for the position error alone; the orientation
 -- and velocity weights act on the values at them. On request a wider search ('searchKnots')
--- runs the same optimisation from random starts and from perturbations of the best path.
+-- runs the same optimisation from a start that keeps continuity exactly
+-- ("VProf.Compress.KnotDP"), from random starts and from perturbations of the best path.
 module VProf.Compress.KnotFit
   ( KnotConfig (..)
   , defaultKnotConfig
   , fitKnots
   , startKnots
+  , continuousStart
   , exchangeKnots
   , optimiseKnots
   , searchKnots
@@ -28,6 +30,7 @@ import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Compress.Fit (TimeMode (..), solveOrientations, solvePositions, updatePathWith)
+import VProf.Compress.KnotDP (continuousKnots)
 import VProf.Compress.KnotTimes
 import VProf.Compress.Objective
 import VProf.Compress.Partition (linePartition)
@@ -54,14 +57,39 @@ startKnots :: KnotConfig -> Prepared -> Int -> Knots
 startKnots cfg pr k = Knots ts (pgenerate k (\j -> fst (polylineAt st (rcP pr) (rcQ pr) (ts U.! j))))
   where
     st = rcT pr
-    n = U.length st
-    m = k - 1
-    w = min n (kcWindowFactor cfg * ((n + m - 1) `div` m))
-    bs = linePartition st (rcP pr) m w
+    bs = startPartition cfg pr k
     ts = U.generate k $ \j ->
       if j == 0 then U.head st
       else if j == k - 1 then U.last st
       else let b = bs U.! j in 0.5 * (st U.! (b - 1) + st U.! b)
+
+-- | The boundaries of the start's line partition into k−1 groups.
+startPartition :: KnotConfig -> Prepared -> Int -> U.Vector Int
+startPartition cfg pr k = linePartition (rcT pr) (rcP pr) m (startWindow cfg pr k)
+  where m = k - 1
+
+-- | The longest group of the start partition, in samples.
+startWindow :: KnotConfig -> Prepared -> Int -> Int
+startWindow cfg pr k = let n = U.length (rcT pr); m = k - 1 in min n (kcWindowFactor cfg * ((n + m - 1) `div` m))
+
+-- | The continuous start ("VProf.Compress.KnotDP"): waypoint j searched at the samples
+-- between the line partition's boundaries j−s and j+s (s = @spread@; everywhere when 0),
+-- @beam@ functions per state, positions the exact least squares for those times. The line
+-- partition's start when the search finds no path.
+continuousStart :: KnotConfig -> Int -> Int -> Prepared -> Int -> Knots
+continuousStart cfg spread beam pr k
+  | isInfinite v = startKnots cfg pr k
+  | otherwise = solveStretchPositions pr (Knots ts (pgenerate k (\j -> pindex (rcP pr) (idx U.! j)))) 0 (k - 1)
+  where
+    st = rcT pr
+    n = U.length st
+    m = k - 1
+    bs = startPartition cfg pr k
+    band j | spread <= 0 = (1, n - 2)
+           | otherwise = (bs U.! max 0 (j - spread) - 1, bs U.! min m (j + spread))
+    w = 2 * startWindow cfg pr k
+    (idx, v) = continuousKnots pr k beam band w
+    ts = U.map (st U.!) idx
 
 -- | Exchange passes: each pass estimates, for every interior waypoint, the cost of removing
 -- it (its neighbours' positions re-solved) and, for every segment, the gain of a waypoint
@@ -138,11 +166,13 @@ optimiseKnots cfg pr kn0 = if kn2 == kn1 then kn1 else fst (refineAll pr (kcIter
     kn1 = fst (refineAll pr (kcIterations cfg) kn0)
     kn2 = exchangeKnots pr (kcIterations cfg) (kcExchanges cfg) kn1
 
--- | The wider search ('kcSearch' rounds; none by default): odd rounds start afresh from
--- k−2 interior times drawn uniformly over the recording, even rounds from the best path so
--- far with two interior waypoints (drawn at random) removed and two inserted at the middle
--- of segments drawn from those with the largest error; each start is optimised as the fit's
--- own ('optimiseKnots') and kept when its position error is lower. The draws are a fixed
+-- | The wider search ('kcSearch' rounds; none by default): the first round starts from the
+-- continuous dynamic program ('continuousStart', waypoint j within the line partition's
+-- boundaries j−2 .. j+2, one function per state), later odd rounds afresh from k−2 interior
+-- times drawn uniformly over the recording, even rounds from the best path so far with two
+-- interior waypoints (drawn at random) removed and two inserted at the middle of segments
+-- drawn from those with the largest error; each start is optimised as the fit's own
+-- ('optimiseKnots') and kept when its position error is lower. The draws are a fixed
 -- pseudo-random sequence, so a run is repeatable. Never worse than the knots given.
 searchKnots :: KnotConfig -> Prepared -> Knots -> Knots
 searchKnots cfg pr kn0
@@ -155,7 +185,9 @@ searchKnots cfg pr kn0
     go r g best fBest
       | r > kcSearch cfg = best
       | otherwise =
-          let (start, g') = if odd r then randomStart g else perturbed g best
+          let (start, g') | r == 1 = (continuousStart cfg 2 1 pr k, g)
+                          | odd r = randomStart g
+                          | otherwise = perturbed g best
               cand = optimiseKnots cfg pr start
               f = knotSse pr cand
           in if U.length (kT cand) == k && f < fBest then go (r + 1) g' cand f else go (r + 1) g' best fBest

@@ -11,7 +11,7 @@
 module VProf.Compress.Partition
   ( linePartition
   , groupSse
-  , PrefixSums
+  , PrefixSums (..)
   , prefixSums
   ) where
 

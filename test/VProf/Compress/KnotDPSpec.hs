@@ -1,0 +1,81 @@
+-- | The continuous dynamic program of the knot fit's wider search: with every history kept it
+-- is the exact best path with waypoints at sample times, checked against brute force over all
+-- waypoint subsets (positions solved by the band least squares of "VProf.Compress.KnotTimes",
+-- not by the program's quadratics), with the ends pinned and free; with a beam of one its
+-- reported error is the error of the path it returns, its waypoints inside their bands; on
+-- V1_01 at 1 % the first search round that starts from it finds a better path than the default.
+module VProf.Compress.KnotDPSpec (spec) where
+
+import Data.List (subsequences)
+import qualified Data.Vector.Unboxed as U
+import Test.Hspec
+import Test.QuickCheck
+
+import VProf.Compress.KnotDP
+import VProf.Compress.KnotFit
+import VProf.Compress.KnotTimes
+import VProf.Compress.Objective
+import VProf.Compress.Types
+import VProf.Geometry.Vec
+import Support.Recordings (loadTum)
+
+-- | n samples over a wide range of scales: sample spacing 1 ms to 0.5 s (uneven), steps of
+-- 1 mm to 10 m, start time up to 1e9 s.
+genWide :: Int -> Gen Prepared
+genWide n = do
+  dt <- elements [1e-3, 1e-2, 0.1, 0.5]
+  scale <- elements [1e-3, 1e-1, 1, 10]
+  dts <- vectorOf (n - 1) (choose (0.3 * dt, 1.7 * dt))
+  steps <- vectorOf (n - 1) (P3 <$> choose (-scale, scale) <*> choose (-scale, scale) <*> choose (-scale, scale))
+  t0 <- choose (0, 1.0e9)
+  let ts = scanl (+) t0 dts
+      ps = scanl (^+^) (P3 0 0 0) steps
+      qs = replicate n (Q4 1 0 0 0)
+  pure (prepareRecording (either error id (recordingFromArrays (U.fromList ts) (pfromList ps) (pfromList qs))))
+
+-- | The path's position SSE with waypoints at the given samples, its positions the band least
+-- squares of "VProf.Compress.KnotTimes" for those times.
+sseAt :: Prepared -> [Int] -> Double
+sseAt pr idx =
+  let ts = U.fromList (map (rcT pr U.!) idx)
+      k = length idx
+      kn = solveStretchPositions pr (Knots ts (pfromList (map (pindex (rcP pr)) idx))) 0 (k - 1)
+  in knotSse pr kn
+
+close :: Double -> Double -> Property
+close a b = counterexample (show (a, b)) (abs (a - b) <= 1e-6 * max a b + 1e-12)
+
+exactMatchesBruteForce :: Ends -> Property
+exactMatchesBruteForce ends =
+  forAll (choose (4, 11)) $ \n -> forAll (choose (3, min 5 n)) $ \k -> forAllBlind (genWide n) $ \pr0 ->
+    let pr = pr0 { rcEnds = ends }
+        (idx, v) = continuousKnots pr k 100000 (const (1, n - 2)) n
+        subsets = [ [0] ++ s ++ [n - 1] | s <- subsequences [1 .. n - 2], length s == k - 2 ]
+        brute = minimum (map (sseAt pr) subsets)
+    in close v brute .&&. close (sseAt pr (U.toList idx)) brute
+
+spec :: Spec
+spec = do
+  describe "continuousKnots" $ do
+    it "keeping every history, is the best path with waypoints at samples (brute force over all subsets), ends pinned" $
+      property (exactMatchesBruteForce EndsPinned)
+    it "the same with the ends free" $
+      property (exactMatchesBruteForce EndsFree)
+    it "with a beam of one and a band: k increasing samples from first to last, each in its band, the reported error the path's own" $
+      property $ forAll (choose (20, 400)) $ \n -> forAll (choose (3, n `div` 4)) $ \k -> forAll (choose (1, 3)) $ \spread ->
+        forAll (elements [EndsPinned, EndsFree]) $ \ends -> forAllBlind (genWide n) $ \pr0 ->
+          let pr = pr0 { rcEnds = ends }
+              centre j = (j * (n - 1)) `div` (k - 1)
+              g = max 1 (n `div` (k - 1))
+              band j = (centre j - spread * g, centre j + spread * g)
+              (idx, v) = continuousKnots pr k 1 band n
+              inBand = and [ let (a, b) = band j in x >= a && x <= b | (j, x) <- zip [0 ..] (U.toList idx), j > 0, j < k - 1 ]
+          in U.length idx === k .&&. U.head idx === 0 .&&. U.last idx === n - 1
+               .&&. U.and (U.zipWith (<) idx (U.tail idx)) .&&. inBand .&&. close v (sseAt pr (U.toList idx))
+  describe "the wider search's first round (the continuous start)" $
+    it "on V1_01 at 1 % (29 points) finds a path at least 0.5 % lower in position error than the default" $ do
+      pr <- prepareRecording <$> loadTum "V101_gt.txt"
+      let k = 29
+          base = optimiseKnots defaultKnotConfig pr (startKnots defaultKnotConfig pr k)
+          wide = searchKnots defaultKnotConfig { kcSearch = 1 } pr base
+      knotSse pr wide `shouldSatisfy` (< 0.995 * knotSse pr base)
