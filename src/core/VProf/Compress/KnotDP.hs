@@ -1,7 +1,7 @@
 {-# LANGUAGE BangPatterns #-}
--- | A start for the knot fit that keeps the path continuous (docs/compress.md, "Start: a
--- continuous dynamic program"): waypoints at sample times, first and last at the first and
--- last sample. For given waypoint times up to waypoint j, the least position error of the
+-- | A start for the knot fit that keeps the path continuous (docs/compress.md, "The
+-- continuous dynamic program"): waypoints at sample times, the first and last at the first
+-- and last sample's time. For given waypoint times up to waypoint j, the least position error of the
 -- path so far as a function of waypoint j's position p is a quadratic α|p|² − 2β·p + γ (the
 -- earlier positions minimised out), and one more segment maps it to the next waypoint's
 -- quadratic in O(1) from prefix sums. A dynamic program over (waypoint, sample) keeps the
@@ -27,7 +27,8 @@ import VProf.Compress.Types (Ends (..))
 -- that the search found. @band j@ is the range of samples waypoint j (1 .. k−2) may take;
 -- @beam@ functions are kept per state; no segment spans more than @w@ samples. With the
 -- first and last waypoint free ('rcEnds') their positions are fitted, else they are the
--- first and last sample's. Requires 2 <= k <= n.
+-- first and last sample's. Requires 2 <= k <= n. When no path fits the bands and @w@, the
+-- indices are spread evenly and the SSE is infinite.
 continuousKnots :: Prepared -> Int -> Int -> (Int -> (Int, Int)) -> Int -> (U.Vector Int, Double)
 continuousKnots pr k beam0 band w0
   | k <= 2 || n <= 2 = (U.fromList (if k <= 1 then [0] else [0, n - 1]), lastValue)
