@@ -50,6 +50,18 @@ writtenTum dir name args = do
   runCli (args ++ ["-o", out]) `shouldReturn` ExitSuccess
   either (\e -> expectationFailure e >> error e) pure . parseTum =<< B.readFile out
 
+-- | The path written as TUM from V1_01 with @--points k@ and the arguments: k waypoints, the
+-- first and last at the recording's first and last time. The recording's track and the path.
+v101Path :: FilePath -> String -> Int -> [String] -> IO (Track, Track)
+v101Path dir name k args = do
+  recF <- dataFile "V101_gt.txt"
+  Recording rec <- loadTum "V101_gt.txt"
+  tr <- writtenTum dir name (recF : "--points" : show k : args)
+  trackLength tr `shouldBe` k
+  abs (U.head (tTime tr) - U.head (tTime rec)) `shouldSatisfy` (< 1e-6)
+  abs (U.last (tTime tr) - U.last (tTime rec)) `shouldSatisfy` (< 1e-6)
+  pure (rec, tr)
+
 spec :: Spec
 spec = describe "vprof compress" $ do
   it "writes a RAPID module with the requested number of moves and exits 0" $
@@ -63,12 +75,8 @@ spec = describe "vprof compress" $ do
         Left e -> expectationFailure e
         Right tr -> trackLength tr `shouldBe` 25
   it "writes TUM that reads back, with the recording's first and last time" $
-    withSystemTempDirectory "vprof-cli" $ \dir -> do
-      recF <- dataFile "V101_gt.txt"
-      Recording rec <- loadTum "V101_gt.txt"
-      tr <- writtenTum dir "path.txt" [recF, "--method", "rdp", "--points", "30"]
-      trackLength tr `shouldBe` 30
-      abs (U.head (tTime tr) - U.head (tTime rec)) `shouldSatisfy` (< 1e-6)
+    withSystemTempDirectory "vprof-cli" $ \dir ->
+      () <$ v101Path dir "path.txt" 30 ["--method", "rdp"]
   it "exits 1 when the tolerance cannot be met (and still writes the best path)" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       rec <- dataFile "freiburg1_xyz-groundtruth.txt"
@@ -102,17 +110,11 @@ spec = describe "vprof compress" $ do
   it "--ends free: the first and last waypoint fitted (not the first and last sample) at their times; refused with rdp and for an unknown word" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       recF <- dataFile "V101_gt.txt"
-      Recording rec <- loadTum "V101_gt.txt"
-      tr <- writtenTum dir "path.txt" [recF, "--points", "14", "--ends", "free"]
-      trackLength tr `shouldBe` 14
-      abs (U.head (tTime tr) - U.head (tTime rec)) `shouldSatisfy` (< 1e-6)
-      abs (U.last (tTime tr) - U.last (tTime rec)) `shouldSatisfy` (< 1e-6)
+      (rec, tr) <- v101Path dir "path.txt" 14 ["--ends", "free"]
       -- V1_01's first waypoint moves by centimetres when fitted (it is not the first sample)
       norm (phead (tPos tr) ^-^ phead (tPos rec)) `shouldSatisfy` (> 1e-4)
       -- the thesis method honours it too
-      trT <- writtenTum dir "thesis.txt" [recF, "--points", "20", "--method", "thesis", "--ends", "free"]
-      trackLength trT `shouldBe` 20
-      abs (U.head (tTime trT) - U.head (tTime rec)) `shouldSatisfy` (< 1e-6)
+      (_, trT) <- v101Path dir "thesis.txt" 20 ["--method", "thesis", "--ends", "free"]
       norm (phead (tPos trT) ^-^ phead (tPos rec)) `shouldSatisfy` (> 1e-4)
       (c1, e1) <- captureStderr (dir </> "e1.txt") (runCli [recF, "--points", "14", "--ends", "free", "--method", "rdp"])
       c1 `shouldBe` ExitFailure 2
