@@ -109,13 +109,14 @@ continuousKnots pr k beam0 band w0
       let layer j (pfs, pcs, plo) = do
             let sz = size j
                 lj = lo j
+                hj = hi j
                 lastL = j == k - 1
                 loP = lo (j - 1); hiP = hi (j - 1)
             fs <- MU.replicate (sz * beam * 5) (0 :: Double)
             ks <- MU.replicate (sz * beam) (1 / 0 :: Double)
             cs <- MU.replicate sz (0 :: Int)
             let overB !b
-                  | b > hi j = pure ()
+                  | b > hj = pure ()
                   | otherwise = overA b (max loP (b - w)) (min hiP (b - 1)) >> overB (b + 1)
                 overA !b !a !aHi
                   | a > aHi = pure ()
