@@ -3,7 +3,7 @@ module VProf.Compress.CliSpec (spec) where
 
 import Control.Exception (finally)
 import qualified Data.ByteString.Char8 as B
-import Data.List (isInfixOf)
+import Data.List (intercalate, isInfixOf)
 import GHC.IO.Handle (hDuplicate, hDuplicateTo)
 import Options.Applicative
 import System.Exit (ExitCode (..))
@@ -18,7 +18,7 @@ import VProf.Compress.Format.Rapid (parseRapid)
 import VProf.Compress.Format.Tum (parseTum)
 import Support.Recordings
 import VProf.Compress.Types
-import VProf.Geometry.Vec (norm, phead, (^-^))
+import VProf.Geometry.Vec (P3 (..), Q4 (..), norm, phead, ptoList, (^-^))
 
 -- | Run an action with stderr going to a file; what it wrote there.
 captureStderr :: FilePath -> IO a -> IO (a, String)
@@ -77,6 +77,22 @@ spec = describe "vprof compress" $ do
   it "writes TUM that reads back, with the recording's first and last time" $
     withSystemTempDirectory "vprof-cli" $ \dir ->
       () <$ v101Path dir "path.txt" 30 ["--method", "rdp"]
+  it "reads a .csv with a header by its column names (EuRoC: ns, w first) and says so; the path is the TUM copy's" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      recF <- dataFile "V101_gt.txt"
+      Recording rec <- loadTum "V101_gt.txt"
+      let csv = dir </> "data.csv"
+          row t (P3 x y z) (Q4 w a b c) = intercalate "," (show (round (t * 1e9) :: Integer) : map show [x, y, z, w, a, b, c])
+      writeFile csv (unlines ("#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z []"
+                              : [ row t p q | (t, p, q) <- zip3 (U.toList (tTime rec)) (ptoList (tPos rec)) (ptoList (tRot rec)) ]))
+      (_, e) <- captureStderr (dir </> "e.txt") (writtenTum dir "fromcsv.txt" [csv, "--points", "40"])
+      e `shouldSatisfy` ("note: " `isInfixOf`)
+      e `shouldSatisfy` ("in ns (no unit in the header" `isInfixOf`)
+      Right viaCsv <- parseTum <$> B.readFile (dir </> "fromcsv.txt")
+      viaTum <- writtenTum dir "fromtum.txt" [recF, "--points", "40"]
+      trackLength viaCsv `shouldBe` 40
+      U.maximum (U.zipWith (\a b -> abs (a - b)) (tTime viaCsv) (tTime viaTum)) `shouldSatisfy` (< 1e-4)
+      maximum (zipWith (\a b -> norm (a ^-^ b)) (ptoList (tPos viaCsv)) (ptoList (tPos viaTum))) `shouldSatisfy` (< 1e-3)
   it "exits 1 when the tolerance cannot be met (and still writes the best path)" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       rec <- dataFile "freiburg1_xyz-groundtruth.txt"

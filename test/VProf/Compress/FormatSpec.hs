@@ -3,13 +3,15 @@ module VProf.Compress.FormatSpec (spec) where
 
 import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy.Char8 as BL
-import Data.List (isInfixOf)
+import Data.List (intercalate, isInfixOf)
+import Numeric (showFFloat)
 import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 import Test.QuickCheck
 
 import VProf.Compress
 import VProf.Compress.Clean (Sample (..))
+import VProf.Compress.Format.Csv
 import VProf.Compress.Format.Log
 import VProf.Compress.Format.Rapid
 import VProf.Compress.Format.Tum
@@ -65,6 +67,69 @@ spec = do
       mapM_ (\v -> case readTum (B.pack ("1 0 0 0 0 0 0 1\n2 0 " ++ v ++ " 0 0 0 0 1\n")) of
                      Left e -> e `shouldSatisfy` ("line 2, column 3" `isInfixOf`)
                      Right _ -> expectationFailure v) ["nan", "NaN", "inf", "-Infinity"]
+  describe "CSV with a header" $ do
+    it "round trips vprof's own CSV (time,x,y,z,qw,qx,qy,qz in SI)" $ property $ forAll genTrack $ \tr ->
+      case parseCsv (BL.toStrict (renderCsv tr)) of
+        Left e -> counterexample e False
+        Right tr' -> closeTo (1e-6, 1e-8, 1e-8) tr tr'
+    it "finds the columns by name in any order, with units in brackets, and ignores other columns" $
+      property $ forAll genTrack $ \tr -> forAll (shuffle [0 .. 8 :: Int]) $ \perm ->
+        forAll (elements [("s", 1), ("ms", 1e3), ("us", 1e6)]) $ \(tu, tk) ->
+        forAll (elements [("m", 1), ("cm", 1e2), ("mm", 1e3)]) $ \(pu, pk) ->
+          let names = ["time [" ++ tu ++ "]", "x [" ++ pu ++ "]", "y [" ++ pu ++ "]", "z [" ++ pu ++ "]", "qw", "qx", "qy", "qz", "temperature [C]"]
+              vals t (P3 x y z) (Q4 w a b c) = [t * tk, x * pk, y * pk, z * pk, w, a, b, c, 21.5]
+              line vs = intercalate "," [ showFFloat (Just 12) (vs !! j) "" | j <- perm ]
+              src = unlines (intercalate "," [names !! j | j <- perm]
+                             : [ line (vals t p q) | (t, p, q) <- zip3 (U.toList (tTime tr)) (ptoList (tPos tr)) (ptoList (tRot tr)) ])
+          in case readCsv (B.pack src) of
+               Left e -> counterexample e False
+               Right (lay, ss) ->
+                 clTimeUnit lay === (1 / tk, tu, False) .&&. fst (clPosUnit lay) * pk === 1
+                 .&&. closeTo (1e-6, 1e-8, 1e-8) tr (Track (U.fromList (map smTime ss)) (pfromList (map smPos ss)) (pfromList (map smRot ss)))
+    it "reads the EuRoC ground truth layout (#timestamp in ns without a unit, q_RS_w first, 17 columns) as the same recording as its TUM copy" $ do
+      Recording tr <- loadTum "V101_gt.txt"
+      let hdr = "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z [], \
+                \v_RS_R_x [m s^-1], v_RS_R_y [m s^-1], v_RS_R_z [m s^-1], b_w_RS_S_x [rad s^-1], b_w_RS_S_y [rad s^-1], \
+                \b_w_RS_S_z [rad s^-1], b_a_RS_S_x [m s^-2], b_a_RS_S_y [m s^-2], b_a_RS_S_z [m s^-2]"
+          row t (P3 x y z) (Q4 w a b c) = intercalate "," (show (round (t * 1e9) :: Integer) : map (\v -> showFFloat (Just 6) v "") ([x, y, z, w, a, b, c] ++ replicate 9 0.25))
+          src = unlines (hdr : [ row t p q | (t, p, q) <- zip3 (U.toList (tTime tr)) (ptoList (tPos tr)) (ptoList (tRot tr)) ])
+      hasCsvHeader (B.pack src) `shouldBe` True
+      case readCsv (B.pack src) of
+        Left e -> expectationFailure e
+        Right (lay, ss) -> do
+          clTimeUnit lay `shouldBe` (1e-9, "ns", True)
+          (clTime lay, clPos lay, clQuat lay) `shouldBe` ((1, "timestamp"), (2, 3, 4), (5, 6, 7, 8))
+          describeLayout lay `shouldSatisfy` ("9 further columns ignored" `isInfixOf`)
+          map smLoc ss `shouldBe` [2 .. trackLength tr + 1]
+          -- ns in a double: 1.4e18 is exact to 256 ns
+          maximum (zipWith (\t s' -> abs (t - smTime s')) (U.toList (tTime tr)) ss) `shouldSatisfy` (< 1e-6)
+          maximum (zipWith (\p s' -> distance p (smPos s')) (ptoList (tPos tr)) ss) `shouldSatisfy` (< 1e-6)
+          maximum (zipWith (\q s' -> qangle q (smRot s')) (ptoList (tRot tr)) ss) `shouldSatisfy` (< 1e-5)
+    it "reads a ROS rostopic echo -p pose export, taking the sensor's stamp over the receive time" $ do
+      let src = "%time,field.header.seq,field.header.stamp,field.header.frame_id,field.pose.position.x,field.pose.position.y,\
+                \field.pose.position.z,field.pose.orientation.x,field.pose.orientation.y,field.pose.orientation.z,field.pose.orientation.w\n\
+                \1700000000120000000,1,1700000000100000000,world,1.5,2.5,3.5,0,0,0.6,0.8\n\
+                \1700000000130000000,2,1700000000110000000,world,1.6,2.5,3.5,0,0,0.6,0.8\n"
+      case readCsv (B.pack src) of
+        Left e -> expectationFailure e
+        Right (lay, ss) -> do
+          fst (clTime lay) `shouldBe` 3
+          clQuat lay `shouldBe` (11, 8, 9, 10)
+          map smTime ss `shouldSatisfy` (\[a, b] -> abs (a - 1700000000.1) < 1e-6 && abs (b - a - 0.01) < 1e-6)
+          map smRot ss `shouldBe` replicate 2 (Q4 0.8 0 0 0.6)
+          map smPos ss `shouldBe` [P3 1.5 2.5 3.5, P3 1.6 2.5 3.5]
+    it "names what the header lacks, an unknown unit, a short row and a bad number" $ do
+      let err src = either id (const "no error") (readCsv (B.pack src))
+      err "time,x,y,z,qx,qy,qz\n0,0,0,0,0,0,0\n" `shouldSatisfy` (\e -> "names no column for qw" `isInfixOf` e && "\"qz\"" `isInfixOf` e)
+      err "time [h],x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n" `shouldSatisfy` (\e -> "column 1" `isInfixOf` e && "[h]" `isInfixOf` e)
+      err "time,x [ft],y [ft],z [ft],qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n" `shouldSatisfy` ("[ft]" `isInfixOf`)
+      err "time,x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n1,0,0\n" `shouldSatisfy` ("line 3" `isInfixOf`)
+      err "time,x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n1,0,abc,0,1,0,0,0\n" `shouldSatisfy` (\e -> "line 3, column 3" `isInfixOf` e && "abc" `isInfixOf` e)
+    it "tells a header from a Polhemus log line or a comment" $ do
+      hasCsvHeader (B.pack "time,x,y,z,qw,qx,qy,qz\n") `shouldBe` True
+      hasCsvHeader (B.pack "\n# time [ms], x [mm], y [mm], z [mm], qw, qx, qy, qz\n") `shouldBe` True
+      hasCsvHeader (B.pack "1540012, 719.7, -97.2, -480.8, -0.61, 0.12, -0.75, 0.22, 0, 0\n") `shouldBe` False
+      hasCsvHeader (B.pack "# a comment\n1540012, 719.7, -97.2, -480.8, -0.61, 0.12, -0.75, 0.22\n") `shouldBe` False
   describe "Polhemus log (thesis figure 33)" $ do
     it "reads samples with their line numbers (CRLF accepted)" $ do
       let Right ss = readLog (B.pack "# c\r\n1000, 1, 2, 3, 1, 0, 0, 0\r\n1000, 1, 2, 3, 1, 0, 0, 0, 7\r\n")

@@ -32,7 +32,7 @@ import VProf.Compress.Objective (prepareRecording, toPathA)
 import VProf.Plot.Compress
 import VProf.Compress.Format.Report
 
-data InFormat = InTum | InLog | InMod deriving (Show, Eq)
+data InFormat = InTum | InLog | InCsv | InMod deriving (Show, Eq)
 data OutFormat = OutTum | OutMod | OutCsv deriving (Show, Eq)
 data Stop = StopPoints Int | StopMargin Double | StopTolerance Double deriving (Show, Eq)
 
@@ -64,9 +64,9 @@ compressOptions = rejectFlag <$> switch (long "reject-outliers" <> help "reject 
 
 compressOptions' :: Parser CompressOptions
 compressOptions' = CompressOptions
-  <$> strArgument (metavar "RECORDING" <> help "recorded motion: TUM text, Polhemus CSV log or RAPID .mod")
-  <*> optional (option (eitherReader inFmt) (long "input-format" <> metavar "tum|log|mod"
-        <> help "format of RECORDING (default: from the extension; .log and .csv are logs, .mod is RAPID, else TUM)"))
+  <$> strArgument (metavar "RECORDING" <> help "recorded motion: TUM text, CSV with a header naming its columns (vprof's own, EuRoC, ROS), Polhemus CSV log or RAPID .mod")
+  <*> optional (option (eitherReader inFmt) (long "input-format" <> metavar "tum|csv|log|mod"
+        <> help "format of RECORDING (default: from the extension; .csv is csv if its first line is a header, else a log; .log is a log, .mod RAPID, else TUM)"))
   <*> option (eitherReader weights) (long "weights" <> metavar "P,O,V" <> value (1, 1, 1)
         <> help "weights of position, orientation and velocity error as the thesis's vekt = [p o v], in its units (mm, degrees, m/s) (default 1,1,1)")
   <*> optional stopP
@@ -111,8 +111,9 @@ compressOptions' = CompressOptions
     inFmt s = case map toLower s of
       "tum" -> Right InTum
       "log" -> Right InLog
+      "csv" -> Right InCsv
       "mod" -> Right InMod
-      _ -> Left ("--input-format " ++ s ++ ": expected tum, log or mod")
+      _ -> Left ("--input-format " ++ s ++ ": expected tum, csv, log or mod")
     outFmt s = case map toLower s of
       "tum" -> Right OutTum
       "mod" -> Right OutMod
@@ -159,15 +160,15 @@ splitOn c s = case break (== c) s of
 runCompress :: CompressOptions -> IO ExitCode
 runCompress o = do
   let file = coInput o
-      fmt = maybe (guessIn file) id (coInputFormat o)
   src <- try (B.readFile file)
   case src of
     Left e -> failInput ("cannot read " ++ file ++ ": " ++ show (e :: IOException))
-    Right bytes -> case parseWith fmt bytes of
+    Right bytes -> case parseWith (maybe (guessIn file bytes) id (coInputFormat o)) bytes of
       Left e -> failInput (file ++ ": " ++ e)
-      Right samples -> case cleanSamples fileLocator (coClean o) samples of
+      Right (notes, samples) -> case cleanSamples fileLocator (coClean o) samples of
         Left errs -> failInput (file ++ ": " ++ intercalate "; " (map renderFieldError errs))
         Right cl -> do
+          mapM_ (\n -> hPutStrLn stderr ("vprof compress: note: " ++ file ++ ": " ++ n)) notes
           mapM_ (\w -> hPutStrLn stderr ("vprof compress: " ++ label w ++ ": " ++ file ++ ": " ++ renderCleanWarning fileLocator w))
                 (clWarnings cl)
           go (clWarnings cl) (Recording (clTrack cl))
@@ -175,14 +176,16 @@ runCompress o = do
     -- sign flips change no orientation (q and -q are the same): a note, not a warning
     label = \case SignFlips {} -> "note"; _ -> "warning"
     failInput msg = hPutStrLn stderr ("vprof compress: " ++ msg) >> pure (ExitFailure 2)
-    guessIn f = case map toLower (takeExtension f) of
+    guessIn f bytes = case map toLower (takeExtension f) of
       ".log" -> InLog
-      ".csv" -> InLog
+      ".csv" | hasCsvHeader bytes -> InCsv
+             | otherwise -> InLog
       ".mod" -> InMod
       _ -> InTum
-    parseWith InTum = readTum
-    parseWith InLog = readLog
-    parseWith InMod = readRapid
+    parseWith InTum = fmap ((,) []) . readTum
+    parseWith InLog = fmap ((,) []) . readLog
+    parseWith InCsv = fmap (\(l, ss) -> ([describeLayout l], ss)) . readCsv
+    parseWith InMod = fmap ((,) []) . readRapid
     (wp, wo, wv) = coWeights o
     settings = Settings
       { sMethod = coMethod o

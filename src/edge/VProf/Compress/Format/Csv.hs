@@ -1,32 +1,191 @@
--- | Plain CSV of poses in SI units, with a header: @time,x,y,z,qw,qx,qy,qz@.
+-- | Recordings and paths as CSV with a header that names the columns. vprof writes
+-- @time,x,y,z,qw,qx,qy,qz@ in SI units; it reads that, the EuRoC / ASL ground truth
+-- (@#timestamp, p_RS_R_x [m], …, q_RS_w [], …@, times in ns, further columns ignored), a
+-- ROS @rostopic echo -p@ pose export (@field.header.stamp@, @….position.x@,
+-- @….orientation.w@) and any header naming a time, x, y, z and the four quaternion parts,
+-- in any order, with units in brackets. The layout it found is reported, so a file read
+-- with the wrong unit does not pass unnoticed.
 module VProf.Compress.Format.Csv
   ( renderCsv
   , parseCsv
+  , readCsv
+  , hasCsvHeader
+  , CsvLayout (..)
+  , describeLayout
   ) where
 
 import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy as BL
+import Data.Char (isSpace, toLower)
+import Data.List (elemIndex, intercalate, sort)
+import Data.Maybe (isJust, isNothing)
 
-import VProf.Compress.Format.Common (dataLines, numberFields, renderPoseLines, trackFromRows)
+import VProf.Compress.Clean (Sample (..))
+import VProf.Compress.Format.Common (numberFields, readDouble, renderPoseLines, trackFromRows)
 import VProf.Compress.Types
 import VProf.Geometry.Vec
 
 renderCsv :: Track -> BL.ByteString
 renderCsv = renderPoseLines "time,x,y,z,qw,qx,qy,qz" "," (\(P3 x y z) (Q4 w a b c) -> [x, y, z, w, a, b, c])
 
--- | Read back what 'renderCsv' writes: a header line starting with @time@ (skipped), then
--- eight numbers a line. Errors name the line and column.
+-- | A strictly valid track (increasing times, no duplicates) from a headed CSV; for
+-- reading back paths vprof wrote. Real recordings go through 'readCsv' and
+-- "VProf.Compress.Clean".
 parseCsv :: B.ByteString -> Either String Track
-parseCsv src = traverse row rows >>= trackFromRows "CSV"
+parseCsv src = readCsv src >>= trackFromRows "CSV" . map (\(Sample _ t p q) -> (t, p, q)) . snd
+
+-- | Where the pose is in a headed CSV and in which units (columns counted from 1).
+data CsvLayout = CsvLayout
+  { clHeaderLine :: !Int
+  , clTime       :: !(Int, String)           -- ^ column and its header name
+  , clTimeUnit   :: !(Double, String, Bool)  -- ^ seconds per unit, unit, whether inferred from the values
+  , clPos        :: !(Int, Int, Int)
+  , clPosUnit    :: !(Double, String)
+  , clQuat       :: !(Int, Int, Int, Int)    -- ^ w, x, y, z
+  , clColumns    :: !Int
+  } deriving (Show, Eq)
+
+-- | One sentence on how the file was read: which columns, which units.
+describeLayout :: CsvLayout -> String
+describeLayout l =
+  "read as CSV with the header of line " ++ show (clHeaderLine l) ++ ": time column "
+    ++ show (fst (clTime l)) ++ " (" ++ show (snd (clTime l)) ++ ") in " ++ unitT
+    ++ ", position columns " ++ cols3 (clPos l) ++ " in " ++ snd (clPosUnit l)
+    ++ ", quaternion w x y z columns " ++ cols4 (clQuat l)
+    ++ (if clColumns l > 8 then ", " ++ show (clColumns l - 8) ++ " further columns ignored" else "")
   where
-    rows = [ r | r@(_, l) <- dataLines (const False) src, not (B.pack "time" `B.isPrefixOf` l) ]
-    row (i, l) =
-      let cols = map B.strip (B.split ',' l)
-      in if length cols /= 8
-           then Left ("CSV line " ++ show i ++ ": expected 8 comma-separated numbers (time,x,y,z,qw,qx,qy,qz), got "
-                      ++ show (length cols))
-           else do
-             vs <- numberFields "CSV" i cols
-             case vs of
-               [t, x, y, z, w, a, b, c] -> Right (t, P3 x y z, Q4 w a b c)
-               _ -> Left "impossible"
+    (_, u, inferred) = clTimeUnit l
+    unitT = u ++ (if inferred then " (no unit in the header; the time steps are too large for seconds)" else "")
+    cols3 (a, b, c) = intercalate ", " (map show [a, b, c])
+    cols4 (a, b, c, d) = intercalate ", " (map show [a, b, c, d])
+
+-- | Whether the first line that is not blank is a CSV header (at least four
+-- comma-separated fields, not all numbers; a leading @#@ allowed). A file without one is
+-- the thesis's Polhemus log ("VProf.Compress.Format.Log").
+hasCsvHeader :: B.ByteString -> Bool
+hasCsvHeader src = case filter (not . B.all isSpace) (B.lines src) of
+  l : _ -> isJust (headerFields l)
+  [] -> False
+
+headerFields :: B.ByteString -> Maybe [String]
+headerFields l0 =
+  let l = B.dropWhile (== '#') (B.strip l0)
+      fs = map (B.unpack . B.strip) (B.split ',' l)
+  in if length fs >= 4 && any (isNothing . readDouble . B.pack) fs then Just fs else Nothing
+
+-- | The samples of a headed CSV (SI units), each with its line number (from 1), and the
+-- layout found. Lines before the header, blank lines and later lines starting with @#@
+-- are skipped. Errors name the line and column, or the columns the header lacks.
+readCsv :: B.ByteString -> Either String (CsvLayout, [Sample])
+readCsv src = do
+  (hi, names) <- case [ (i, fs) | (i, l) <- numbered, Just fs <- [headerFields l] ] of
+    h : _ -> Right h
+    [] -> Left "CSV: no header line naming the columns (e.g. time,x,y,z,qw,qx,qy,qz)"
+  lay0 <- layoutOf hi names
+  let body = [ (i, s) | (i, l) <- numbered, i > hi, let s = B.strip l, not (B.null s), B.head s /= '#' ]
+      (a, b, c) = clPos lay0
+      (w, x, y, z) = clQuat lay0
+      used = [fst (clTime lay0), a, b, c, w, x, y, z]
+      need = maximum used
+      row (i, l) =
+        let cols = map B.strip (B.split ',' l)
+        in if length cols < need
+             then Left ("CSV line " ++ show i ++ ": expected at least " ++ show need
+                        ++ " comma-separated fields (the header's columns up to the quaternion), got "
+                        ++ show (length cols))
+             else do
+               vs <- traverse (field i cols) used
+               case vs of
+                 [t, px, py, pz, qw, qx, qy, qz] -> Right (i, t, P3 px py pz, Q4 qw qx qy qz)
+                 _ -> Left "impossible"
+  rows <- traverse row body
+  let lay = inferTimeUnit lay0 [ t | (_, t, _, _) <- rows ]
+      (ts, _, _) = clTimeUnit lay
+      sp = fst (clPosUnit lay)
+  pure (lay, [ Sample i (t * ts) (P3 (px * sp) (py * sp) (pz * sp)) q | (i, t, P3 px py pz, q) <- rows ])
+  where
+    numbered = zip [1 ..] (B.lines src)
+    field i cols c = case numberFields "CSV" i [cols !! (c - 1)] of
+      Right [d] -> Right d
+      _ -> Left ("CSV line " ++ show i ++ ", column " ++ show c ++ ": not a number: " ++ show (B.unpack (cols !! (c - 1))))
+
+-- | What a header names: the time, a position axis (0–2) or a quaternion part (w x y z: 0–3).
+data Role = RTime | RPos Int | RQuat Int deriving (Eq)
+
+-- | A header name's base (lower case, without @#@, @%@ and the unit) and its unit.
+splitName :: String -> (String, String)
+splitName n0 =
+  let n = dropWhile (`elem` "#% ") (trim n0)
+      (base, rest) = break (== '[') n
+      unit = takeWhile (/= ']') (drop 1 rest)
+  in (map toLower (trim base), map toLower (trim unit))
+  where trim = reverse . dropWhile isSpace . reverse . dropWhile isSpace
+
+roleOf :: String -> Maybe Role
+roleOf base
+  | base `elem` ["time", "timestamp", "t", "stamp", "times"] = Just RTime
+  | Just k <- elemIndex base ["qw", "qx", "qy", "qz"] = Just (RQuat k)
+  | Just k <- elemIndex base ["x", "y", "z"] = Just (RPos k)
+  | Just k <- elemIndex base ["tx", "ty", "tz"] = Just (RPos k)
+  | Just k <- elemIndex base ["px", "py", "pz"] = Just (RPos k)
+  | null toks = Nothing
+  | lastTok `elem` ["time", "timestamp", "stamp"] = Just RTime
+  | Just k <- elemIndex lastTok ["w", "x", "y", "z"], any quatTok (init toks) = Just (RQuat k)
+  | Just k <- elemIndex lastTok ["x", "y", "z"], any (`elem` ["p", "pos", "position", "t", "trans", "translation"]) (init toks) = Just (RPos k)
+  | otherwise = Nothing
+  where
+    toks = words (map (\c -> if c `elem` "._-/ " then ' ' else c) base)
+    lastTok = last toks
+    quatTok t = take 1 t == "q" || t `elem` ["orientation", "rotation", "rot", "quaternion", "quat", "attitude"]
+
+layoutOf :: Int -> [String] -> Either String CsvLayout
+layoutOf hi names = do
+  let named = [ (c, n, base, unit, roleOf base) | (c, n) <- zip [1 :: Int ..] names, let (base, unit) = splitName n ]
+      firstOf r = [ (c, n, unit) | (c, n, _, unit, Just r') <- named, r' == r ]
+      -- a sensor's stamp before a receive time (ROS exports both)
+      timeCols = let ts = firstOf RTime
+                 in [ t | t@(_, n, _) <- ts, "stamp" `elem` words (map (\ch -> if ch `elem` "._-/ " then ' ' else toLower ch) n) ] ++ ts
+      pick r = case firstOf r of (c, n, u) : _ -> Just (c, n, u); [] -> Nothing
+      slots = [ ("time", case timeCols of t : _ -> Just t; [] -> Nothing) ]
+              ++ [ (nm, pick (RPos k)) | (k, nm) <- zip [0 ..] ["x", "y", "z"] ]
+              ++ [ (nm, pick (RQuat k)) | (k, nm) <- zip [0 ..] ["qw", "qx", "qy", "qz"] ]
+      missing = [ nm | (nm, Nothing) <- slots ]
+  if not (null missing)
+    then Left ("CSV header (line " ++ show hi ++ ") names no column for " ++ intercalate ", " missing
+               ++ "; its columns: " ++ intercalate ", " (map show names)
+               ++ " (expected names such as time,x,y,z,qw,qx,qy,qz or the EuRoC #timestamp, p_RS_R_x [m], ..., q_RS_w [], ...)")
+    else do
+      let get nm = case lookup nm slots of Just (Just v) -> v; _ -> error "layoutOf: checked above"
+          (tc, tn, tu) = get "time"
+          [(xc, xn, xu), (yc, _, yu), (zc, _, zu)] = map get ["x", "y", "z"]
+          [wq, xq, yq, zq] = map (\nm -> let (c, _, _) = get nm in c) ["qw", "qx", "qy", "qz"]
+      tUnit <- case tu of
+        "" -> Right (1, "s", False)
+        u | u `elem` ["s", "sec"] -> Right (1, "s", False)
+          | u == "ms" -> Right (1e-3, "ms", False)
+          | u `elem` ["us", "\181s", "\956s"] -> Right (1e-6, "us", False)
+          | u == "ns" -> Right (1e-9, "ns", False)
+          | otherwise -> Left ("CSV header (line " ++ show hi ++ "), column " ++ show tc ++ " " ++ show tn
+                               ++ ": unknown time unit [" ++ u ++ "]; expected s, ms, us or ns")
+      pUnit <- if xu /= yu || xu /= zu
+        then Left ("CSV header (line " ++ show hi ++ "): the position columns have different units: ["
+                   ++ xu ++ "], [" ++ yu ++ "], [" ++ zu ++ "]")
+        else case xu of
+          u | u `elem` ["", "m"] -> Right (1, "m")
+            | u == "mm" -> Right (1e-3, "mm")
+            | u == "cm" -> Right (1e-2, "cm")
+            | otherwise -> Left ("CSV header (line " ++ show hi ++ "), column " ++ show xc ++ " " ++ show xn
+                                 ++ ": unknown position unit [" ++ u ++ "]; expected m, cm or mm")
+      Right (CsvLayout hi (tc, tn) tUnit (xc, yc, zc) pUnit (wq, xq, yq, zq) (length names))
+
+-- | A time column without a unit is read in seconds, unless its median step is at least
+-- 1e5 (a day between samples in seconds, 0.1 ms in nanoseconds): then in nanoseconds, as
+-- EuRoC and ROS write them.
+inferTimeUnit :: CsvLayout -> [Double] -> CsvLayout
+inferTimeUnit l ts
+  | (_, _, False) <- clTimeUnit l, unitless, not (null steps), median >= 1e5 = l { clTimeUnit = (1e-9, "ns", True) }
+  | otherwise = l
+  where
+    unitless = null (snd (splitName (snd (clTime l))))
+    steps = sort [ b - a | (a, b) <- zip ts (drop 1 ts), b > a ]
+    median = steps !! (length steps `div` 2)
