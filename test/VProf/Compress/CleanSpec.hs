@@ -4,7 +4,8 @@
 module VProf.Compress.CleanSpec (spec) where
 
 import Data.Either (isLeft)
-import Data.List (isInfixOf, nub, sort)
+import Control.Monad (forM_)
+import Data.List (isInfixOf, nub, sort, zip4)
 import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 import Test.Hspec.QuickCheck (modifyMaxSuccess)
@@ -14,6 +15,7 @@ import VProf.Compress
 import VProf.Compress.Clean
 import VProf.Geometry.Quaternion (qdot, qexp, qmul, qneg, qnormalize)
 import VProf.Geometry.Vec
+import Support.Recordings (loadTum)
 
 -- | A smooth recording: 30–150 samples, steps of 5–50 ms with ±10 % jitter, positions a
 -- sum of slow sines (amplitude up to 0.3 m, up to 1 Hz), a steady rotation up to 1 rad/s.
@@ -64,6 +66,9 @@ isFlip = \case SignFlips {} -> True; _ -> False
 isGap = \case Gaps {} -> True; _ -> False
 isOutlier = \case OutliersRejected {} -> True; _ -> False
 isNonUnit = \case NonUnitQuaternions {} -> True; _ -> False
+
+isLong :: CleanWarning -> Bool
+isLong = \case LongMedianStep {} -> True; _ -> False
 
 -- | After each chosen index, a second sample of the same time with another pose (moved up
 -- to 5 mm, turned a little, and with its quaternion negated half the time).
@@ -182,6 +187,27 @@ spec = describe "VProf.Compress.Clean" $ do
               .&&. conjoin [ abs (d - maximum steps) < 1e-9 .&&. l === smLoc (gapped !! (idx !! j))
                            | Gaps _ _ _ (d, _, l) _ <- clWarnings c
                            , let Just j = lookup (maximum steps) (zip steps [0 ..]) ]
+
+  describe "times in another unit than seconds" $ do
+    it "times in ms, us or ns read as seconds are kept as read, with a warning giving the median step, when it is at least 1e4 s" $
+      property $ forAll genBase $ \ss -> forAll (elements [1e3, 1e6, 1e9]) $ \scale ->
+        let scaled = [ s { smTime = smTime s * scale } | s <- ss ]
+            steps = sort (zipWith (-) (map smTime (drop 1 scaled)) (map smTime scaled))
+            med = let n = length steps in if odd n then steps !! (n `div` 2) else (steps !! (n `div` 2 - 1) + steps !! (n `div` 2)) / 2
+        in case clean defaultCleanOptions scaled of
+             Left e -> counterexample (show e) False
+             Right c -> counterexample (show (clWarnings c)) $
+               trackLength (clTrack c) === length ss
+               .&&. [ (m, n) | LongMedianStep m n <- clWarnings c ] === [ (med, length ss) | med >= longMedianStep ]
+    it "real recordings in seconds (freiburg1_xyz, V1_01) get no such warning" $
+      forM_ ["freiburg1_xyz-groundtruth.txt", "V101_gt.txt"] $ \f -> do
+        Recording tr <- loadTum f
+        let ss = [ Sample i t p q | (i, t, p, q) <- zip4 [1 ..] (U.toList (tTime tr)) (ptoList (tPos tr)) (ptoList (tRot tr)) ]
+        fmap (filter isLong . clWarnings) (clean defaultCleanOptions ss) `shouldBe` Right []
+    it "steps of up to an hour get no such warning" $
+      property $ forAll genBase $ \ss -> forAll (choose (1, 3600)) $ \dt ->
+        let slow = [ s { smTime = fromIntegral i * dt } | (i, s) <- zip [0 :: Int ..] ss ]
+        in fmap (filter isLong . clWarnings) (clean defaultCleanOptions slow) === Right []
 
   describe "outliers" $ do
     let spike ss idx = do

@@ -36,6 +36,7 @@ module VProf.Compress.Clean
   , indexLocator
   , cleanSamples
   , warningCount
+  , longMedianStep
   , renderCleanWarning
   , unitTolerance
   ) where
@@ -90,6 +91,9 @@ data CleanWarning
   | Gaps !Double !Double !Int (Double, Double, Int) [(Double, Int)]
     -- ^ factor, median step (s), how many, (largest step, time after it, where), (step,
     -- where) of the first few
+  | LongMedianStep !Double !Int
+    -- ^ the median time step (s), at least 'longMedianStep', and the samples: times
+    -- written in ms, µs or ns but read as seconds
   deriving (Show, Eq)
 
 -- | The cleaned recording, its warnings, and where each kept sample came from (the first
@@ -127,6 +131,7 @@ warningCount = \case
   SignFlips n _ _ -> n
   OutliersRejected _ n _ -> n
   Gaps _ _ n _ _ -> n
+  LongMedianStep _ n -> n
 
 firstFew :: Int
 firstFew = 5
@@ -159,6 +164,9 @@ cleanSamples loc opts raw
                   [OutliersRejected k (length outliers) (take firstFew [ (smTime s, smLoc s) | s <- outliers ])]
                 _ -> []
             , gapWarning (cleanGapFactor opts) kept
+            , [ LongMedianStep m (length kept) | length kept >= 2
+                                              , let m = median (zipWith (-) (map smTime (drop 1 kept)) (map smTime kept))
+                                              , m >= longMedianStep ]
             ]
       if length kept < 2
         then Left [literalError (lcField loc "") ""
@@ -276,6 +284,11 @@ median [] = 0
 median xs = let ys = sort xs; n = length ys
             in if odd n then ys !! (n `div` 2) else (ys !! (n `div` 2 - 1) + ys !! (n `div` 2)) / 2
 
+-- | A median time step (s) at which the times are most likely not seconds: 10⁴ s, almost
+-- three hours between samples (a recording at 100 Hz written in µs has 10⁴, in ns 10⁷).
+longMedianStep :: Double
+longMedianStep = 1e4
+
 -- | Steps longer than the factor times the median step.
 gapWarning :: Double -> [Sample] -> [CleanWarning]
 gapWarning f ss
@@ -308,6 +321,9 @@ renderCleanWarning loc = \case
     show n ++ " gap" ++ plural n ++ " (time step above " ++ showNumber f ++ " times the median " ++ showNumber med
     ++ " s) accepted; the largest " ++ showNumber d ++ " s before t = " ++ showNumber t ++ " s at " ++ lcAt loc l
     ++ (if n > 1 then " (" ++ list [ showNumber dd ++ " s before " ++ lcAt loc ll | (dd, ll) <- xs ] n ++ ")" else "")
+  LongMedianStep m n ->
+    "the median time step is " ++ showNumber m ++ " s over " ++ show n ++ " samples: the times are read in seconds; "
+    ++ "if they are in ms, us or ns, convert them (or write a CSV whose header gives the unit, e.g. time [ns])"
   where
     plural n = if n == 1 then "" else "s"
     list items total = joinWith "; " items ++ (if total > length items then "; ..." else "")

@@ -96,6 +96,7 @@ warningsJson loc ws = toJSONList
       SignFlips {} -> "sign_flips"
       OutliersRejected {} -> "outliers_rejected"
       Gaps {} -> "gaps"
+      LongMedianStep {} -> "long_median_step"
     toJSONList = toJSON
 
 -- | A report with a @warnings@ member (always present, possibly empty).
