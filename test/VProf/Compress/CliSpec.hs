@@ -93,6 +93,23 @@ spec = describe "vprof compress" $ do
       trackLength viaCsv `shouldBe` 40
       U.maximum (U.zipWith (\a b -> abs (a - b)) (tTime viaCsv) (tTime viaTum)) `shouldSatisfy` (< 1e-4)
       maximum (zipWith (\a b -> norm (a ^-^ b)) (ptoList (tPos viaCsv)) (ptoList (tPos viaTum))) `shouldSatisfy` (< 1e-3)
+  it "reads KITTI poses (12 numbers a line) with the times file beside them or given by --times, and says so" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      pf <- dataFile "KITTI_00_gt.txt"
+      tf <- dataFile "KITTI_00_gt_times.txt"
+      (tr, e) <- captureStderr (dir </> "e.txt") (writtenTum dir "kitti.txt" [pf, "--points", "50"])
+      e `shouldSatisfy` ("read as KITTI poses" `isInfixOf`)
+      e `shouldSatisfy` ("KITTI_00_gt_times.txt" `isInfixOf`)
+      trackLength tr `shouldBe` 50
+      U.last (tTime tr) `shouldSatisfy` (\t -> abs (t - 470.5816) < 1e-6)
+      -- elsewhere, without a times file beside it: exit 2 naming --times; with --times, the same path
+      let copy = dir </> "00.txt"
+      B.readFile pf >>= B.writeFile copy
+      (c, e2) <- captureStderr (dir </> "e2.txt") (runCli [copy, "--points", "50"])
+      c `shouldBe` ExitFailure 2
+      e2 `shouldSatisfy` ("--times" `isInfixOf`)
+      tr2 <- writtenTum dir "kitti2.txt" [copy, "--times", tf, "--points", "50"]
+      tTime tr2 `shouldBe` tTime tr
   it "exits 1 when the tolerance cannot be met (and still writes the best path)" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       rec <- dataFile "freiburg1_xyz-groundtruth.txt"

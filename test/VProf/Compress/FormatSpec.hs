@@ -12,10 +12,12 @@ import Test.QuickCheck
 import VProf.Compress
 import VProf.Compress.Clean (Sample (..))
 import VProf.Compress.Format.Csv
+import VProf.Compress.Format.Kitti
 import VProf.Compress.Format.Log
 import VProf.Compress.Format.Rapid
 import VProf.Compress.Format.Tum
 import VProf.Geometry.Quaternion (qangle, qnormalize)
+import qualified VProf.Kinematics.Transform as T
 import Support.Recordings
 import VProf.Geometry.Vec
 
@@ -130,6 +132,42 @@ spec = do
       hasCsvHeader (B.pack "\n# time [ms], x [mm], y [mm], z [mm], qw, qx, qy, qz\n") `shouldBe` True
       hasCsvHeader (B.pack "1540012, 719.7, -97.2, -480.8, -0.61, 0.12, -0.75, 0.22, 0, 0\n") `shouldBe` False
       hasCsvHeader (B.pack "# a comment\n1540012, 719.7, -97.2, -480.8, -0.61, 0.12, -0.75, 0.22\n") `shouldBe` False
+  describe "KITTI poses with a times file" $ do
+    it "reads [R | t] rows (9 significant digits, as KITTI writes them) as the same poses, the times from the times file" $
+      property $ forAll genTrack $ \tr ->
+        let row p (Q4 w a b c) = let P3 x y z = p
+                                     tf = T.fromQuat (T.V3 x y z) (T.Quat w a b c)
+                                 in unwords [ showEFloat' v | v <- T.toRows tf ]
+            showEFloat' v = showFFloat (Just 9) v ""
+            poses = unlines [ row p q | (p, q) <- zip (ptoList (tPos tr)) (ptoList (tRot tr)) ]
+            times = unlines [ showFFloat (Just 9) t "" | t <- U.toList (tTime tr) ]
+        in looksLikeKitti (B.pack poses) .&&.
+           case readKitti (B.pack poses) (B.pack times) of
+             Left e -> counterexample e False
+             Right ss -> map smLoc ss === [1 .. trackLength tr]
+                         .&&. closeTo (1e-6, 1e-8, 1e-7) tr (Track (U.fromList (map smTime ss)) (pfromList (map smPos ss)) (pfromList (map smRot ss)))
+    it "reads KITTI 00 as the same recording the benchmark converts (first pose the identity at t = 0)" $ do
+      pf <- dataFile "KITTI_00_gt.txt"
+      tf <- dataFile "KITTI_00_gt_times.txt"
+      ps <- B.readFile pf
+      ts <- B.readFile tf
+      case readKitti ps ts of
+        Left e -> expectationFailure e
+        Right ss -> do
+          length ss `shouldBe` 4541
+          qangle (smRot (head ss)) (Q4 1 0 0 0) `shouldSatisfy` (< 1e-6)
+          smTime (ss !! 1) `shouldSatisfy` (\t -> abs (t - 0.1037359) < 1e-9)
+          -- line 2: t = (-4.690294e-02, -2.839928e-02, 8.586941e-01)
+          distance (smPos (ss !! 1)) (P3 (-4.690294e-2) (-2.839928e-2) 0.8586941) `shouldSatisfy` (< 1e-12)
+    it "names the line of a matrix that is not a rotation, a short line and a count mismatch" $ do
+      let idLine = "1 0 0 0 0 1 0 0 0 0 1 0\n"
+          err ps ts = either id (const "no error") (readKitti (B.pack ps) (B.pack ts))
+      err (idLine ++ "2 0 0 0 0 1 0 0 0 0 1 0\n") "0\n1\n" `shouldSatisfy` (\e -> "line 2" `isInfixOf` e && "not a rotation" `isInfixOf` e)
+      err (idLine ++ "-1 0 0 0 0 1 0 0 0 0 1 0\n") "0\n1\n" `shouldSatisfy` ("line 2" `isInfixOf`)
+      err (idLine ++ "1 0 0 0 0 1 0 0 0 0 1\n") "0\n1\n" `shouldSatisfy` (\e -> "line 2" `isInfixOf` e && "got 11" `isInfixOf` e)
+      err (idLine ++ idLine) "0\n" `shouldSatisfy` ("2 poses but 1 times" `isInfixOf`)
+      err idLine "zero\n" `shouldSatisfy` (\e -> "KITTI times line 1" `isInfixOf` e && "zero" `isInfixOf` e)
+      looksLikeKitti (B.pack "# c\n1 0 0 0 0 0 0 1\n") `shouldBe` False
   describe "Polhemus log (thesis figure 33)" $ do
     it "reads samples with their line numbers (CRLF accepted)" $ do
       let Right ss = readLog (B.pack "# c\r\n1000, 1, 2, 3, 1, 0, 0, 0\r\n1000, 1, 2, 3, 1, 0, 0, 0, 7\r\n")

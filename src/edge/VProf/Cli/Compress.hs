@@ -17,7 +17,8 @@ import Data.List (intercalate, isPrefixOf)
 import GHC.Clock (getMonotonicTime)
 import Options.Applicative
 import System.Exit (ExitCode (..))
-import System.FilePath (takeExtension, takeFileName)
+import System.Directory (doesFileExist)
+import System.FilePath (dropExtension, takeExtension, takeFileName)
 import System.IO (hPutStrLn, stderr)
 import Numeric.Units.Dimensional.Prelude (metre, milli, (*~))
 import Prelude
@@ -25,6 +26,7 @@ import Prelude
 import VProf.Compress
 import VProf.Compress.Clean
 import VProf.Compress.Format.Csv
+import VProf.Compress.Format.Kitti
 import VProf.Compress.Format.Log
 import VProf.Compress.Format.Rapid
 import VProf.Compress.Format.Tum
@@ -32,13 +34,14 @@ import VProf.Compress.Objective (prepareRecording, toPathA)
 import VProf.Plot.Compress
 import VProf.Compress.Format.Report
 
-data InFormat = InTum | InLog | InCsv | InMod deriving (Show, Eq)
+data InFormat = InTum | InLog | InCsv | InKitti | InMod deriving (Show, Eq)
 data OutFormat = OutTum | OutMod | OutCsv deriving (Show, Eq)
 data Stop = StopPoints Int | StopMargin Double | StopTolerance Double deriving (Show, Eq)
 
 data CompressOptions = CompressOptions
   { coInput        :: FilePath
   , coInputFormat  :: Maybe InFormat
+  , coTimes        :: Maybe FilePath
   , coWeights      :: (Double, Double, Double)
   , coStop         :: Maybe Stop
   , coMethod       :: Method
@@ -64,9 +67,11 @@ compressOptions = rejectFlag <$> switch (long "reject-outliers" <> help "reject 
 
 compressOptions' :: Parser CompressOptions
 compressOptions' = CompressOptions
-  <$> strArgument (metavar "RECORDING" <> help "recorded motion: TUM text, CSV with a header naming its columns (vprof's own, EuRoC, ROS), Polhemus CSV log or RAPID .mod")
-  <*> optional (option (eitherReader inFmt) (long "input-format" <> metavar "tum|csv|log|mod"
-        <> help "format of RECORDING (default: from the extension; .csv is csv if its first line is a header, else a log; .log is a log, .mod RAPID, else TUM)"))
+  <$> strArgument (metavar "RECORDING" <> help "recorded motion: TUM text, CSV with a header naming its columns (vprof's own, EuRoC, ROS), KITTI poses (with --times), Polhemus CSV log or RAPID .mod")
+  <*> optional (option (eitherReader inFmt) (long "input-format" <> metavar "tum|csv|kitti|log|mod"
+        <> help "format of RECORDING (default: from the extension; .csv is csv if its first line is a header, else a log; .log is a log, .mod RAPID; else TUM, or KITTI when a line holds 12 numbers)"))
+  <*> optional (strOption (long "times" <> metavar "FILE"
+        <> help "KITTI poses only: their times, one a line in s (KITTI's times.txt); default: RECORDING's name with _times before the extension, if that file exists"))
   <*> option (eitherReader weights) (long "weights" <> metavar "P,O,V" <> value (1, 1, 1)
         <> help "weights of position, orientation and velocity error as the thesis's vekt = [p o v], in its units (mm, degrees, m/s) (default 1,1,1)")
   <*> optional stopP
@@ -112,8 +117,9 @@ compressOptions' = CompressOptions
       "tum" -> Right InTum
       "log" -> Right InLog
       "csv" -> Right InCsv
+      "kitti" -> Right InKitti
       "mod" -> Right InMod
-      _ -> Left ("--input-format " ++ s ++ ": expected tum, csv, log or mod")
+      _ -> Left ("--input-format " ++ s ++ ": expected tum, csv, kitti, log or mod")
     outFmt s = case map toLower s of
       "tum" -> Right OutTum
       "mod" -> Right OutMod
@@ -163,15 +169,17 @@ runCompress o = do
   src <- try (B.readFile file)
   case src of
     Left e -> failInput ("cannot read " ++ file ++ ": " ++ show (e :: IOException))
-    Right bytes -> case parseWith (maybe (guessIn file bytes) id (coInputFormat o)) bytes of
-      Left e -> failInput (file ++ ": " ++ e)
-      Right (notes, samples) -> case cleanSamples fileLocator (coClean o) samples of
-        Left errs -> failInput (file ++ ": " ++ intercalate "; " (map renderFieldError errs))
-        Right cl -> do
-          mapM_ (\n -> hPutStrLn stderr ("vprof compress: note: " ++ file ++ ": " ++ n)) notes
-          mapM_ (\w -> hPutStrLn stderr ("vprof compress: " ++ label w ++ ": " ++ file ++ ": " ++ renderCleanWarning fileLocator w))
-                (clWarnings cl)
-          go (clWarnings cl) (Recording (clTrack cl))
+    Right bytes -> do
+      parsed <- parseWith (maybe (guessIn file bytes) id (coInputFormat o)) bytes
+      case parsed of
+        Left e -> failInput e
+        Right (notes, samples) -> case cleanSamples fileLocator (coClean o) samples of
+          Left errs -> failInput (file ++ ": " ++ intercalate "; " (map renderFieldError errs))
+          Right cl -> do
+            mapM_ (\n -> hPutStrLn stderr ("vprof compress: note: " ++ file ++ ": " ++ n)) notes
+            mapM_ (\w -> hPutStrLn stderr ("vprof compress: " ++ label w ++ ": " ++ file ++ ": " ++ renderCleanWarning fileLocator w))
+                  (clWarnings cl)
+            go (clWarnings cl) (Recording (clTrack cl))
   where
     -- sign flips change no orientation (q and -q are the same): a note, not a warning
     label = \case SignFlips {} -> "note"; _ -> "warning"
@@ -181,11 +189,27 @@ runCompress o = do
       ".csv" | hasCsvHeader bytes -> InCsv
              | otherwise -> InLog
       ".mod" -> InMod
-      _ -> InTum
-    parseWith InTum = fmap ((,) []) . readTum
-    parseWith InLog = fmap ((,) []) . readLog
-    parseWith InCsv = fmap (\(l, ss) -> ([describeLayout l], ss)) . readCsv
-    parseWith InMod = fmap ((,) []) . readRapid
+      _ | looksLikeKitti bytes -> InKitti
+        | otherwise -> InTum
+    file = coInput o
+    plain = pure . either (Left . ((file ++ ": ") ++)) (Right . (,) [])
+    parseWith InTum b = plain (readTum b)
+    parseWith InLog b = plain (readLog b)
+    parseWith InMod b = plain (readRapid b)
+    parseWith InCsv b = pure (either (Left . ((file ++ ": ") ++)) (\(l, ss) -> Right ([describeLayout l], ss)) (readCsv b))
+    parseWith InKitti b = do
+      let sibling = dropExtension file ++ "_times" ++ takeExtension file
+      given <- maybe (doesFileExist sibling >>= \ok -> pure (if ok then Just sibling else Nothing)) (pure . Just) (coTimes o)
+      case given of
+        Nothing -> pure (Left (file ++ ": KITTI poses (12 numbers a line) carry no times: give --times FILE (one time in s a line, KITTI's times.txt); "
+                               ++ sibling ++ " does not exist"))
+        Just tf -> do
+          tb <- try (B.readFile tf)
+          pure $ case tb of
+            Left e -> Left ("cannot read the times " ++ tf ++ ": " ++ show (e :: IOException))
+            Right times -> case readKitti b times of
+              Left e -> Left (file ++ " with the times of " ++ tf ++ ": " ++ e)
+              Right ss -> Right (["read as KITTI poses (3x4 [R | t] a line, m) with the times of " ++ tf], ss)
     (wp, wo, wv) = coWeights o
     settings = Settings
       { sMethod = coMethod o
