@@ -42,6 +42,11 @@ probeDivisor = 32
 bisectionSteps :: Int
 bisectionSteps = 5
 
+-- | Halvings of the interval below the probe when a pass at rest finds the probe's step
+-- unsafe (a creep onto the terminal; 2⁻⁴⁰ of the probe is far below any end tolerance).
+creepSteps :: Int
+creepSteps = 40
+
 -- | A velocity this close to the terminal velocity is set to it exactly.
 terminalSnap :: Double
 terminalSnap = 1e-11
@@ -74,15 +79,25 @@ choose e st@(St v _ s) =
       -- when the probe passes)
       probe = aB + (hi - aB) / probeDivisor
       bisectFrom stP = search probe hi stP bisectionSteps
+      -- at rest short of the terminal with even the probe's step too long (a coarse time
+      -- step, the last millimetres): the largest safe acceleration below the probe, a creep,
+      -- instead of standing still for ever
+      creep = search aB probe fallback creepSteps
+      unsafeProbe = if standing st then creep else fallback
   in if stA st < 0
        then maybe fallback (\stP -> maybe (bisectFrom stP) id (try hi)) (try probe)
-       else maybe (maybe fallback bisectFrom (try probe)) id (try hi)
+       else maybe (maybe unsafeProbe bisectFrom (try probe)) id (try hi)
 
 -- | A velocity this low near the terminal is rest: the braking ends with a step to
 -- exactly zero (or, if that step is not allowed, here), instead of creeping on towards a
 -- standstill it may approach for ever. It is a tenth of the checker's slack at zero.
 restVelocity :: Double
 restVelocity = 1e-10
+
+-- | At rest, or so near it that no step of the pass would move it (a velocity left by
+-- rounding, some 1e-12 m/s, would take years to cover a millimetre).
+standing :: St -> Bool
+standing (St v a _) = v <= restVelocity && abs a <= restVelocity
 
 -- | The forward pass toward a standstill on the terminal point, from a state: the states
 -- visited after it, in order, until it has come to rest within the landing tolerance
@@ -101,7 +116,9 @@ forward e landTol limit = go 0
     go n st
       | n >= limit = []
       | stS st >= p - landTol = finishBraking st (n :: Int)
-      | otherwise = let st' = choose e st in st' : go (n + 1) st'
+      -- at rest and staying there: the pass cannot go on (the landing reports where it stopped)
+      | otherwise = let st' = choose e st
+                    in if standing st && standing st' then [] else st' : go (n + 1) st'
     finishBraking st n
       | atRest e st || n >= limit = []
       | stV st <= restVelocity =
