@@ -8,11 +8,12 @@ jerks within range, including the jerk into the first acceleration (from start_a
 and out of the last (into end_acceleration); v_0, v_N as requested; |s_N - L| <= end_tolerance;
 no sample beyond L + end_tolerance; no crawl: no sample k < N at which the profile could
 already end (within end_tolerance of L, at the end velocity, and the jerk from the acceleration
-before it into end_acceleration within range). Relative tolerance 1e-9.
+before it into end_acceleration within range); every t, s and v a finite number (a NaN passes
+every comparison). Relative tolerance 1e-9.
 
 usage: check_csv.py REQUEST.json PROFILE.csv   (exit 0 legal, 1 illegal, 2 bad input)
 """
-import csv, json, sys
+import csv, json, math, sys
 
 def main():
     if len(sys.argv) != 3:
@@ -22,6 +23,10 @@ def main():
     if not rows or list(rows[0].keys()) != ["t", "s", "v", "a", "j"]:
         print("bad CSV header: want t,s,v,a,j"); return 2
     t = [float(r["t"]) for r in rows]; v = [float(r["v"]) for r in rows]; s_csv = [float(r["s"]) for r in rows]
+    bad_numbers = [f"row {k + 1}: {name}={x}" for k in range(len(rows)) for name, x in (("t", t[k]), ("s", s_csv[k]), ("v", v[k]))
+                   if not math.isfinite(x)]
+    if bad_numbers:
+        print(f"ILLEGAL: {len(bad_numbers)} value(s) not finite"); [print("  " + b) for b in bad_numbers[:10]]; return 1
     g = lambda k, d=0.0: float(req.get(k, d) or d)
     L = g("route_length"); tol = g("end_tolerance") or 0.01
     amin, amax, jmin, jmax = g("min_acceleration"), g("max_acceleration"), g("min_jerk"), g("max_jerk")

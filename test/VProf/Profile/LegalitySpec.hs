@@ -81,9 +81,16 @@ spec = do
     let q = problem { pbVEnd = 0.25 }
     rules (check q (prof legalV)) `shouldBe` [EndVelocity]
 
-  it "catches a profile that stops short of the route end" $ do
+  it "catches a profile that stops short of the route end, by how much (value s_N - L, limit the tolerance)" $ do
     let p = problem { pbLength = 10.02 }
     rules (check p (prof legalV)) `shouldBe` [RouteEnd]
+    [ (vValue v, vLimit v) | v <- check p (prof legalV) ] `shouldSatisfy` (\[(o, l)] -> abs (o + 0.02) < 1e-12 && l == pbTol p)
+    map renderViolation (check p (prof legalV)) `shouldBe` ["route_end at sample 23: the profile ends 0.020000 m short of the route end, more than the end tolerance 0.010000 m"]
+
+  it "a NaN or infinite velocity is a violation at its sample (every comparison with NaN is false)" $
+    property $ forAll (choose (0, length legalV - 1)) $ \k -> forAll (elements [0 / 0, 1 / 0, -1 / 0]) $ \x ->
+      let vs = [ if i == k then x else v | (i, v) <- zip [0 ..] legalV ]
+      in rules (check problem (prof vs)) === [NonFinite] .&&. map vSample (check problem (prof vs)) === [k]
 
   it "catches samples beyond the route end plus tolerance" $ do
     let r = problem { pbLength = 9.8, pbTol = 0.1 }

@@ -13,12 +13,14 @@
 -- * @jerk@: j_min <= j <= j_max, including the jerk into the first acceleration (from the
 --   start acceleration) and out of the last (into the end acceleration);
 -- * @start_velocity@ / @end_velocity@: v_0 and v_N equal the requested values;
--- * @route_end@: |s_N − L| <= end tolerance;
+-- * @route_end@: |s_N − L| <= end tolerance (value: s_N − L; limit: the tolerance);
 -- * @overshoot@: no s_k beyond L + end tolerance;
 -- * @crawl@: the profile ends at the first sample at which it could end: no sample k < N
 --   has arrived (|s_k − L| <= end tolerance, v_k = the end velocity) with the jerk from
 --   a_{k−1} (the start acceleration for k = 0) into the end acceleration within range.
---   A profile that arrives and then goes on creeping or standing is reported here.
+--   A profile that arrives and then goes on creeping or standing is reported here;
+-- * @non_finite@: every velocity (and the time step) is a finite number: a NaN would
+--   pass every comparison above.
 --
 -- Comparisons allow a rounding slack of 1e-9 relative to the limit (at least 1e-9
 -- absolute): profiles travel as decimal text and doubles, and a limit met to nine
@@ -42,7 +44,7 @@ import VProf.Profile.Request (Problem (..))
 
 data Rule
   = NegativeVelocity | Speed | AccelerationRule | JerkRule
-  | StartVelocity | EndVelocity | RouteEnd | Overshoot | Crawl | EmptyProfile
+  | StartVelocity | EndVelocity | RouteEnd | Overshoot | Crawl | EmptyProfile | NonFinite
   deriving (Eq, Ord, Show, Enum, Bounded)
 
 ruleName :: Rule -> String
@@ -57,6 +59,7 @@ ruleName = \case
   Overshoot -> "overshoot"
   Crawl -> "crawl"
   EmptyProfile -> "empty"
+  NonFinite -> "non_finite"
 
 data Violation = Violation
   { vRule   :: !Rule
@@ -66,6 +69,12 @@ data Violation = Violation
   } deriving (Eq, Show)
 
 renderViolation :: Violation -> String
+renderViolation (Violation NonFinite k _ _) =
+  "non_finite at sample " ++ show k ++ ": the velocity (or the time step) is not a finite number"
+renderViolation (Violation RouteEnd k off tol) =
+  "route_end at sample " ++ show k ++ ": the profile ends " ++ showFFloat (Just 6) (abs off) "" ++ " m "
+  ++ (if off < 0 then "short of" else "past") ++ " the route end, more than the end tolerance "
+  ++ showFFloat (Just 6) tol "" ++ " m"
 renderViolation (Violation r k v l) =
   ruleName r ++ " at sample " ++ show k ++ ": " ++ num v ++ " " ++ unit ++ relation ++ num l ++ " " ++ unit
   where
@@ -80,7 +89,6 @@ renderViolation (Violation r k v l) =
     relation = case r of
       StartVelocity -> " instead of "
       EndVelocity -> " instead of "
-      RouteEnd -> " off the route end by more than "
       Crawl -> " into the profile, which goes on until "
       NegativeVelocity -> " below "
       _ -> " beyond the limit "
@@ -100,6 +108,8 @@ legalVelocities pb vs = isLegal pb (Profile (pbDt pb) vs (pbA0 pb) (pbAEnd pb))
 check :: Problem -> Profile -> [Violation]
 check pb p
   | U.null v = [Violation EmptyProfile 0 0 0]
+  | not (finite dt) || dt <= 0 = [Violation NonFinite 0 0 0]
+  | not (U.null nonFinite) = [ Violation NonFinite k 0 0 | k <- U.toList nonFinite ]
   | otherwise = concat
       [ [ Violation NegativeVelocity k (v U.! k) 0 | k <- U.toList (U.findIndices (< negate (slack 0)) v) ]
       , speedViolations
@@ -109,13 +119,15 @@ check pb p
         | k <- U.toList (U.findIndices (\j -> j > jMax + slack jMax || j < jMin - slack jMin) allJerks), let j = allJerks U.! k ]
       , [ Violation StartVelocity 0 (U.head v) (pbV0 pb) | abs (U.head v - pbV0 pb) > slack (pbV0 pb) ]
       , [ Violation EndVelocity n (U.last v) (pbVEnd pb) | abs (U.last v - pbVEnd pb) > slack (pbVEnd pb) ]
-      , [ Violation RouteEnd n (U.last s) (pbTol pb) | abs (U.last s - len) > pbTol pb + slack len ]
+      , [ Violation RouteEnd n (U.last s - len) (pbTol pb) | abs (U.last s - len) > pbTol pb + slack len ]
       , [ Violation Overshoot k (s U.! k) (len + pbTol pb) | k <- U.toList (U.findIndices (> len + pbTol pb + slack len) s) ]
       , [ Violation Crawl k (fromIntegral k * dt) (fromIntegral n * dt) | Just k <- [arrival] ]
       ]
   where
     dt = prDt p
     v = prVelocities p
+    nonFinite = U.findIndices (not . finite) v
+    finite x = not (isNaN x || isInfinite x)
     n = U.length v - 1
     s = distances p
     len = pbLength pb

@@ -16,6 +16,7 @@ module VProf.Cli.Profile
 import qualified Data.ByteString as B
 import qualified Data.ByteString.Lazy as BL
 import qualified Data.ByteString.Lazy.Char8 as BLC
+import Control.Exception (IOException, try)
 import Data.Char (toLower)
 import Options.Applicative
 import System.Exit
@@ -74,9 +75,10 @@ generateOptions = runGenerate <$> (GenOpts
 runGenerate :: GenOpts -> IO ExitCode
 runGenerate o = do
   er <- readRequest (goRequest o)
-  case er of
-    Left e -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
-    Right rq0 -> do
+  case (er, fmap plotFormat (goPlot o)) of
+    (Left e, _) -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
+    (_, Just (Left e)) -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
+    (Right rq0, _) -> do
       let rq = rq0 { rqAlgorithm = maybe (rqAlgorithm rq0) id (goAlgorithm o)
                    , rqTimeBudget = maybe (rqTimeBudget rq0) (Just . (*~ second)) (goBudget o) }
       res <- generate rq
@@ -86,17 +88,20 @@ runGenerate o = do
             (Nothing, Nothing) -> Nothing
           toStdout = goOutput o == Nothing && fmt /= Nothing
           summaryHandle = if toStdout then stderr else stdout
+          -- an output that cannot be written is a bad option: exit 2 naming the file
+          writing what act = try act >>= \case
+            Left (e :: IOException) -> hPutStrLn stderr ("vprof: cannot write " ++ what ++ ": " ++ show e) >> pure False
+            Right () -> pure True
       hPutStr summaryHandle (summary res)
-      case (fmt, resOutcome res) of
-        (Just f, _) -> writeProfile f (goOutput o) res
-        _ -> pure ()
-      case (goPlot o, resProfile res, validate rq) of
-        (Just plotPath, Just p, Right pb) -> do
-          case plotFormat plotPath of
-            Left e -> hPutStrLn stderr ("vprof: " ++ e)
-            Right _ -> plotProfile plotPath "vprof velocity profile" pb p >> hPutStrLn summaryHandle ("plot:          " ++ plotPath)
-        _ -> pure ()
+      okOut <- case (fmt, resOutcome res) of
+        (Just f, _) -> writing (maybe "the profile" id (goOutput o)) (writeProfile f (goOutput o) res)
+        _ -> pure True
+      okPlot <- case (goPlot o, resProfile res, validate rq) of
+        (Just plotPath, Just p, Right pb) ->
+          writing plotPath (plotProfile plotPath "vprof velocity profile" pb p >> hPutStrLn summaryHandle ("plot:          " ++ plotPath))
+        _ -> pure True
       pure $ case resOutcome res of
+        _ | not (okOut && okPlot) -> ExitFailure 2
         Generated -> ExitSuccess
         Failed (InvalidRequest _) -> ExitFailure 2
         Failed _ -> ExitFailure 1
@@ -149,10 +154,15 @@ encodeCommand :: Parser (IO ExitCode)
 encodeCommand = run
   <$> strArgument (metavar "REQUEST" <> help "a ProfileRequest in JSON (or binary)")
   <*> strArgument (metavar "OUT.pb" <> help "where to write the binary ProfileRequest")
-  <*> option auto (long "request-id" <> value 0 <> metavar "N" <> help "request_id to set")
+  <*> option (eitherReader uint64) (long "request-id" <> value 0 <> metavar "N" <> help "request_id to set (0 to 2^64 - 1)")
   where
+    uint64 str = case reads str :: [(Integer, String)] of
+      [(k, "")] | k >= 0 && k <= 18446744073709551615 -> Right (fromIntegral k)
+      _ -> Left ("--request-id " ++ str ++ ": expected a whole number from 0 to 18446744073709551615 (a uint64)")
     run inp out rid = do
       er <- readRequest inp
       case er of
         Left e -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
-        Right rq -> B.writeFile out (encodeBare (requestToMsg rid rq)) >> pure ExitSuccess
+        Right rq -> try (B.writeFile out (encodeBare (requestToMsg rid rq))) >>= \case
+          Left (e :: IOException) -> hPutStrLn stderr ("vprof: cannot write " ++ out ++ ": " ++ show e) >> pure (ExitFailure 2)
+          Right () -> pure ExitSuccess

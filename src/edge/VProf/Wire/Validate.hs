@@ -106,7 +106,7 @@ validateWire :: MsgType -> B.ByteString -> Either String ()
 validateWire = go (0 :: Int) ""
   where
     go depth path t bs
-      | depth > 32 = Left ("nesting deeper than 32 at " ++ path)
+      | depth > 32 = Left ("nesting deeper than 32 at " ++ place path)
       | B.null bs = Right ()
       | otherwise = do
           (tag, used) <- varint path bs
@@ -114,7 +114,7 @@ validateWire = go (0 :: Int) ""
               wt = tag .&. 7
               rest = B.drop used bs
               here = path ++ "/" ++ show num
-          if num == 0 || num > 536870911 then Left ("bad field number " ++ show num ++ " at " ++ path) else Right ()
+          if num == 0 || num > 536870911 then Left ("bad field number " ++ show num ++ " at " ++ place path) else Right ()
           (payload, rest') <- case wt of
             0 -> (\(_, u) -> (B.empty, B.drop u rest)) <$> varint here rest
             1 -> fixed here 8 rest
@@ -151,8 +151,9 @@ validateWire = go (0 :: Int) ""
       | otherwise = varint path bs >>= \(_, u) -> varints path (B.drop u bs)
     varint path bs = case decodeVarint bs of
       VarintOk v u -> Right (v, u)
-      VarintIncomplete -> Left ("truncated varint at " ++ path)
-      VarintMalformed -> Left ("varint longer than 10 bytes at " ++ path)
+      VarintIncomplete -> Left ("truncated varint at " ++ place path)
+      VarintMalformed -> Left ("varint longer than 10 bytes at " ++ place path)
+    place path = if null path then "the message's top level (a field tag)" else "field " ++ path
     fixed path n bs
       | B.length bs < n = Left ("field " ++ path ++ ": truncated fixed" ++ show (n * 8))
       | otherwise = Right (B.empty, B.drop n bs)

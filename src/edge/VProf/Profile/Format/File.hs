@@ -49,11 +49,12 @@ readProfile path = do
         Left e -> Left (path ++ ": " ++ e)
         Right (A.Object _) -> case A.eitherDecodeStrict bytes :: Either String ProfileJson of
           Left e -> Left (path ++ ": " ++ e)
-          Right (ProfileJson ts vs) -> fromColumns (zip ts vs)
+          Right (ProfileJson ts vs) -> sameLength ts vs >> fromColumns (zip ts vs)
         Right _ -> Left (path ++ ": expected a JSON object with time and velocity arrays")
-      _ -> case decodeBare bytes of
+      _ -> case validateWire TProfileResponse bytes >> decodeBare bytes of
         Left e -> Left (path ++ ": not a binary ProfileResponse: " ++ e)
-        Right m -> fromColumns (zip (getField (prsTime m)) (getField (prsVelocity m)))
+        Right m -> let ts = getField (prsTime m); vs = getField (prsVelocity m)
+                   in sameLength ts vs >> fromColumns (zip ts vs)
   where
     parseCsv txt = case lines txt of
       (hdr : rest) | takeWhile (/= ',') hdr == "t" ->
@@ -67,8 +68,15 @@ readProfile path = do
     splitOn c s = case break (== c) s of
       (a, _ : b) -> a : splitOn c b
       (a, []) -> [a]
+    sameLength ts vs
+      | length ts == length vs = Right ()
+      | otherwise = Left (path ++ ": time has " ++ show (length ts) ++ " values but velocity " ++ show (length vs)
+                          ++ " (one of each a sample)")
     fromColumns :: [(Double, Double)] -> Either String (Double, U.Vector Double)
     fromColumns rows = case rows of
+      _ | ((k, t) : _) <- [ (k, t) | (k, (t, _)) <- zip [0 :: Int ..] rows, isNaN t || isInfinite t ] ->
+            Left (path ++ ": sample " ++ show k ++ ": its time " ++ show t ++ " is not a finite number")
+      ((t0, _) : _) | t0 /= 0 -> Left (path ++ ": the first sample is at t = " ++ show t0 ++ " s; sample k is at k times the time step, from 0")
       ((t0, _) : (t1, _) : _) ->
         let dt = t1 - t0
             uneven = [ (k, t) | (k, (t, _)) <- zip [0 :: Int ..] rows, abs (t - (t0 + fromIntegral k * dt)) > 1e-9 * max 1 (abs t) ]
@@ -77,7 +85,7 @@ readProfile path = do
              ((k, t) : _) -> Left (path ++ ": sample " ++ show k ++ " at t = " ++ show t ++ " is off the uniform time step " ++ show dt)
              [] -> Right (dt, U.fromList (map snd rows))
       [(_, v)] -> Right (1, U.singleton v)
-      [] -> Left (path ++ ": no samples")
+      [] -> Left (path ++ ": no samples (a profile is read as CSV t,s,v,a,j from .csv, JSON from .json, a binary ProfileResponse from any other name)")
 
 data ProfileJson = ProfileJson [Double] [Double]
 instance A.FromJSON ProfileJson where

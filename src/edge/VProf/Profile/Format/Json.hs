@@ -64,12 +64,19 @@ protoDouble = \case
       r -> r
 
 -- | An integer as proto3 JSON writes it: a number or a string holding one.
-protoInt :: Value -> Parser Int
-protoInt = \case
-  String t -> case reads (T.unpack (T.strip t)) of
-    [(k, "")] -> pure k
-    _ -> fail ("expected an integer, got the string " ++ show t)
-  v -> parseJSON v
+-- | A uint32 field: an integer from 0 to 2^32 - 1 (a larger one would wrap on the wire).
+protoUInt32 :: Value -> Parser Int
+protoUInt32 v = do
+  k <- protoInteger v
+  if k < 0 || k > 4294967295
+    then fail (show k ++ " is outside the range of a uint32, 0 to 4294967295")
+    else pure (fromIntegral k)
+  where
+    protoInteger = \case
+      String t -> case reads (T.unpack (T.strip t)) of
+        [(n, "")] -> pure (n :: Integer)
+        _ -> fail ("expected an integer, got the string " ++ show t)
+      x -> parseJSON x
 
 dbl :: Object -> String -> Parser Double
 dbl o name = fieldWith protoDouble o name 0
@@ -103,7 +110,7 @@ parseRequest = withObject "ProfileRequest" $ \o -> do
   aE <- dbl o "end_acceleration"
   dt <- dbl o "time_step"
   dv <- dbl o "velocity_step"
-  it <- fieldWith protoInt o "max_iterations" 0
+  it <- fieldWith protoUInt32 o "max_iterations" 0
   budget <- dbl o "time_budget"
   tol <- dbl o "end_tolerance"
   alg <- field o "algorithm" (String "ALGORITHM_DEFAULT") >>= parseAlgorithm

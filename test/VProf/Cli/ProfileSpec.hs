@@ -1,0 +1,72 @@
+-- | The velocity-profile commands end to end: generate, check and encode on files, with the
+-- exit codes and messages the README promises for bad input.
+module VProf.Cli.ProfileSpec (spec) where
+
+import qualified Data.ByteString as B
+import Data.List (isInfixOf)
+import Options.Applicative
+import System.Exit (ExitCode (..))
+import System.FilePath ((</>))
+import System.IO.Temp (withSystemTempDirectory)
+import Test.Hspec
+
+import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
+import VProf.Profile.Format.File (readRequest)
+import VProf.Profile.Request
+
+run :: Parser (IO ExitCode) -> [String] -> IO ExitCode
+run cmd args = case execParserPure defaultPrefs (info cmd forwardOptions) args of
+  Success act -> act
+  _ -> pure (ExitFailure 99)
+
+simple :: FilePath
+simple = "examples/simple.json"
+
+spec :: Spec
+spec = do
+  describe "vprof check" $ do
+    it "a profile whose velocities are NaN is illegal (exit 1), in CSV, JSON and as a NaN time" $
+      withSystemTempDirectory "vprof-check" $ \dir -> do
+        let csv = dir </> "nan.csv"; js = dir </> "nan.json"; good = dir </> "good.csv"; badT = dir </> "badt.csv"
+        writeFile csv "t,s,v,a,j\n0,0,NaN,0,0\n0.125,0,NaN,0,0\n"
+        run checkCommand [simple, csv] `shouldReturn` ExitFailure 1
+        writeFile js "{\"time\":[0,0.125],\"velocity\":[null,null]}"
+        run checkCommand [simple, js] `shouldReturn` ExitFailure 1
+        -- the generator's own profile is legal; one NaN time in it is not
+        run generateOptions [simple, "-o", good] `shouldReturn` ExitSuccess
+        run checkCommand [simple, good] `shouldReturn` ExitSuccess
+        rows <- lines <$> readFile good
+        length rows `shouldSatisfy` (> 25)
+        writeFile badT (unlines [ if i == (20 :: Int) then "NaN" ++ dropWhile (/= ',') r else r | (i, r) <- zip [1 ..] rows ])
+        run checkCommand [simple, badT] `shouldNotReturn` ExitSuccess
+    it "refuses (exit 2) arrays of different lengths, a first time other than 0, and bytes that are no ProfileResponse" $
+      withSystemTempDirectory "vprof-check" $ \dir -> do
+        let js = dir </> "short.json"; shifted = dir </> "shifted.csv"; garbage = dir </> "garbage.pb"
+        writeFile js "{\"time\":[0,0.125,0.25],\"velocity\":[0,0.1]}"
+        run checkCommand [simple, js] `shouldReturn` ExitFailure 2
+        writeFile shifted "t,s,v,a,j\n5,0,0,0,0\n5.125,0,0,0,0\n"
+        run checkCommand [simple, shifted] `shouldReturn` ExitFailure 2
+        B.writeFile garbage (B.pack [0xff, 0xff, 0xff])
+        run checkCommand [simple, garbage] `shouldReturn` ExitFailure 2
+  describe "vprof generate" $ do
+    it "an unknown plot type and an output that cannot be written are bad options (exit 2)" $
+      withSystemTempDirectory "vprof-gen" $ \dir -> do
+        run generateOptions [simple, "--plot", dir </> "p.txt"] `shouldReturn` ExitFailure 2
+        run generateOptions [simple, "-o", dir </> "no" </> "such" </> "x.csv"] `shouldReturn` ExitFailure 2
+  describe "vprof encode" $ do
+    it "refuses a max_iterations beyond a uint32 (it would wrap on the wire) and a request_id beyond a uint64, and keeps one within" $
+      withSystemTempDirectory "vprof-enc" $ \dir -> do
+        let big = dir </> "big.json"; ok = dir </> "ok.json"; out = dir </> "out.pb"
+            req it = "{\"route_length\":10,\"speed_limits\":[{\"start_distance\":0,\"velocity\":4}],\"min_acceleration\":-1,"
+                     ++ "\"max_acceleration\":1,\"min_jerk\":-2,\"max_jerk\":2,\"max_iterations\":" ++ it ++ "}"
+        writeFile big (req "4294967297")
+        readRequest big >>= either (`shouldSatisfy` ("max_iterations" `isInfixOf`)) (const (expectationFailure "accepted"))
+        run encodeCommand [big, out] `shouldReturn` ExitFailure 2
+        writeFile ok (req "4294967295")
+        run encodeCommand [ok, out] `shouldReturn` ExitSuccess
+        Right rq <- readRequest out
+        rqMaxIterations rq `shouldBe` Just 4294967295
+        run encodeCommand [ok, out, "--request-id", "-3"] `shouldReturn` ExitFailure 99
+        run encodeCommand [ok, out, "--request-id", "18446744073709551616"] `shouldReturn` ExitFailure 99
+        run encodeCommand [ok, out, "--request-id", "18446744073709551615"] `shouldReturn` ExitSuccess
+        run encodeCommand [ok, dir </> "no" </> "x.pb"] `shouldReturn` ExitFailure 2
