@@ -80,6 +80,32 @@ spec = do
       dof r `shouldBe` 1
       -- prismatic along x by 0.5·0.4 + 0.25 = 0.45, after a turn of 0.4 about z
       (abs (tx t - 1.45 * cos 0.4) < 1e-12, abs (ty t - 1.45 * sin 0.4) < 1e-12) `shouldBe` (True, True)
+    it "a mimic joint's limits bound its master: the master's limits are the intersection, and a value inside keeps the mimic inside its own" $
+      property $ forAll ((,,,) <$> elements [-2, -0.5, 0.5, 1, 2] <*> choose (-0.5, 0.5) <*> choose (-1.5, 0) <*> choose (0.1, 1.5)) $ \(k, o, ml, w) ->
+        let mh = ml + w
+            doc = wrap $ concat
+              [ "<joint name=\"m\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/><axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\"/></joint>"
+              , "<joint name=\"s\" type=\"revolute\"><parent link=\"b\"/><child link=\"c\"/><origin xyz=\"1 0 0\"/><axis xyz=\"0 1 0\"/>"
+              , "<limit lower=\"", show ml, "\" upper=\"", show mh, "\"/><mimic joint=\"m\" multiplier=\"", show k, "\" offset=\"", show o, "\"/></joint>" ]
+            inside q = q >= -1 && q <= 1 && k * q + o >= ml - 1e-12 && k * q + o <= mh + 1e-12
+        in case readUrdf defaultUrdfOptions {urdfTip = Just "c"} doc of
+             Left e -> counterexample (unlines e) $
+                       -- refused only when no master value keeps both within limits
+                       all (not . inside) [ -1 + 2 * fromIntegral i / 1000 | i <- [0 .. 1000 :: Int] ]
+                       .&&. any ("no value within its limits" `isInfixOf`) e
+             Right r -> case map jointLimits (robotJoints r) of
+               [Limits lo hi] -> counterexample (show (lo, hi)) $
+                 inside lo .&&. inside hi .&&. inside ((lo + hi) / 2)
+                 .&&. not (inside (lo - 1e-6)) .&&. not (inside (hi + 1e-6))
+               other -> counterexample (show other) False
+    it "IK on a URDF with a limited mimic joint never returns a solution that breaks the mimic's limit (was: j3 at 1 rad against +-0.1)" $ do
+      let doc = BL.pack $ concat
+            [ "<robot name=\"m\"><link name=\"b\"/><link name=\"l1\"/><link name=\"l2\"/><link name=\"l3\"/>"
+            , "<joint name=\"j1\" type=\"revolute\"><parent link=\"b\"/><child link=\"l1\"/><origin xyz=\"0 0 0.1\"/><axis xyz=\"0 0 1\"/><limit lower=\"-3\" upper=\"3\"/></joint>"
+            , "<joint name=\"j2\" type=\"revolute\"><parent link=\"l1\"/><child link=\"l2\"/><origin xyz=\"0 0 0.3\"/><axis xyz=\"0 1 0\"/><limit lower=\"-3\" upper=\"3\"/></joint>"
+            , "<joint name=\"j3\" type=\"revolute\"><parent link=\"l2\"/><child link=\"l3\"/><origin xyz=\"0.3 0 0\"/><axis xyz=\"0 1 0\"/><limit lower=\"-0.1\" upper=\"0.1\"/><mimic joint=\"j2\"/></joint></robot>" ]
+          Right r = readUrdf defaultUrdfOptions doc
+      map jointLimits (robotJoints r) `shouldBe` [Limits (-3) 3, Limits (-0.1) 0.1]
     it "a continuous joint has no limits" $ do
       let Right r = readUrdf defaultUrdfOptions {urdfBase = Just "a", urdfTip = Just "b"} (wrap "<joint name=\"c\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/></joint>")
       map jointLimits (robotJoints r) `shouldBe` [Limits (-1 / 0) (1 / 0)]
@@ -113,6 +139,15 @@ spec = do
     it "a tip not below the base" $
       either id (const []) (readUrdf defaultUrdfOptions {urdfTip = Just "a", urdfBase = Just "c"} (wrap "<joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"c\"/></joint>"))
         `shouldSatisfy` any ("not below" `isInfixOf`)
+    it "a link with two parent joints, an undeclared link and a joint from a link to itself are refused, naming them (were dropped silently)" $ do
+      errs (wrap "<joint name=\"j1\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><limit lower=\"0\" upper=\"1\"/></joint><joint name=\"j2\" type=\"revolute\"><parent link=\"b\"/><child link=\"c\"/><limit lower=\"0\" upper=\"1\"/></joint>")
+        `shouldSatisfy` any (\e -> "link \"c\" is the child of 2 joints" `isInfixOf` e && "\"j2\"" `isInfixOf` e)
+      errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"nosuch\"/><child link=\"c\"/><limit lower=\"0\" upper=\"1\"/></joint>")
+        `shouldSatisfy` any (\e -> "parent link \"nosuch\"" `isInfixOf` e)
+      errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"ghost\"/><limit lower=\"0\" upper=\"1\"/></joint>")
+        `shouldSatisfy` any (\e -> "child link \"ghost\"" `isInfixOf` e)
+      errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"b\"/><child link=\"b\"/><limit lower=\"0\" upper=\"1\"/></joint>")
+        `shouldSatisfy` any ("the same link" `isInfixOf`)
     it "a mimic of an unknown joint" $
       errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><limit lower=\"0\" upper=\"1\"/><mimic joint=\"ghost\"/></joint>")
         `shouldSatisfy` any ("ghost" `isInfixOf`)

@@ -75,6 +75,7 @@ fromDoc UrdfOptions{..} doc
   | X.nameLocalName (X.elementName (X.documentRoot doc)) /= "robot" =
       Left ["root element is <" ++ T.unpack (X.nameLocalName (X.elementName (X.documentRoot doc))) ++ ">, expected <robot>"]
   | not (null jointErrs) = Left jointErrs
+  | not (null treeErrs) = Left treeErrs
   | otherwise = do
       base <- maybe (pickRoot) Right urdfBase
       tip <- maybe pickLeaf Right urdfTip
@@ -91,6 +92,15 @@ fromDoc UrdfOptions{..} doc
     jointErrs = concat (lefts parsed)
     joints = rights parsed
     byChild = Map.fromList [(ujChild j, j) | j <- joints]
+    -- a URDF is a tree of declared links: each link the child of one joint at most
+    treeErrs =
+      [ "link " ++ show l ++ " is the child of " ++ show (length js) ++ " joints (" ++ unwords (map (show . ujName) js)
+        ++ "); in a URDF each link has one parent joint"
+      | l <- children, let js = [ j | j <- joints, ujChild j == l ], length js > 1 ]
+      ++ [ "joint " ++ show (ujName j) ++ ": its " ++ role ++ " link " ++ show l ++ " is not a <link> of the robot"
+         | j <- joints, (role, l) <- [("parent", ujParent j), ("child", ujChild j)], l `notElem` allLinks ]
+      ++ [ "joint " ++ show (ujName j) ++ ": its parent and child are the same link " ++ show (ujChild j)
+         | j <- joints, ujParent j == ujChild j ]
     children = nub (map ujChild joints)
     parents = nub (map ujParent joints)
     pickRoot = case [l | l <- allLinks, l `notElem` children] of
@@ -112,6 +122,7 @@ buildChain :: String -> [UJoint] -> Either [String] Robot
 buildChain name path
   | not (null errs) = Left errs
   | null actuated = Left ["the chain from base to tip has no movable joint"]
+  | not (null mimicErrs) = Left mimicErrs
   | otherwise =
       Right
         (emptyRobot name)
@@ -149,11 +160,30 @@ buildChain name path
       | otherwise = Nothing
     toJoint j = do
       i <- Map.lookup (ujName j) index
-      let (lo, hi, vel) = case (ujType j, ujLimit j) of
-            ("continuous", l) -> (-1 / 0, 1 / 0, l >>= \(_, _, v) -> v)
-            (_, Just (l, h, v)) -> (fromMaybe 0 l, fromMaybe 0 h, v)
-            _ -> (0, 0, Nothing)
+      let (lo0, hi0, vel) = ownLimits j
+          -- a mimic joint at k·q + o has limits of its own: they bound q too
+          bounds = [ if k > 0 then ((ml - o) / k, (mh - o) / k) else ((mh - o) / k, (ml - o) / k)
+                   | (m, (k, o), (ml, mh)) <- mimicsOf i, k /= 0, m `seq` True ]
+          lo = maximum (lo0 : map fst bounds)
+          hi = minimum (hi0 : map snd bounds)
       pure (i `seq` Joint (ujName j) (kindOf j) (Limits lo hi) (mfilter (> 0) vel) Nothing)
+    ownLimits j = case (ujType j, ujLimit j) of
+      ("continuous", l) -> (-1 / 0, 1 / 0, l >>= \(_, _, v) -> v)
+      (_, Just (l, h, v)) -> (fromMaybe 0 l, fromMaybe 0 h, v)
+      _ -> (0, 0, Nothing)
+    -- the mimic joints driven by actuated joint i: name, (multiplier, offset), own limits
+    mimicsOf i =
+      [ (ujName j, (k * k', k * o' + o), (ml, mh))
+      | j <- path, movable j, Just (m, k, o) <- [ujMimic j], Just (i', k', o') <- [resolve (0 :: Int) m], i' == i
+      , let (ml, mh, _) = ownLimits j ]
+    mimicErrs =
+      [ "joint " ++ show (ujName a) ++ ": no value within its limits keeps its mimic joints within theirs ("
+        ++ unwords [ show m ++ " = " ++ show k ++ " q + " ++ show o ++ " in [" ++ show ml ++ ", " ++ show mh ++ "]" | (m, (k, o), (ml, mh)) <- ms ] ++ ")"
+      | (i, a) <- zip [0 :: Int ..] actuated
+      , let ms = mimicsOf i
+      , not (null ms)
+      , Just (Joint _ _ (Limits lo hi) _ _) <- [toJoint a]
+      , lo > hi ]
     toLink j
       | not (movable j) = Link (ujChild j) Nothing (FixedTransform (ujOrigin j)) (Drive 0 []) []
       | otherwise =
