@@ -11,6 +11,7 @@ import Data.Maybe (fromMaybe, isJust)
 import qualified Data.Vector.Unboxed as U
 import System.Environment (lookupEnv)
 import System.IO.Unsafe (unsafePerformIO)
+import Data.List (isInfixOf)
 import Test.Hspec
 import Test.QuickCheck hiding (classify)
 import Text.Read (readMaybe)
@@ -317,7 +318,7 @@ spec = do
                  , [0, 0, 0, 1] ]
       property $ withMaxSuccess 2000 $ forAll genPose $ \target ->
         case solvePrincipal solver (matToPose target) of
-          Left (OutOfReach _ d) -> counterexample (show d) (d > 0 && d < 3 * reach)
+          Left (OutOfReach _ d) -> counterexample (show d) (d /= 0 && abs d < 3 * reach)
           Left e -> counterexample (show e) False
           Right sols -> conjoin [ counterexample (show (solQ s)) (poseError (fkFix f (U.toList (solQ s))) target < 1e-9)
                                 | s <- sols ]
@@ -328,6 +329,15 @@ spec = do
         let far = matToPose ([[1, 0, 0, 5], [0, 1, 0, 5], [0, 0, 1, 5], [0, 0, 0, 1]])
         case solveAll (fixtureDh f) far of
           Left (OutOfReach _ d) -> d `shouldSatisfy` (\x -> x > 1 && x < 10)
+          other -> expectationFailure (show other)
+    it "a wrist point inside the UR5's shoulder cylinder (radius d4 = 109.15 mm about axis 1) is too close, by the radius less its distance, not too far" $
+      forM_ [0, 0.05, 0.1] $ \r -> do
+        -- tool pointing down: the wrist point is the target raised by d6
+        let target = matToPose [[1, 0, 0, r], [0, -1, 0, 0], [0, 0, -1, 0.3], [0, 0, 0, 1]]
+        case solveAll (fixtureDh (fixtureByName "UR5")) target of
+          Left (OutOfReach what d) -> do
+            d `shouldSatisfy` (\x -> abs (x + (0.10915 - r)) < 1e-9)
+            what `shouldSatisfy` ("closer" `isInfixOf`)
           other -> expectationFailure (show other)
     it "a NaN in the target gives BadTarget" $
       solveAll (fixtureDh (fixtureByName "UR5")) (matToPose [[0 / 0, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0.5], [0, 0, 0, 1]])

@@ -103,7 +103,9 @@ solvePrincipal Solver{..} target
                   pure v
             in Solution q br sing
       in case raws of
-           Left e -> Left (OutOfReach "the wrist point is outside the arm's reach" e)
+           Left e
+             | e >= 0 -> Left (OutOfReach "the wrist point is outside the arm's reach" e)
+             | otherwise -> Left (OutOfReach "the wrist point is closer to the shoulder than the arm can fold" e)
            Right rs -> Right (map toSol rs)
 
 badPose :: Pose -> Bool

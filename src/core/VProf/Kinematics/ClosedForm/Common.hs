@@ -2,18 +2,24 @@
 -- | What both closed forms share: the table unpacked into strict constants ('Consts'), the
 -- raw solution record, the first joint from the wrist point ('shoulderAngles') and the
 -- planar two-link elbow ('elbowAngle'), both written with atan2 of accurately formed
--- quantities (no acos/asin near their poles) and never NaN: beyond reach is a 'Left' with
--- the distance, a coincident pair of solutions is returned once.
+-- quantities (no acos/asin near their poles) and never NaN: out of reach is a 'Left' with
+-- the distance, positive beyond the reach and negative closer in than the arm can fold; a
+-- coincident pair of solutions is returned once.
 module VProf.Kinematics.ClosedForm.Common
   ( Consts (..), mkConsts
   , Raw (..)
   , shoulderAngles, elbowAngle, elbowLabel
   , dhRot, dhLinkCS, wrap
   , tolReach, tolSing
+  , closestMiss
   ) where
 
 import qualified Data.Vector.Unboxed as U
 import VProf.Kinematics.ClosedForm.Types
+
+-- | Of several misses (signed as 'elbowAngle''s), the one nearest to a solution.
+closestMiss :: [Double] -> Double
+closestMiss = foldr1 (\a b -> if abs a <= abs b then a else b)
 
 -- | The DH table as strict constants (lengths m, angles as cos/sin), base/tool inverses.
 data Consts = Consts
@@ -93,7 +99,7 @@ shoulderAngles Consts{..} dz (V3 px py pz) =
          in if h2 < 0
               then if abs k - r <= tolReach
                      then Right [(phi - atan2 k 0, ShoulderRight, True)]
-                     else Left (abs k - r)
+                     else Left (negate (abs k - r))   -- inside the cylinder: too close
               else let h = sqrt h2
                    in if h < tolElbow * r
                         -- on the cylinder |K| (within 1e-7 rad): one shoulder, flagged
@@ -104,7 +110,8 @@ shoulderAngles Consts{..} dz (V3 px py pz) =
 -- | The planar elbow: γ ∈ [0, π] with r² = a² + b² + 2ab·cos γ (a, b signed link
 -- vectors' lengths along their x axes), from the half-angle form
 -- tan²(γ'/2) = ((|a|+|b|)² − r²)/(r² − (|a|−|b|)²), which keeps its accuracy near the
--- stretched and folded poses. 'Left' the distance by which r is outside the annulus;
+-- stretched and folded poses. 'Left' the distance by which r is outside the annulus,
+-- positive beyond it, negative inside its hole;
 -- the flag says γ is 0 or π (the two elbow solutions coincide).
 elbowAngle :: Double -> Double -> Double -> Either Double (Double, Bool)
 elbowAngle a b r =
@@ -113,7 +120,7 @@ elbowAngle a b r =
       num0 = (outer - r) * (outer + r)
       den0 = (r - inner) * (r + inner)
   in if num0 < 0 && r - outer > tolReach then Left (r - outer)
-     else if den0 < 0 && inner - r > tolReach then Left (inner - r)
+     else if den0 < 0 && inner - r > tolReach then Left (negate (inner - r))   -- too close
      else
        let num = max 0 num0; den = max 0 den0
            g0 | num == 0 && den == 0 = if r < 0.5 * outer then pi else 0

@@ -48,7 +48,7 @@ parallelRaw c@Consts{..} tgt@(Pose rp tp) =
                            ss -> Right (concat ss)
              results = map perShoulder shoulders
              sols = concat [s | Right s <- results]
-         in if null sols then Left (minimum [e | Left e <- results]) else Right sols
+         in if null sols then Left (closestMiss [e | Left e <- results]) else Right sols
 
 -- | The planar part for given θ1, θ5, θ6 (each with its cosine and sine):
 -- T14 = T01⁻¹·T'·(T45·Rz(θ6)Dz(d6))⁻¹ = Rz(θ234)Rx(α4) with origin

@@ -50,7 +50,7 @@ pieperRaw c@Consts{..} (Pose rp tp) =
                in wristAngles c m (\t4 t5 t6 w sing -> Raw t1 t2 t3 t4 t5 t6 (Branch sh el w) (sing0 ++ sing))
              results = map perShoulder shoulders
              sols = concat [s | Right s <- results]
-         in if null sols then Left (minimum [e | Left e <- results]) else Right sols
+         in if null sols then Left (closestMiss [e | Left e <- results]) else Right sols
 
 -- | θ4, θ5, θ6 from M = R03ᵀ·R' = Rz(θ4)Rx(α4)Rz(θ5)Rx(α5)Rz(θ6) with α4, α5 = ±90°:
 -- M's third column is (σ5 c4 s5, σ5 s4 s5, −σ4 σ5 c5); θ6 then from the rest of M.

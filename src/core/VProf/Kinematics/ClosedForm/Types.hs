@@ -227,7 +227,8 @@ instance NFData Solution where rnf (Solution q b s) = q `seq` b `seq` rnf s
 data IkFailure
   = UnknownFamily String        -- ^ the table fits neither family; says which condition fails
   | BadTarget String            -- ^ a NaN or infinite number in the target
-  | OutOfReach String Double    -- ^ what cannot be reached, and by how much (m)
+  | OutOfReach String Double    -- ^ what cannot be reached, and by how much (m): positive
+                                --   beyond the reach, negative closer in than the arm folds
   | OutsideLimits Int Int Double -- ^ solutions found, the joint (1-based) and radians by which the nearest misses its limit
   deriving (Eq, Show)
 

@@ -63,7 +63,7 @@ data IkFailure
   | NotConverged {failPositionResidual :: Double, failRotationResidual :: Double}
     -- ^ the best residual found within the budget (m, rad)
   | Unreachable String Double
-    -- ^ what the closed form cannot reach, and by how much (m)
+    -- ^ what the closed form cannot reach, and by how much (m): positive too far, negative too close
   | InvalidRequest [String]
   deriving (Eq, Show)
 
@@ -79,7 +79,9 @@ describeFailure = \f -> case f of
   OrientationUnreachable t -> "the tool stays level: the target is tilted by " ++ show (t * 180 / pi) ++ " deg"
   Singular why -> "singular: " ++ why
   NotConverged p r -> "not converged: best residual " ++ show p ++ " m, " ++ show r ++ " rad"
-  Unreachable what d -> "beyond reach: " ++ what ++ " (" ++ mm d ++ " too far)"
+  Unreachable what d
+    | d >= 0 -> "beyond reach: " ++ what ++ " (" ++ mm d ++ " too far)"
+    | otherwise -> "too close: " ++ what ++ " (" ++ mm (negate d) ++ " too close)"
   InvalidRequest es -> "invalid request: " ++ intercalate "; " es
   where
     mm x = show (fromIntegral (round (x * 1e6) :: Integer) / 1000 :: Double) ++ " mm"
