@@ -116,6 +116,21 @@ spec = do
     it "a joint that drives nothing" $
       errsOf (B.pack (unlines ["name: x", "convention: standard-dh", "joints:", "  - {name: J1, limits: [-1, 1]}", "  - {name: J2, limits: [-1, 1]}", "links:", "  - {dh: {a: 1}, joint: J1}"]))
         `shouldSatisfy` any ("drives no link" `isInfixOf`)
+    it "a misspelt or unknown key is an error naming it, at every level (was ignored: limit: left a joint unbounded)" $ do
+      let file js ls extra = B.pack (unlines (["name: x", "convention: standard-dh", "joints:"] ++ js ++ ["links:"] ++ ls ++ extra))
+          j = "  - {name: J1, limits: [-1, 1]}"
+          l = "  - {dh: {a: 1}}"
+      errsOf (file ["  - {name: J1, limit: [-10, 10]}"] [l] []) `shouldSatisfy` any ("joints[0].limit: not a known key" `isInfixOf`)
+      errsOf (file [j] ["  - {dh: {theta: 0, d: 0, A: -0.39225, alpha: 0}}"] []) `shouldSatisfy` any ("links[0].dh.A: not a known key" `isInfixOf`)
+      errsOf (file [j] ["  - {dh: {a: 1}, capsule: []}"] []) `shouldSatisfy` any ("links[0].capsule: not a known key" `isInfixOf`)
+      errsOf (file [j] [l] ["paylod: 7"]) `shouldSatisfy` any ("paylod: not a known key" `isInfixOf`)
+      errsOf (file [j] [l] ["units: {length: m, angel: deg}"]) `shouldSatisfy` any ("units.angel" `isInfixOf`)
+      errsOf (file [j] [l] ["tool: {xyz: [0, 0, 0], rpy: [0, 0, 0], z: 1}"]) `shouldSatisfy` any ("tool.z" `isInfixOf`)
+      errsOf (file [j] ["  - {dh: {a: 1}, capsules: [{a: [0, 0, 0], b: [1, 0, 0], r: 0.1}]}"] []) `shouldSatisfy` any ("capsules[0].r: not a known key" `isInfixOf`)
+    it "a capsule_radius of 0 or less names capsule_radius (the field written), once" $ do
+      let es = errsOf (minimal "capsule_radius: -0.06")
+      es `shouldSatisfy` any ("capsule_radius = -6.0e-2" `isInfixOf`)
+      length es `shouldBe` 1
     it "unknown units" $
       errsOf (minimal "units: {length: furlong}") `shouldSatisfy` any ("units.length" `isInfixOf`)
     it "a missing file" $ do

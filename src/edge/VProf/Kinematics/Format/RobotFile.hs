@@ -23,7 +23,6 @@ import qualified Data.Aeson.KeyMap as KM
 import qualified Data.ByteString as BS
 import Data.Either (lefts, rights)
 import Data.List (elemIndex)
-import Data.Maybe (fromMaybe)
 import Data.Scientific (toRealFloat)
 import qualified Data.Text as T
 import qualified Data.Vector as V
@@ -85,6 +84,13 @@ collect ps = case lefts ps of
   [] -> Right (rights ps)
   es -> Left (concat es)
 
+-- | Keys a mapping may hold: any other is an error naming it (a misspelt @limit@ would
+-- otherwise leave a joint unbounded without a word).
+known :: String -> [String] -> A.Object -> P ()
+known p keys o = case [ K.toString k | k <- KM.keys o, K.toString k `notElem` keys ] of
+  [] -> Right ()
+  bad -> Left [ (if p == "file" then k else p ++ "." ++ k) ++ ": not a known key (expected one of " ++ unwords keys ++ ")" | k <- bad ]
+
 optNum :: String -> A.Object -> String -> P (Maybe Double)
 optNum p o k = field p o k >>= \case
   Nothing -> Right Nothing
@@ -94,6 +100,8 @@ optNum p o k = field p o k >>= \case
 fromValue :: A.Value -> P Robot
 fromValue v = do
   o <- obj "file" v
+  known "file" [ "name", "description", "sources", "units", "convention", "payload", "reach", "closed_form"
+               , "capsule_radius", "base", "tool", "joints", "links" ] o
   name <- req "file" o "name" >>= str "name"
   desc <- field "file" o "description" >>= maybe (Right "") (str "description")
   sources <- field "file" o "sources" >>= maybe (Right []) (\s -> arr "sources" s >>= collect . zipWith (\i x -> str ("sources[" ++ show i ++ "]") x) [0 :: Int ..])
@@ -108,7 +116,10 @@ fromValue v = do
     Nothing -> Right Nothing
     Just (A.String "dobot") -> Right (Just DobotLinkage)
     Just x -> Left ["closed_form: " ++ take 40 (show x) ++ " is not known (dobot)"]
-  radius <- maybe 0.05 (* lenU) <$> optNum "file" o "capsule_radius"
+  radius <- optNum "file" o "capsule_radius" >>= \case
+    Nothing -> Right 0.05
+    Just r | r > 0 && not (isInfinite r) -> Right (r * lenU)
+           | otherwise -> Left ["capsule_radius = " ++ show r ++ ": must be a finite number > 0"]
   base <- field "file" o "base" >>= maybe (Right identity) (frame "base" lenU angU)
   tool <- field "file" o "tool" >>= maybe (Right identity) (frame "tool" lenU angU)
   jv <- req "file" o "joints" >>= arr "joints"
@@ -126,6 +137,7 @@ units o = field "file" o "units" >>= \case
   Nothing -> Right (1, pi / 180)
   Just u -> do
     uo <- obj "units" u
+    known "units" ["length", "angle"] uo
     l <- field "units" uo "length" >>= maybe (Right "m") (str "units.length")
     a <- field "units" uo "angle" >>= maybe (Right "deg") (str "units.angle")
     lf <- case l of
@@ -141,6 +153,7 @@ units o = field "file" o "units" >>= \case
 frame :: String -> Double -> Double -> A.Value -> P Tf
 frame p lenU angU v = do
   o <- obj p v
+  known p ["xyz", "rpy"] o
   xyz <- field p o "xyz" >>= maybe (Right [0, 0, 0]) (nums 3 (p ++ ".xyz"))
   rpy <- field p o "rpy" >>= maybe (Right [0, 0, 0]) (nums 3 (p ++ ".rpy"))
   let [x, y, z] = map (* lenU) xyz
@@ -151,6 +164,7 @@ joint :: Double -> Double -> Int -> A.Value -> P Joint
 joint lenU angU i v = do
   let p = "joints[" ++ show i ++ "]"
   o <- obj p v
+  known p ["name", "type", "limits", "max_velocity", "max_acceleration"] o
   name <- req p o "name" >>= str (p ++ ".name")
   kind <- field p o "type" >>= \case
     Nothing -> Right Revolute
@@ -170,6 +184,7 @@ link :: String -> Double -> Double -> [String] -> [Joint] -> Double -> Int -> A.
 link conv lenU angU names joints radius i v = do
   let p = "links[" ++ show i ++ "]"
   o <- obj p v
+  known p ["name", "fixed", "drive", "joint", "offset", "origin", "axis", "dh", "capsules"] o
   name <- field p o "name" >>= maybe (Right ("link" ++ show (i + 1))) (str (p ++ ".name"))
   -- what drives it: drive {joint: coefficient}, joint: NAME, fixed: true, or joint i by default
   fixed <- field p o "fixed" >>= \case
@@ -203,7 +218,9 @@ link conv lenU angU names joints radius i v = do
     _ -> do
       dv <- req p o "dh"
       d <- obj (p ++ ".dh") dv
-      let g k s = fromMaybe 0 <$> optNum (p ++ ".dh") d k >>= \x -> Right (x * s)
+      known (p ++ ".dh") ["theta", "d", "a", "alpha"] d
+      -- a DH field left out is 0 (docs/kinematics.md); a misspelt one is an error above
+      let g k s = maybe 0 (* s) <$> optNum (p ++ ".dh") d k
       th <- g "theta" angU
       dd <- g "d" lenU
       a <- g "a" lenU
@@ -213,6 +230,7 @@ link conv lenU angU names joints radius i v = do
     Nothing -> Right (defaultCapsules radius geom)
     Just cv -> arr (p ++ ".capsules") cv >>= \cs -> collect
       [ do co <- obj q c
+           known q ["a", "b", "radius"] co
            a <- req q co "a" >>= nums 3 (q ++ ".a")
            b <- req q co "b" >>= nums 3 (q ++ ".b")
            r <- req q co "radius" >>= num (q ++ ".radius")
