@@ -1,6 +1,7 @@
 -- | Round trips and error messages of the recording/path formats.
 module VProf.Compress.FormatSpec (spec) where
 
+import Control.Monad (forM_)
 import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy.Char8 as BL
 import Data.List (intercalate, isInfixOf)
@@ -220,6 +221,24 @@ spec = do
           U.toList (tTime tr) `shouldBe` [0, 0.2]
           distance (phead (tPos tr)) (P3 0.3495059 0.9242835 0.4254585) `shouldSatisfy` (< 1e-12)
           distance (plast (tPos tr)) (P3 0.3595059 0.9142835 0.4254585) `shouldSatisfy` (< 1e-12)
+    it "refuses a circular or searching move, naming its line (MoveC used to be dropped without a word)" $
+      forM_ ["MoveC p1, p2, v500\\T:=1, z10, tool0;", "SearchL \\Stop, di1, sp, p1, v100, tool0;", "PaintC p1, p2, v500, z10, tool0;"] $ \instr -> do
+        let src = unlines [ "MODULE m"
+                          , "  CONST robtarget p0 := [[400,-100,300],[0,1,0,0],[0,0,0,0],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];"
+                          , "  CONST robtarget p1 := [[500,-100,300],[0,1,0,0],[0,0,0,0],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];"
+                          , "  CONST robtarget p2 := [[500,100,300],[0,1,0,0],[0,0,0,0],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];"
+                          , "  PROC main()", "    MoveL p0, v500, z10, tool0;", "    " ++ instr
+                          , "    MoveL p2, v500\\T:=1, fine, tool0;", "  ENDPROC", "ENDMODULE" ]
+        case parseRapid (B.pack src) of
+          Left e -> e `shouldSatisfy` (\m -> "line 7" `isInfixOf` m && "not supported" `isInfixOf` m)
+          Right _ -> expectationFailure ("accepted: " ++ instr)
+    it "refuses a robtarget whose position or orientation has the wrong count (a short position used to borrow the quaternion's first number)" $
+      forM_ [("[[500,-100],[250,1,0,0],[0,0,0,0]]", "2 numbers in the position"), ("[[400,-100,300,7],[0,1,0,0]]", "4 numbers in the position")
+            , ("[[400,-100,300],[0,1,0]]", "3 in the orientation")] $ \(val, what) -> do
+        let src = "MODULE m\n  CONST robtarget p0 := " ++ val ++ ";\n  PROC main()\n    MoveL p0, v500, z10, tool0;\n  ENDPROC\nENDMODULE\n"
+        case parseRapid (B.pack src) of
+          Left e -> e `shouldSatisfy` (\m -> "line 2" `isInfixOf` m && what `isInfixOf` m)
+          Right _ -> expectationFailure ("accepted: " ++ val)
     it "names the line of a move to an undeclared target" $ do
       let Left e = parseRapid (B.pack "MODULE m\nPROC main()\n  MoveL nowhere, v500, z10, tool0;\nENDPROC\nENDMODULE\n")
       e `shouldSatisfy` ("line 3" `isInfixOf`)

@@ -95,6 +95,15 @@ readRapid bs = do
   let (stmts, startT) = statements (B.unpack bs)
   targets <- M.fromList <$> traverse robtarget [ s | s@(_, x) <- stmts, "robtarget" `elem` words (lower (map sep x)) ]
   let moves = [ s | s@(_, x) <- stmts, isMove x ]
+      -- a move vprof cannot turn into straight timed moves changes the path: refuse it
+      -- (MoveAbsJ, a move in joint space, is left out as documented)
+      unsupported = [ (ln, w) | (ln, x) <- stmts, (w : _) <- [words x], let lw = lower w
+                              , any (`isPrefixOf` lw) ["move", "paint", "search", "trigg"]
+                              , lw `notElem` ["movel", "paintl", "movej", "moveabsj"] ]
+  case unsupported of
+    (ln, w) : _ -> Left ("RAPID line " ++ show ln ++ ": " ++ w ++ " is not supported (vprof reads MoveL, PaintL and MoveJ"
+                         ++ " with \\T:= times; a circular or searching move would change the path)")
+    [] -> Right ()
   if null moves then Left "RAPID: no MoveL/PaintL/MoveJ instruction found" else Right ()
   steps <- traverse (move targets) (zip [0 :: Int ..] moves)
   let times = scanl1 (+) (maybe 0 id startT : map fst (tail steps))
@@ -110,13 +119,16 @@ readRapid bs = do
             (n : _) -> n
             [] -> ""
       if null rhs then Left ("RAPID line " ++ show ln ++ ": robtarget " ++ name ++ " has no value") else Right ()
-      let nums = numbersIn (drop 2 rhs)
-      case nums of
-        Right (x1 : y1 : z1 : q1 : q2 : q3 : q4 : _) ->
+      let groups = innerGroups (drop 2 rhs)
+          shape = "needs [[x,y,z],[q1,q2,q3,q4],...]"
+      case map numbersIn (take 2 groups) of
+        [Right [x1, y1, z1], Right [q1, q2, q3, q4]] ->
           Right (name, (P3 (x1 * 1e-3) (y1 * 1e-3) (z1 * 1e-3), Q4 q1 q2 q3 q4))
-        Right ns -> Left ("RAPID line " ++ show ln ++ ": robtarget " ++ name
-                          ++ " needs [[x,y,z],[q1,q2,q3,q4],...], found " ++ show (length ns) ++ " numbers")
-        Left bad -> Left ("RAPID line " ++ show ln ++ ": robtarget " ++ name ++ ": not a number: " ++ show bad)
+        [Left bad, _] -> Left ("RAPID line " ++ show ln ++ ": robtarget " ++ name ++ ": not a number: " ++ show bad)
+        [_, Left bad] -> Left ("RAPID line " ++ show ln ++ ": robtarget " ++ name ++ ": not a number: " ++ show bad)
+        [Right ps, Right qs] -> Left ("RAPID line " ++ show ln ++ ": robtarget " ++ name ++ " " ++ shape ++ ", found "
+                                      ++ show (length ps) ++ " numbers in the position and " ++ show (length qs) ++ " in the orientation")
+        _ -> Left ("RAPID line " ++ show ln ++ ": robtarget " ++ name ++ " " ++ shape ++ ", found " ++ show (length groups) ++ " bracketed groups")
     move targets (k, (ln, x)) = do
       let afterInstr = dropWhile isSpace (dropWhile (not . isSpace) x)
           name = trim (takeWhile (/= ',') afterInstr)
@@ -142,6 +154,19 @@ breakOn pat = go ""
              | otherwise = case s of
                  [] -> (reverse acc, [])
                  (c : cs) -> go (c : acc) cs
+
+-- | The texts of the groups one bracket level inside the outermost, in order:
+-- @[[1,2,3],[4,5,6,7],[0,0,0,0]]@ gives @["1,2,3", "4,5,6,7", "0,0,0,0"]@.
+innerGroups :: String -> [String]
+innerGroups = go (0 :: Int) "" []
+  where
+    go _ _ acc [] = reverse acc
+    go d cur acc (c : cs)
+      | c == '[' = go (d + 1) (if d >= 2 then c : cur else "") acc cs
+      | c == ']' = if d == 2 then go (d - 1) "" (reverse cur : acc) cs
+                   else go (d - 1) (if d > 2 then c : cur else cur) acc cs
+      | d >= 2 = go d (c : cur) acc cs
+      | otherwise = go d cur acc cs
 
 -- | All numbers in a bracketed RAPID value (commas, brackets and whitespace separate).
 numbersIn :: String -> Either String [Double]
