@@ -111,16 +111,17 @@ statement nv l = case BC.words (BC.takeWhile (/= '#') l) of
       when (length rest > 2) (Left ("bad face vertex " ++ show (BC.unpack t)))
       mapM_ (\p -> if BS.null p || isInt p then Right () else Left ("bad index in face vertex " ++ show (BC.unpack t))) rest
       when (length rest == 2 && BS.null (head rest) && BS.null (rest !! 1)) (Left ("bad face vertex " ++ show (BC.unpack t)))
-      i <- case BC.readInt vpart of
+      -- read as an Integer: an Int would wrap 18446744073709551617 round to 1
+      i <- case BC.readInteger vpart of
         Just (i, r) | BS.null r -> Right i
         _ -> Left ("bad vertex index " ++ show (BC.unpack t))
       let a | i > 0 = i - 1
-            | otherwise = nv + i
+            | otherwise = fromIntegral nv + i
       if i == 0 then Left ("vertex index 0 in " ++ show (BC.unpack t) ++ " (indices start at 1)")
-      else if a < 0 || a >= nv
+      else if a < 0 || a >= fromIntegral nv
         then Left ("vertex index " ++ show i ++ " out of range (" ++ show nv ++ " vertices defined so far)")
-        else Right a
-    isInt p = case BC.readInt p of Just (_, r) -> BS.null r; Nothing -> False
+        else Right (fromIntegral a)
+    isInt p = case BC.readInteger p of Just (_, r) -> BS.null r; Nothing -> False
 
 -- | A decimal number: [+-] digits [. digits] [e [+-] digits], or @nan@/@inf@/@infinity@ (any
 -- case, read as such so that the caller can say it is not finite). Correctly rounded: up to 15
