@@ -170,6 +170,13 @@ spec = describe "VProf.Plan" $ do
         checkTrajectory r (positions wps) 0.01 defaultAcceleration defaultJerk defaultTimeStep plan `shouldBe` []
         planDuration plan `shouldSatisfy` (> routeLength (planRoute plan) / 0.25)
 
+  it "a Panda path that brings J2 onto its limit stays within it between the tracked samples (the cubic used to bulge 1.6e-7 rad past -101 deg)" $ do
+    let r = robot "franka-panda"
+        wps = [ waypoint (-0.3, 0, 0.6) (0, 1, 0, 0), waypoint (0.3, 0, 0.6) (0, 1, 0, 0) ]
+    case planPath (planRequest r wps) of
+      Left f -> expectationFailure (describePlanFailure f)
+      Right plan -> checkTrajectory r (positions wps) 0.01 defaultAcceleration defaultJerk defaultTimeStep plan `shouldBe` []
+
   it "plans the same recording at 3 m/s, where the joints bind and the route is timed in parts: legal by the independent checker" $ do
     wps <- placedFreiburg
     let r = robot "ur5"

@@ -23,6 +23,7 @@ module VProf.Plan.Track
   , JointPath (..)
   , jointPath
   , jointPathAt
+  , withJointLimits
   , stepBounds
   , trackRoute
   , smallestSingularValue
@@ -132,10 +133,17 @@ data JointPath = JointPath
   { jpTracked :: !Tracked
   , jpLeft    :: !(U.Vector Double)   -- ^ (N+1)·n: the slope at each sample, seen from the step before it
   , jpRight   :: !(U.Vector Double)   -- ^ (N+1)·n: the slope at each sample, seen from the step after it
+  , jpLo      :: !(U.Vector Double)   -- ^ n: the joint limits the curve is held within (empty: none)
+  , jpHi      :: !(U.Vector Double)
   }
 
+-- | The path held within joint limits: the tracked samples are within them, but the cubic
+-- between two samples near a limit may bulge past it by a fraction of a microradian.
+withJointLimits :: U.Vector Double -> U.Vector Double -> JointPath -> JointPath
+withJointLimits lo hi jp = jp { jpLo = lo, jpHi = hi }
+
 jointPath :: [Double] -> Tracked -> JointPath
-jointPath stops tk = JointPath tk (U.generate (nS * n) (slopeAt fst)) (U.generate (nS * n) (slopeAt snd))
+jointPath stops tk = JointPath tk (U.generate (nS * n) (slopeAt fst)) (U.generate (nS * n) (slopeAt snd)) U.empty U.empty
   where
     ss = tkS tk
     nS = U.length ss
@@ -153,7 +161,7 @@ jointPath stops tk = JointPath tk (U.generate (nS * n) (slopeAt fst)) (U.generat
 
 -- | The joint vector at s on the smooth path.
 jointPathAt :: JointPath -> Double -> U.Vector Double
-jointPathAt (JointPath t ml mr) s
+jointPathAt (JointPath t ml mr lo hi) s
   | s <= U.head ss = trackedQ t 0
   | s >= U.last ss = trackedQ t (U.length ss - 1)
   | otherwise =
@@ -166,8 +174,11 @@ jointPathAt (JointPath t ml mr) s
           h01 = (3 - 2 * u) * u * u
           h11 = (u - 1) * u * u
       in U.generate n $ \i ->
-           h00 * q k i + h10 * hk * mr U.! (k * n + i) + h01 * q (k + 1) i + h11 * hk * ml U.! ((k + 1) * n + i)
+           within i (h00 * q k i + h10 * hk * mr U.! (k * n + i) + h01 * q (k + 1) i + h11 * hk * ml U.! ((k + 1) * n + i))
   where
+    within i x
+      | U.null lo = x
+      | otherwise = max (lo U.! i) (min (hi U.! i) x)
     ss = tkS t
     n = tkDof t
     q k i = tkQ t U.! (k * n + i)
@@ -178,7 +189,7 @@ jointPathAt (JointPath t ml mr) s
 -- | On step k (0 ≤ k < N), joint i: the largest |dq/ds| and the largest |d²q/ds²| of the cubic,
 -- exactly (its second derivative is linear on the step, its slope a parabola).
 stepBounds :: JointPath -> Int -> Int -> (Double, Double)
-stepBounds (JointPath t ml mr) k i
+stepBounds (JointPath t ml mr _ _) k i
   | hk <= 0 = (0, 0)
   | otherwise = (maximum (abs m0 : abs m1 : vertex), max (abs c0) (abs c1))
   where

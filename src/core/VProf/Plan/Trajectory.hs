@@ -260,7 +260,8 @@ planPath rq@PlanRequest{..} = do
     es -> Left (InvalidPlan es)
   tracked <- either (Left . Stopped) Right (trackRoute prTrack (kinematicsFor prRobot) route prStart)
   let lo = limitOptionsFor rq
-      jp = jointPath (rtStops route) tracked
+      ch = compile prRobot
+      jp = withJointLimits (chainLo ch) (chainHi ch) (jointPath (rtStops route) tracked)
       pb = pathBounds jp
       cuts = 0 : rtStops route ++ [rtLength route]
       top = si prSpeed
