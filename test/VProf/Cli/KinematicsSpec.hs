@@ -6,6 +6,9 @@ import Options.Applicative
 import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
 import System.IO.Temp (withSystemTempDirectory)
+import Control.Exception (finally)
+import GHC.IO.Handle (hDuplicate, hDuplicateTo)
+import System.IO (IOMode (..), hClose, hFlush, openFile, stdout)
 import Test.Hspec
 
 import Support.Arbitrary (shared)
@@ -16,6 +19,7 @@ import VProf.Plot.Robot (armPoints)
 import Support.Gen (genQ)
 import Test.QuickCheck (forAll, property)
 import qualified Data.ByteString as B
+import qualified Data.ByteString.Char8 as BC
 import System.Directory (doesFileExist)
 
 run :: Parser (IO ExitCode) -> [String] -> IO ExitCode
@@ -42,6 +46,24 @@ spec = describe "vprof robots / fk / ik" $ do
     run ikCommand ["ur5", "--pose", "3 0 0 1 0 0 0"] `shouldReturn` ExitFailure 1
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 1 1 0 0"] `shouldReturn` ExitFailure 2
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3"] `shouldReturn` ExitFailure 99
+  it "a negative or NaN clearance and a body number below 1 are refused even without --environment (were accepted)" $ do
+    mapM_ (\args -> run ikCommand (["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0"] ++ args) `shouldReturn` ExitFailure 99)
+          -- (99: the option parser refused it; the vprof executable exits 2)
+          [["--clearance", "-1"], ["--clearance", "NaN"], ["--ignore-body", "0"], ["--ignore-body", "x"]]
+  it "fk --format json writes null for the condition number at a singularity (JSON has no infinity; it was the string \"+inf\")" $
+    withSystemTempDirectory "vprof-fk" $ \dir -> do
+      let out = dir </> "fk.json"
+      -- an exact singularity of the UR5 (its condition number is infinite there)
+      old <- hDuplicate stdout
+      h <- openFile out WriteMode
+      hDuplicateTo h stdout
+      code <- run fkCommand ["ur5", "0.7374101693382116", "1.450721935564376", "3.141592653589793", "2.654701702662302"
+                            , "1.4393914484395847", "2.533949979992502", "--format", "json"]
+                `finally` (hFlush stdout >> hDuplicateTo old stdout >> hClose h)
+      code `shouldBe` ExitSuccess
+      txt <- B.readFile out
+      B.isInfixOf (BC.pack "\"condition_number\":null") txt `shouldBe` True
+      B.isInfixOf (BC.pack "inf") txt `shouldBe` False
   it "inverse kinematics in the work cell: 0 clear of it, 1 when every solution hits it, 2 for a bad scene or clearance" $ do
     dir <- shared
     let cell = dir </> "data" </> "cell" </> "cell.obj"
@@ -52,7 +74,8 @@ spec = describe "vprof robots / fk / ik" $ do
     run ikCommand (["ur5"] ++ down "0.5 0.2 0.3" ++ ["--clearance", "0.05", "--ignore-body", "1"]) `shouldReturn` ExitSuccess
     -- a target 10 cm below the table top
     run ikCommand (["ur5"] ++ down "0.5 0 -0.1") `shouldReturn` ExitFailure 1
-    run ikCommand (["ur5"] ++ down "0.5 0.2 0.3" ++ ["--clearance", "-1"]) `shouldReturn` ExitFailure 2
+    -- refused by the option parser (99 here; the vprof executable exits 2 on a bad option)
+    run ikCommand (["ur5"] ++ down "0.5 0.2 0.3" ++ ["--clearance", "-1"]) `shouldReturn` ExitFailure 99
     run ikCommand ["ur5", "--pose", "0.5 0.2 0.3 0 1 0 0", "--environment", dir </> "no-such.obj"] `shouldReturn` ExitFailure 2
   it "reads a URDF with --tip and a robot file; a malformed file is exit code 2" $ do
     dir <- shared

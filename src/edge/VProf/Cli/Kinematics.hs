@@ -194,7 +194,9 @@ runFk o = do
           case fkFormat o of
             Json -> BLC.putStrLn $ A.encode $ A.object
               [ "position" A..= [x, y, z], "orientation" A..= [w, qx', qy', qz']
-              , "matrix" A..= toRows (forward ch q), "manipulability" A..= manip, "condition_number" A..= cond ]
+              , "matrix" A..= toRows (forward ch q), "manipulability" A..= manip
+              -- infinite at a singularity: JSON has no infinity, so null
+              , "condition_number" A..= (if isInfinite cond || isNaN cond then Nothing else Just cond) ]
             Table -> putStr $ unlines
               [ "position:        " ++ unwords (map (num 6) [x, y, z]) ++ " m"
               , "orientation:     " ++ unwords (map (num 6) [w, qx', qy', qz']) ++ " (w x y z)"
@@ -225,11 +227,17 @@ ikCommand = runIk <$> (IkOpts
         <> help "keep the robot clear of this Wavefront OBJ scene (in the robot's base frame)"))
   <*> option auto (long "scale" <> metavar "S" <> value 1 <> showDefault
         <> help "the scene's coordinates times S are metres (0.001 for millimetres)")
-  <*> option auto (long "clearance" <> metavar "M" <> value 0.01 <> showDefault
+  <*> option (eitherReader nonNegClearance) (long "clearance" <> metavar "M" <> value 0.01 <> showDefault
         <> help "with --environment: the least distance between the robot's capsules and the scene, m")
-  <*> many (option auto (long "ignore-body" <> metavar "N"
+  <*> many (option (eitherReader bodyNumber) (long "ignore-body" <> metavar "N"
         <> help "with --environment: leave body N out of the scene check (1 = the first link, e.g. a base column on a table); repeatable")))
   where
+    nonNegClearance str = case readD str of
+      Just x | not (isNaN x || isInfinite x) && x >= 0 -> Right x
+      _ -> Left ("--clearance " ++ show str ++ " m: expected a finite number >= 0")
+    bodyNumber str = case reads str :: [(Int, String)] of
+      [(k, "")] | k >= 1 -> Right k
+      _ -> Left ("--ignore-body " ++ show str ++ ": expected a body number >= 1 (1 = the first link)")
     numbers k s = case mapM readD (words (map (\c -> if c == ',' then ' ' else c) s)) of
       Just xs | k == 0 || length xs == k -> Right xs
       _ -> Left ("expected " ++ (if k == 0 then "numbers" else show k ++ " numbers") ++ ", got " ++ show s)

@@ -106,7 +106,7 @@ planCommand = runPlan <$> (PlanOpts
         <> help "the scene's coordinates times S are metres (0.001 for millimetres)")
   <*> optional (option (eitherReader nonNeg) (long "clearance" <> metavar "M"
         <> help "with --environment: the least distance between the robot's capsules and the scene, m (default: the task's, else 0.01)"))
-  <*> many (option auto (long "ignore-body" <> metavar "N"
+  <*> many (option (eitherReader bodyNumber) (long "ignore-body" <> metavar "N"
         <> help "with --environment: leave body N out of the scene check (1 = the first link); repeatable"))
   <*> optional (option (eitherReader fmt) (long "format" <> metavar "summary|csv|json"
         <> help "what to write (default: summary; with -o, from the file's extension)"))
@@ -123,6 +123,9 @@ planCommand = runPlan <$> (PlanOpts
     positive what s = case readD s of
       Just x | finite x && x > 0 -> Right x
       _ -> Left (what ++ " " ++ show s ++ ": expected a finite number > 0")
+    bodyNumber str = case reads str :: [(Int, String)] of
+      [(k, "")] | k >= 1 -> Right k
+      _ -> Left ("--ignore-body " ++ show str ++ ": expected a body number >= 1 (1 = the first link)")
     nonNeg s = case readD s of
       Just x | finite x && x >= 0 -> Right x
       _ -> Left ("--clearance " ++ show s ++ " m: expected a finite number >= 0")
