@@ -11,6 +11,8 @@ import GHC.IO.Handle (hDuplicate, hDuplicateTo)
 import System.IO (IOMode (..), hClose, hFlush, openFile, stdout)
 import Test.Hspec
 
+import Support.Cli (runCommand)
+
 import Support.Arbitrary (shared)
 import VProf.Cli.Kinematics (fkCommand, ikCommand, loadRobot, robotsCommand)
 import VProf.Kinematics
@@ -23,9 +25,7 @@ import qualified Data.ByteString.Char8 as BC
 import System.Directory (doesFileExist)
 
 run :: Parser (IO ExitCode) -> [String] -> IO ExitCode
-run p args = case execParserPure defaultPrefs (info p forwardOptions) args of
-  Success act -> act
-  _ -> pure (ExitFailure 99)
+run = runCommand
 
 spec :: Spec
 spec = describe "vprof robots / fk / ik" $ do

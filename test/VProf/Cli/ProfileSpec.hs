@@ -10,14 +10,14 @@ import System.FilePath ((</>))
 import System.IO.Temp (withSystemTempDirectory)
 import Test.Hspec
 
+import Support.Cli (runCommand)
+
 import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
 import VProf.Profile.Format.File (readRequest)
 import VProf.Profile.Request
 
 run :: Parser (IO ExitCode) -> [String] -> IO ExitCode
-run cmd args = case execParserPure defaultPrefs (info cmd forwardOptions) args of
-  Success act -> act
-  _ -> pure (ExitFailure 99)
+run = runCommand
 
 simple :: FilePath
 simple = "examples/simple.json"

@@ -5,12 +5,13 @@
 module VProf.Cli.SelectSpec (spec) where
 
 import Data.List (isInfixOf)
-import Options.Applicative
 import System.Directory (doesFileExist, makeAbsolute)
 import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
 import System.IO.Temp (withSystemTempDirectory)
 import Test.Hspec
+
+import Support.Cli (runCommand)
 
 import Support.Arbitrary (shared)
 import VProf.Cli.Select (selectCommand)
@@ -19,9 +20,7 @@ import VProf.Select.Format.Task
 import VProf.Select.Task
 
 run :: [String] -> IO ExitCode
-run args = case execParserPure defaultPrefs (info selectCommand forwardOptions) args of
-  Success act -> act
-  _ -> pure (ExitFailure 99)
+run = runCommand selectCommand
 
 -- | A task file in dir with the cell given by its absolute-or-relative path and the rest as text.
 writeTask :: FilePath -> String -> String -> IO FilePath

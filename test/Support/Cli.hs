@@ -1,0 +1,18 @@
+-- | Running a subcommand's parser on arguments in-process, as the executable would.
+module Support.Cli
+  ( runCommand
+  , parserRefused
+  ) where
+
+import Options.Applicative
+import System.Exit (ExitCode (..))
+
+-- | The exit code of a command run on these arguments; 'parserRefused' when the option
+-- parser refuses them (the vprof executable exits 2 then).
+runCommand :: Parser (IO ExitCode) -> [String] -> IO ExitCode
+runCommand cmd args = case execParserPure defaultPrefs (info cmd forwardOptions) args of
+  Success act -> act
+  _ -> pure parserRefused
+
+parserRefused :: ExitCode
+parserRefused = ExitFailure 99
