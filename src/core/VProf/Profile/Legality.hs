@@ -82,7 +82,6 @@ renderViolation (Violation r k v l) =
     unit = case r of
       AccelerationRule -> "m/s²"
       JerkRule -> "m/s³"
-      RouteEnd -> "m"
       Overshoot -> "m"
       Crawl -> "s"
       _ -> "m/s"

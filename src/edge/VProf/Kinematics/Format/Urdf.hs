@@ -163,7 +163,7 @@ buildChain name path
       let (lo0, hi0, vel) = ownLimits j
           -- a mimic joint at k·q + o has limits of its own: they bound q too
           bounds = [ if k > 0 then ((ml - o) / k, (mh - o) / k) else ((mh - o) / k, (ml - o) / k)
-                   | (m, (k, o), (ml, mh)) <- mimicsOf i, k /= 0, m `seq` True ]
+                   | (_, (k, o), (ml, mh)) <- mimicsOf i, k /= 0 ]
           lo = maximum (lo0 : map fst bounds)
           hi = minimum (hi0 : map snd bounds)
       pure (i `seq` Joint (ujName j) (kindOf j) (Limits lo hi) (mfilter (> 0) vel) Nothing)
