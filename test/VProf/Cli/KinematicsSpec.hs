@@ -108,6 +108,8 @@ spec = describe "vprof robots / fk / ik" $ do
       run robotsCommand ["ur5", "--plot", bad, "--q", "0 0 0 0 0 NaN"] `shouldReturn` ExitFailure 2
       run robotsCommand ["no-such-robot", "--plot", bad] `shouldReturn` ExitFailure 2
       run robotsCommand ["--plot", bad] `shouldReturn` ExitFailure 2
+      -- a plot file name the tool cannot write, refused by the option parser (it wrote PNG data under .pdf and .jpg)
+      mapM_ (\f -> run robotsCommand ["ur5", "--plot", tmp </> f] `shouldReturn` ExitFailure 99) ["arm.pdf", "arm.jpg", "arm"]
       run robotsCommand ["ur5", "--q", "0 0 0 0 0 0"] `shouldReturn` ExitFailure 2
       doesFileExist bad `shouldReturn` False
   it "the drawn polyline runs from the base frame's origin to the tool's, through every link frame (random q)" $ do

@@ -10,7 +10,7 @@ import System.FilePath ((</>))
 import System.IO.Temp (withSystemTempDirectory)
 import Test.Hspec
 
-import Support.Cli (runCommand)
+import Support.Cli (parserRefused, runCommand)
 
 import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
 import VProf.Profile.Format.File (readRequest)
@@ -51,7 +51,8 @@ spec = do
   describe "vprof generate" $ do
     it "an unknown plot type and an output that cannot be written are bad options (exit 2)" $
       withSystemTempDirectory "vprof-gen" $ \dir -> do
-        run generateOptions [simple, "--plot", dir </> "p.txt"] `shouldReturn` ExitFailure 2
+        -- refused by the option parser, before any work (the executable exits 2)
+        run generateOptions [simple, "--plot", dir </> "p.txt"] `shouldReturn` parserRefused
         run generateOptions [simple, "-o", dir </> "no" </> "such" </> "x.csv"] `shouldReturn` ExitFailure 2
   describe "vprof encode" $ do
     it "refuses a max_iterations beyond a uint32 (it would wrap on the wire) and a request_id beyond a uint64, and keeps one within" $

@@ -16,6 +16,7 @@ import Data.Char (toLower)
 import Data.List (intercalate, isPrefixOf)
 import GHC.Clock (getMonotonicTime)
 import Options.Applicative
+import VProf.Plot.File (plotPath)
 import System.Exit (ExitCode (..))
 import System.Directory (doesFileExist)
 import System.FilePath (dropExtension, takeExtension, takeFileName)
@@ -86,7 +87,7 @@ compressOptions' = CompressOptions
         <> help "format of OUT (default: from its extension, .mod RAPID, .csv CSV, else TUM)"))
   <*> switch (long "report" <> help "print the table of measures (thesis table 1), with the other method at the same number of points")
   <*> switch (long "report-json" <> help "print the measures as JSON")
-  <*> optional (strOption (long "plot" <> metavar "FILE.png|.svg" <> help "plot raw and fitted position, orientation and speed"))
+  <*> optional (option (eitherReader (plotPath [".png", ".svg"])) (long "plot" <> metavar "FILE.png|.svg" <> help "plot raw and fitted position, orientation and speed"))
   <*> rapidP
   <*> cleanP
   where

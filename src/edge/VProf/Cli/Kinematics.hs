@@ -24,6 +24,7 @@ import Data.List (intercalate)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showEFloat, showFFloat)
 import Options.Applicative
+import VProf.Plot.File (plotPath)
 import System.Exit
 import System.FilePath (takeExtension)
 import System.IO
@@ -72,7 +73,7 @@ num d x = showFFloat (Just d) x ""
 robotsCommand :: Parser (IO ExitCode)
 robotsCommand = runPlot <$> optional (strArgument (metavar "NAME" <> help "show one robot (a library name or a robot file)"))
                     <*> tipOption <*> formatOption
-                    <*> optional (strOption (long "plot" <> metavar "FILE.png"
+                    <*> optional (option (eitherReader (plotPath [".png", ".svg"])) (long "plot" <> metavar "FILE.png|.svg"
                           <> help "draw the arm (side view x-z and top view x-y) to a PNG or SVG file"))
                     <*> optional (option (eitherReader jointNumbers) (long "q" <> metavar "\"Q...\""
                           <> help "with --plot: the joint values, as one argument (rad or m; degrees with --deg; default: mid-limits, 0 for an unbounded joint)"))

@@ -27,6 +27,7 @@ import qualified Data.Vector.Unboxed as U
 import GHC.Clock (getMonotonicTime)
 import Numeric (showFFloat)
 import Options.Applicative
+import VProf.Plot.File (plotPath)
 import System.Exit
 import System.FilePath (takeExtension)
 import System.IO
@@ -111,7 +112,7 @@ planCommand = runPlan <$> (PlanOpts
   <*> optional (option (eitherReader fmt) (long "format" <> metavar "summary|csv|json"
         <> help "what to write (default: summary; with -o, from the file's extension)"))
   <*> optional (strOption (short 'o' <> long "output" <> metavar "FILE" <> help "write the trajectory here (.csv or .json); the summary goes to stdout"))
-  <*> optional (strOption (long "plot" <> metavar "FILE.png|.svg" <> help "plot the TCP speed and its limit over s, the joint speeds against their limits over t")))
+  <*> optional (option (eitherReader (plotPath [".png", ".svg"])) (long "plot" <> metavar "FILE.png|.svg" <> help "plot the TCP speed and its limit over s, the joint speeds against their limits over t")))
   where
     numbers what k s = case mapM readD (words (map (\c -> if c == ',' then ' ' else c) s)) of
       Just xs | k == 0 || length xs == k, all finite xs -> Right xs

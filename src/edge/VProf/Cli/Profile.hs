@@ -19,6 +19,7 @@ import qualified Data.ByteString.Lazy.Char8 as BLC
 import Control.Exception (IOException, try)
 import Data.Char (toLower)
 import Options.Applicative
+import VProf.Plot.File (plotPath)
 import System.Exit
 import System.FilePath (takeExtension)
 import System.IO
@@ -68,7 +69,7 @@ generateOptions = runGenerate <$> (GenOpts
   <*> optional (option formatReader (long "format" <> short 'f' <> metavar "pb|csv|json|table"
         <> help "write the profile in this format (default: from -o's extension, else only the summary)"))
   <*> optional (strOption (long "output" <> short 'o' <> metavar "FILE" <> help "write the profile here instead of standard output"))
-  <*> optional (strOption (long "plot" <> metavar "FILE.png|.svg|.pdf" <> help "draw v, a, j and s over t with the speed limit"))
+  <*> optional (option (eitherReader (plotPath [".png", ".svg", ".pdf"])) (long "plot" <> metavar "FILE.png|.svg|.pdf" <> help "draw v, a, j and s over t with the speed limit"))
   <*> optional (option algorithmReader (long "algorithm" <> metavar "band|thesis" <> help "override the request's algorithm"))
   <*> optional (option auto (long "time-budget" <> metavar "SECONDS" <> help "override the request's time budget")))
 

@@ -21,6 +21,7 @@ import qualified Data.Vector.Unboxed as U
 import GHC.Conc (getNumCapabilities)
 import Numeric (showFFloat)
 import Options.Applicative
+import VProf.Plot.File (plotPath)
 import System.Exit
 import System.IO
 
@@ -50,7 +51,7 @@ selectCommand = runSelect <$> (SelectArgs
   <*> strOption (long "robots" <> metavar "all|NAME,..." <> value "all" <> showDefault
         <> help "the robots to check: all of the library, or library names and robot files, comma-separated")
   <*> option (eitherReader fmt) (long "format" <> metavar "table|json" <> value Table <> help "output format (default: table)")
-  <*> optional (strOption (long "plot" <> metavar "FILE.png" <> help "draw the cell and the best robot at its targets (top and side views)")))
+  <*> optional (option (eitherReader (plotPath [".png", ".svg"])) (long "plot" <> metavar "FILE.png|.svg" <> help "draw the cell and the best robot at its targets (top and side views)")))
   where
     fmt s = case map toLower s of
       "table" -> Right Table

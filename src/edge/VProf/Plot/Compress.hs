@@ -7,15 +7,14 @@ module VProf.Plot.Compress
 
 import Control.Lens ((.~), (&))
 import Control.Monad (void)
-import Data.Char (toLower)
 import Data.Colour (opaque)
 import Data.Colour.Names (blue, red, green, black, gray)
 import Data.Default.Class (def)
 import qualified Data.Vector.Unboxed as U
 import Graphics.Rendering.Chart
-import Graphics.Rendering.Chart.Backend.Cairo (FileFormat (..), FileOptions (..), renderableToFile)
+import VProf.Plot.File (fileFormatOf)
+import Graphics.Rendering.Chart.Backend.Cairo (FileOptions (..), renderableToFile)
 import Graphics.Rendering.Chart.Grid (aboveN, gridToRenderable, tval, weights)
-import System.FilePath (takeExtension)
 
 import VProf.Geometry.Quaternion
 import VProf.Compress.Objective
@@ -25,7 +24,7 @@ import VProf.Geometry.Vec
 plotCompression :: FilePath -> String -> Prepared -> PathA -> IO ()
 plotCompression file title pr pa = void (renderableToFile opts file (gridToRenderable grid))
   where
-    fmt = if map toLower (takeExtension file) == ".svg" then SVG else PNG
+    fmt = fileFormatOf file
     opts = FileOptions (900, 1000) fmt
     t0 = U.head (rcT pr)
     rt = map (subtract t0) (U.toList (rcT pr))

@@ -7,15 +7,14 @@ module VProf.Plot.Plan
 
 import Control.Lens ((.~), (&))
 import Control.Monad (void)
-import Data.Char (toLower)
 import Data.Colour (opaque)
 import Data.Colour.Names
 import Data.Default.Class (def)
 import qualified Data.Vector.Unboxed as U
 import Graphics.Rendering.Chart
-import Graphics.Rendering.Chart.Backend.Cairo (FileFormat (..), FileOptions (..), renderableToFile)
+import VProf.Plot.File (fileFormatOf)
+import Graphics.Rendering.Chart.Backend.Cairo (FileOptions (..), renderableToFile)
 import Graphics.Rendering.Chart.Grid (aboveN, gridToRenderable, tval, weights)
-import System.FilePath (takeExtension)
 
 import VProf.Kinematics.Model
 import VProf.Plan
@@ -23,7 +22,7 @@ import VProf.Plan
 plotPlan :: FilePath -> Robot -> Plan -> IO ()
 plotPlan file r p = void (renderableToFile opts file (gridToRenderable grid))
   where
-    fmt = if map toLower (takeExtension file) == ".svg" then SVG else PNG
+    fmt = fileFormatOf file
     opts = FileOptions (900, 800) fmt
     tr = planTrajectory p
     st = planSteps p

@@ -10,15 +10,14 @@ module VProf.Plot.Robot
 
 import Control.Lens ((.~), (&))
 import Control.Monad (void)
-import Data.Char (toLower)
 import Data.Colour (opaque)
 import Data.Colour.Names (black, blue, gray, green, red)
 import Data.Default.Class (def)
 import qualified Data.Vector.Unboxed as U
 import Graphics.Rendering.Chart
-import Graphics.Rendering.Chart.Backend.Cairo (FileFormat (..), FileOptions (..), renderableToFile)
+import VProf.Plot.File (fileFormatOf)
+import Graphics.Rendering.Chart.Backend.Cairo (FileOptions (..), renderableToFile)
 import Graphics.Rendering.Chart.Grid (besideN, gridToRenderable, tval, weights)
-import System.FilePath (takeExtension)
 
 import VProf.Kinematics
 
@@ -32,7 +31,7 @@ armPoints ch q = (map translation frames, last frames)
 plotRobot :: FilePath -> String -> Chain -> U.Vector Double -> IO ()
 plotRobot file title ch q = void (renderableToFile opts file (gridToRenderable grid))
   where
-    fmt = if map toLower (takeExtension file) == ".svg" then SVG else PNG
+    fmt = fileFormatOf file
     opts = FileOptions (1200, 640) fmt
     (pts, tool) = armPoints ch q
     reach = maximum (1e-3 : [ v3Norm (v3Sub a b) | (a, b) <- zip (tail pts) pts ]) -- the longest link

@@ -7,14 +7,13 @@ module VProf.Plot.Select
 
 import Control.Lens ((.~), (&))
 import Control.Monad (void)
-import Data.Char (toLower)
 import Data.Colour (opaque, withOpacity)
 import Data.Colour.Names (black, blue, gray, red)
 import Data.Default.Class (def)
 import Graphics.Rendering.Chart
-import Graphics.Rendering.Chart.Backend.Cairo (FileFormat (..), FileOptions (..), renderableToFile)
+import VProf.Plot.File (fileFormatOf)
+import Graphics.Rendering.Chart.Backend.Cairo (FileOptions (..), renderableToFile)
 import Graphics.Rendering.Chart.Grid (aboveN, gridToRenderable, tval, weights)
-import System.FilePath (takeExtension)
 
 import VProf.Geometry.Mesh (Mesh, triangle, triangleCount)
 import VProf.Kinematics.Collision
@@ -30,7 +29,7 @@ maxTriangles = 4000
 plotSelection :: FilePath -> Task -> Mesh -> Robot -> RobotResult -> IO ()
 plotSelection file task mesh robot result = void (renderableToFile opts file (gridToRenderable grid))
   where
-    fmt = if map toLower (takeExtension file) == ".svg" then SVG else PNG
+    fmt = fileFormatOf file
     opts = FileOptions (900, 1200) fmt
     n = triangleCount mesh
     stride = max 1 ((n + maxTriangles - 1) `div` maxTriangles)
