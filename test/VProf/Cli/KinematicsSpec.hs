@@ -46,6 +46,10 @@ spec = describe "vprof robots / fk / ik" $ do
     run ikCommand ["ur5", "--pose", "3 0 0 1 0 0 0"] `shouldReturn` ExitFailure 1
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 1 1 0 0"] `shouldReturn` ExitFailure 2
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3"] `shouldReturn` ExitFailure 99
+  it "--branch on a robot without a six-axis closed form is a usage error (exit 2); a branch with no solution is exit 1" $ do
+    run ikCommand ["franka-panda", "--pose", "0.4 0.1 0.3 0 1 0 0", "--branch", "RUN"] `shouldReturn` ExitFailure 2
+    run ikCommand ["abb-irb140", "--pose", "0.515 0 0.712 0.7071068 0 0.7071068 0", "--branch", "RUF", "--format", "json"] `shouldReturn` ExitFailure 1
+    run ikCommand ["abb-irb140", "--pose", "0.515 0 0.712 0.7071068 0 0.7071068 0", "--branch", "RUN"] `shouldReturn` ExitSuccess
   it "a negative or NaN clearance and a body number below 1 are refused even without --environment (were accepted)" $ do
     mapM_ (\args -> run ikCommand (["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0"] ++ args) `shouldReturn` ExitFailure 99)
           -- (99: the option parser refused it; the vprof executable exits 2)

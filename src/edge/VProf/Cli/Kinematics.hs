@@ -298,12 +298,18 @@ runIk o = do
                   Json -> BLC.putStrLn (A.encode (A.object [ "error" A..= why ]))
                   Table -> hPutStrLn stderr ("vprof ik: " ++ why)
                 pure (ExitFailure 1)
+              Right found
+                | Just b <- ikBranchWanted o, not (null found), all ((== Nothing) . solBranch . fst) found ->
+                    failWith ("--branch " ++ b ++ ": " ++ robotName r ++ " has no six-axis closed form, so its solutions have no branch")
               Right found -> do
                 let sols0 = map fst found
                     clearanceOf s = lookup (solJoints s) [ (solJoints x, c) | (x, Just c) <- found ]
                     sols = maybe sols0 (\b -> filter ((== Just b) . solBranch) sols0) (ikBranchWanted o)
                     shown = if ikAll o then sols else take 1 sols
+                    branchMiss = "no solution on branch " ++ maybe "" id (ikBranchWanted o) ++ "; the pose's solutions are on "
+                                 ++ unwords (nubOrd [ b | Just b <- map solBranch sols0 ])
                 case ikFormat o of
+                  Json | null sols -> BLC.putStrLn (A.encode (A.object [ "error" A..= branchMiss, "solutions" A..= ([] :: [A.Value]) ]))
                   Json -> BLC.putStrLn $ A.encode $ A.object
                     [ "solutions" A..= [ A.object [ "q" A..= jointsTo (ikDeg o) r (solJoints s), "branch" A..= solBranch s
                                                   , "position_error" A..= solPositionError s
@@ -311,9 +317,7 @@ runIk o = do
                                                   , "clearance_m" A..= clearanceOf s ]
                                        | s <- shown ] ]
                   Table
-                    | null sols -> hPutStrLn stderr $ "vprof ik: no solution on branch "
-                        ++ maybe "" id (ikBranchWanted o) ++ "; the pose's solutions are on "
-                        ++ unwords (nubOrd [ b | Just b <- map solBranch sols0 ])
+                    | null sols -> hPutStrLn stderr ("vprof ik: " ++ branchMiss)
                     | otherwise -> do
                     putStrLn $ show (length sols) ++ " solution(s) within the joint limits"
                       ++ maybe "" (const (" and clear of the environment by " ++ num 3 (ikClearance o) ++ " m")) (ikEnvironment o)
