@@ -166,7 +166,6 @@ splitOn c s = case break (== c) s of
 
 runCompress :: CompressOptions -> IO ExitCode
 runCompress o = do
-  let file = coInput o
   src <- try (B.readFile file)
   case src of
     Left e -> failInput ("cannot read " ++ file ++ ": " ++ show (e :: IOException))

@@ -76,10 +76,9 @@ generateOptions = runGenerate <$> (GenOpts
 runGenerate :: GenOpts -> IO ExitCode
 runGenerate o = do
   er <- readRequest (goRequest o)
-  case (er, fmap plotFormat (goPlot o)) of
-    (Left e, _) -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
-    (_, Just (Left e)) -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
-    (Right rq0, _) -> do
+  case er of
+    Left e -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
+    Right rq0 -> do
       let rq = rq0 { rqAlgorithm = maybe (rqAlgorithm rq0) id (goAlgorithm o)
                    , rqTimeBudget = maybe (rqTimeBudget rq0) (Just . (*~ second)) (goBudget o) }
       res <- generate rq

@@ -3,33 +3,24 @@
 -- or PDF by the file's extension. This is an edge module: it writes files.
 module VProf.Plot.Profile
   ( plotProfile
-  , plotFormat
   ) where
 
 import Control.Lens ((.~), (&))
-import Data.Char (toLower)
 import Data.Colour (opaque)
 import Data.Colour.Names (red, black, blue, darkgreen, purple)
 import Data.Default.Class (def)
 import qualified Data.Vector.Unboxed as U
 import Graphics.Rendering.Chart
 import Graphics.Rendering.Chart.Backend.Cairo
-import System.FilePath (takeExtension)
 
+import VProf.Plot.File (fileFormatOf)
 import VProf.Profile.Sampled
 import VProf.Profile.Request (Problem (..))
 import VProf.Profile.SpeedLimit (limitAt)
 
-plotFormat :: FilePath -> Either String FileFormat
-plotFormat path = case map toLower (takeExtension path) of
-  ".png" -> Right PNG
-  ".svg" -> Right SVG
-  ".pdf" -> Right PDF
-  e -> Left ("--plot: unknown file type " ++ show e ++ " (use .png, .svg or .pdf)")
-
 plotProfile :: FilePath -> String -> Problem -> Profile -> IO ()
 plotProfile path title pb p = do
-  fmt <- either fail pure (plotFormat path)
+  let fmt = fileFormatOf path
   let Columns{..} = columns p
       t = U.toList colTime
       s = U.toList colDistance
