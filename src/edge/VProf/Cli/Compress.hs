@@ -192,11 +192,14 @@ runCompress o = do
       _ | looksLikeKitti bytes -> InKitti
         | otherwise -> InTum
     file = coInput o
-    plain = pure . either (Left . ((file ++ ": ") ++)) (Right . (,) [])
+    -- a reader's answer: its error after the file's name, or its samples with the notes on how it read them
+    answered :: (a -> ([String], [Sample])) -> Either String a -> IO (Either String ([String], [Sample]))
+    answered notes = pure . either (Left . ((file ++ ": ") ++)) (Right . notes)
+    plain = answered ((,) [])
     parseWith InTum b = plain (readTum b)
     parseWith InLog b = plain (readLog b)
     parseWith InMod b = plain (readRapid b)
-    parseWith InCsv b = pure (either (Left . ((file ++ ": ") ++)) (\(l, ss) -> Right ([describeLayout l], ss)) (readCsv b))
+    parseWith InCsv b = answered (\(l, ss) -> ([describeLayout l], ss)) (readCsv b)
     parseWith InKitti b = do
       let sibling = dropExtension file ++ "_times" ++ takeExtension file
       given <- maybe (doesFileExist sibling >>= \ok -> pure (if ok then Just sibling else Nothing)) (pure . Just) (coTimes o)
