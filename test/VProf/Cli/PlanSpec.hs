@@ -1,14 +1,19 @@
 {-# LANGUAGE OverloadedStrings #-}
--- | The edges of @vprof plan@: RAPID speed and zone data as options, and the CSV path reader
--- reading back what @vprof compress@ writes.
+-- | The edges of @vprof plan@: RAPID speed and zone data as options, the CSV path reader
+-- reading back what @vprof compress@ writes, the time budget, a URDF robot's tip and the bodies
+-- left out of the scene check.
 module VProf.Cli.PlanSpec (spec) where
 
 import qualified Data.ByteString.Lazy as BL
 import qualified Data.Vector.Unboxed as U
+import System.Exit (ExitCode (..))
+import System.FilePath ((</>))
 import Test.Hspec
 import Test.QuickCheck
 
-import VProf.Cli.Plan (parseSpeedData, parseZoneData)
+import Support.Arbitrary (shared)
+import Support.Cli (parserRefused, runCommand)
+import VProf.Cli.Plan (parseSpeedData, parseZoneData, planCommand)
 import VProf.Compress.Format.Csv (parseCsv, renderCsv)
 import VProf.Compress.Types (Track (..), recordingFromArrays, Recording (..))
 import VProf.Geometry.Vec (P3 (..), Q4 (..), pfromList, ptoList)
@@ -16,6 +21,22 @@ import VProf.Plan (Zone (..), zoneRadius)
 
 spec :: Spec
 spec = do
+  dir <- runIO shared
+  let run = runCommand planCommand
+      urdf f = dir </> "data" </> "urdf" </> f
+      cell = dir </> "data" </> "cell" </> "cell.obj"
+  describe "vprof plan end to end" $ do
+    it "a plan not done within --time-budget is exit 1 (the square at dt 0.25 ms takes about 45 s); a budget <= 0 or above an hour is refused" $ do
+      run ["examples/plan-square.csv", "--robot", "ur5", "--dt", "0.00025", "--time-budget", "0.3"] `shouldReturn` ExitFailure 1
+      mapM_ (\b -> run ["examples/plan-square.csv", "--robot", "ur5", "--time-budget", b] `shouldReturn` parserRefused) ["0", "-1", "3601", "nan"]
+    it "a URDF with several leaves needs --tip (exit 2); with it the real UR5 URDF plans the square (exit 0); --tip needs a URDF" $ do
+      run ["examples/plan-square.csv", "--robot", urdf "ur5_robot.urdf"] `shouldReturn` ExitFailure 2
+      run ["examples/plan-square.csv", "--robot", urdf "ur5_robot.urdf", "--tip", "tool0"] `shouldReturn` ExitSuccess
+      run ["examples/plan-square.csv", "--robot", urdf "ur5_robot.urdf", "--tip", "no_such_link"] `shouldReturn` ExitFailure 2
+      run ["examples/plan-square.csv", "--robot", "ur5", "--tip", "tool0"] `shouldReturn` ExitFailure 2
+    it "--ignore-body must name one of the robot's bodies (exit 2)" $ do
+      run ["examples/plan-square.csv", "--robot", "ur5", "--environment", cell, "--ignore-body", "7"] `shouldReturn` ExitFailure 2
+      run ["examples/plan-square.csv", "--robot", "ur5", "--environment", cell, "--ignore-body", "99"] `shouldReturn` ExitFailure 2
   it "reads RAPID speed data vN as N mm/s and refuses anything else" $ do
     parseSpeedData "v500" `shouldBe` Right 0.5
     parseSpeedData "V7000" `shouldBe` Right 7

@@ -39,6 +39,7 @@ module VProf.Compress.Clean
   , longMedianStep
   , renderCleanWarning
   , unitTolerance
+  , nonUnitWarning
   ) where
 
 import Data.List (sort, sortOn)
@@ -206,6 +207,13 @@ normalise ss = (map fst r, [ w | (_, Just w) <- r ])
                 n = sqrt (qdot q q)
             in ( s { smRot = Q4 (w / n) (a / n) (b / n) (c / n) }
                , if abs (n - 1) > unitTolerance then Just (smLoc s, n) else Nothing )
+
+-- | The warning 'cleanSamples' gives for quaternions off unit length by more than
+-- 'unitTolerance', if any: for readers of poses that are not recordings (a path to plan).
+nonUnitWarning :: [Sample] -> Maybe CleanWarning
+nonUnitWarning ss = case snd (normalise ss) of
+  [] -> Nothing
+  xs -> Just (NonUnitQuaternions (length xs) (take firstFew xs))
 
 -- | Runs of samples with the same time (the input is sorted).
 groupTimes :: [Sample] -> [[Sample]]

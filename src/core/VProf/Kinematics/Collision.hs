@@ -26,6 +26,7 @@ module VProf.Kinematics.Collision
   , defaultRadius
   , bodyFrames
   , bodyName
+  , unknownBody
   , WorldCapsule (..)
   , robotCapsules
   , Clearance (..)
@@ -135,6 +136,18 @@ bodyName r b
   | b == 0 = "base"
   | b > length (robotLinks r) = "tool"
   | otherwise = let n = linkName (robotLinks r !! (b - 1)) in if null n then "link " ++ show (b - 1) else n
+
+-- | Why a body number given to leave out of the scene check ('coSceneIgnore') names none of the
+-- robot's bodies (1 … n its links, n + 1 the tool when it has a capsule), if it does not.
+unknownBody :: Robot -> Bool -> Int -> Maybe String
+unknownBody r hasTool b
+  | b >= 1 && b <= top = Nothing
+  | otherwise = Just ("body " ++ show b ++ " is not one of " ++ robotName r ++ "'s: its bodies are 1 to " ++ show n
+                      ++ " (" ++ bodyName r 1 ++ " to " ++ bodyName r n ++ ")"
+                      ++ (if hasTool then " and " ++ show (n + 1) ++ " (the tool capsule)" else ""))
+  where
+    n = length (robotLinks r)
+    top = if hasTool then n + 1 else n
 
 -- | A part of the robot placed in the world.
 data WorldCapsule = WorldCapsule {wcPart :: !Int, wcBody :: !Int, wcCapsule :: !Capsule}

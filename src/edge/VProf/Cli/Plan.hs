@@ -4,25 +4,27 @@
 -- gives the cell, the base, the tool with its capsule, the clearance and the bodies left out of
 -- the cell check, so that the task a user checked with @vprof select@ is planned as it stands.
 --
--- > vprof plan PATH|TASK.yaml --robot NAME [--base "X Y Z [RX RY RZ]"] [--tool "X Y Z [RX RY RZ]"]
+-- > vprof plan PATH|TASK.yaml --robot NAME [--tip LINK] [--base "X Y Z [RX RY RZ]"] [--tool "X Y Z [RX RY RZ]"]
 -- >   [--speed v500] [--zone z10|fine] [--acceleration A] [--jerk J] [--dt S] [--start "Q..."]
--- >   [--environment FILE.obj --clearance M] [--format summary|csv|json] [-o FILE] [--plot FILE.png]
+-- >   [--environment FILE.obj --clearance M] [--time-budget S] [--format summary|csv|json] [-o FILE]
+-- >   [--plot FILE.png]
 --
--- Exit codes: 0 a legal trajectory, 1 the plan stops (the reason and s) or has no legal
--- profile, 2 invalid input.
+-- Exit codes: 0 a legal trajectory, 1 the plan stops (the reason and s), has no legal profile or
+-- is not done within its time budget (default 60 s), 2 invalid input.
 module VProf.Cli.Plan
   ( planCommand
   , parseSpeedData
   , parseZoneData
   ) where
 
-import Control.Exception (IOException, try)
+import Control.Exception (IOException, evaluate, try)
 import qualified Data.Aeson as A
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy.Char8 as BL
 import Data.Char (toLower)
 import Data.List (intercalate)
+import Data.Maybe (isJust)
 import qualified Data.Vector.Unboxed as U
 import GHC.Clock (getMonotonicTime)
 import Numeric (showFFloat)
@@ -31,16 +33,18 @@ import VProf.Plot.File (plotPath)
 import System.Exit
 import System.FilePath (takeExtension)
 import System.IO
+import System.Timeout (timeout)
 
 import VProf.Cli.Kinematics (loadRobot)
-import VProf.Compress.Format.Csv (parseCsv)
-import VProf.Compress.Format.Rapid (parseRapid)
-import VProf.Compress.Format.Tum (parseTum)
+import VProf.Compress.Clean (fileLocator, nonUnitWarning, renderCleanWarning)
+import VProf.Compress.Format.Csv (parseCsv, readCsv)
+import VProf.Compress.Format.Rapid (parseRapid, readRapid)
+import VProf.Compress.Format.Tum (parseTum, readTum)
 import VProf.Compress.Types (Track (..))
 import VProf.Geometry.Bvh (buildBvh)
 import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
 import VProf.Geometry.Vec (P3 (..), Q4 (..), ptoList)
-import VProf.Kinematics.Collision (CollisionOptions (..), collisionModel, defaultCollisionOptions)
+import VProf.Kinematics.Collision (CollisionOptions (..), collisionModel, defaultCollisionOptions, unknownBody)
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform (Quat (..), Tf, V3 (..), compose, fromRpy, identity, toQuat, translation)
 import VProf.Plan
@@ -54,10 +58,11 @@ import VProf.Validation
 data OutFormat = Summary | Csv | Json deriving (Eq)
 
 data PlanOpts = PlanOpts
-  { poPath :: FilePath, poRobot :: String, poBase :: Maybe [Double], poTool :: Maybe [Double]
+  { poPath :: FilePath, poRobot :: String, poTip :: Maybe String, poBase :: Maybe [Double], poTool :: Maybe [Double]
   , poSpeed :: Double, poZone :: Zone, poAcc :: Double, poJerk :: Double, poDt :: Double
   , poStart :: Maybe [Double], poDeg :: Bool
   , poEnv :: Maybe FilePath, poEnvScale :: Double, poClearance :: Maybe Double, poIgnore :: [Int]
+  , poBudget :: Double
   , poFormat :: Maybe OutFormat, poOutput :: Maybe FilePath, poPlot :: Maybe FilePath }
 
 -- | RAPID speed data: @vN@ is N mm/s (v5 … v7000, or any N); the TCP speed in m/s.
@@ -83,7 +88,8 @@ readD w = case reads w of
 planCommand :: Parser (IO ExitCode)
 planCommand = runPlan <$> (PlanOpts
   <$> strArgument (metavar "PATH|TASK" <> help "the path: RAPID .mod, CSV (time,x,y,z,qw,qx,qy,qz; m) or TUM (other extensions), as vprof compress writes them; or a selection task file (.yaml/.yml/.json), whose targets are the waypoints and whose cell, base, tool, tool capsule, clearance and ignored bodies are used (the options below replace them)")
-  <*> strOption (long "robot" <> metavar "NAME" <> help "a library robot (vprof robots lists them) or a robot file (.yaml/.json)")
+  <*> strOption (long "robot" <> metavar "NAME" <> help "a library robot (vprof robots lists them) or a robot file (.yaml/.json/.urdf)")
+  <*> optional (strOption (long "tip" <> metavar "LINK" <> help "with a URDF --robot: the last link of the chain (default: the only leaf)"))
   <*> optional (option (eitherReader (pose "--base")) (long "base" <> metavar "\"X Y Z [RX RY RZ]\""
         <> help "the robot base in the path's frame: position in m, roll pitch yaw in degrees (default: the path's frame)"))
   <*> optional (option (eitherReader (pose "--tool")) (long "tool" <> metavar "\"X Y Z [RX RY RZ]\""
@@ -109,6 +115,8 @@ planCommand = runPlan <$> (PlanOpts
         <> help "with --environment: the least distance between the robot's capsules and the scene, m (default: the task's, else 0.01)"))
   <*> many (option (eitherReader bodyNumber) (long "ignore-body" <> metavar "N"
         <> help "with --environment: leave body N out of the scene check (1 = the first link); repeatable"))
+  <*> option (eitherReader budgetR) (long "time-budget" <> metavar "S" <> value defaultCliPlanBudget
+        <> help ("wall-clock budget of the planning, s (default " ++ showNumber defaultCliPlanBudget ++ ", at most 3600): a plan not done by then is exit 1"))
   <*> optional (option (eitherReader fmt) (long "format" <> metavar "summary|csv|json"
         <> help "what to write (default: summary; with -o, from the file's extension)"))
   <*> optional (strOption (short 'o' <> long "output" <> metavar "FILE" <> help "write the trajectory here (.csv or .json); the summary goes to stdout"))
@@ -130,6 +138,9 @@ planCommand = runPlan <$> (PlanOpts
     nonNeg s = case readD s of
       Just x | finite x && x >= 0 -> Right x
       _ -> Left ("--clearance " ++ show s ++ " m: expected a finite number >= 0")
+    budgetR s = case readD s of
+      Just x | finite x && x > 0 && x <= 3600 -> Right x
+      _ -> Left ("--time-budget " ++ show s ++ " s: expected a number > 0 and at most 3600")
     dtR s = case readD s of
       Just x | finite x && x > 0 && x <= 1 -> Right x
       _ -> Left ("--dt " ++ show s ++ " s: expected a number > 0 and at most 1")
@@ -149,15 +160,21 @@ poseTf = \case
   _ -> identity
   where rad d = d * pi / 180
 
+-- | The path's poses; quaternions off unit length are normalised, with the warning that
+-- @vprof compress@ gives for them on stderr.
 readPath :: FilePath -> IO (Either String Track)
 readPath f = do
   r <- try (B.readFile f) :: IO (Either IOException B.ByteString)
-  pure $ case r of
-    Left e -> Left (f ++ ": " ++ show e)
-    Right src -> either (Left . ((f ++ ": ") ++)) Right $ case map toLower (takeExtension f) of
-      ".mod" -> parseRapid src
-      ".csv" -> parseCsv src
-      _ -> parseTum src
+  case r of
+    Left e -> pure (Left (f ++ ": " ++ show e))
+    Right src -> do
+      let (samples, track) = case map toLower (takeExtension f) of
+            ".mod" -> (readRapid src, parseRapid src)
+            ".csv" -> (snd <$> readCsv src, parseCsv src)
+            _ -> (readTum src, parseTum src)
+      mapM_ (\w -> hPutStrLn stderr ("vprof plan: warning: " ++ f ++ ": " ++ renderCleanWarning fileLocator w))
+            (either (const Nothing) nonUnitWarning samples)
+      pure (either (Left . ((f ++ ": ") ++)) Right track)
 
 -- | The core's field names in this command's terms.
 optionName :: String -> Maybe UserField
@@ -191,7 +208,9 @@ readPathInput f
 
 runPlan :: PlanOpts -> IO ExitCode
 runPlan o = do
-  er <- loadRobot Nothing (poRobot o)
+  er <- if isJust (poTip o) && map toLower (takeExtension (poRobot o)) /= ".urdf"
+          then pure (Left ("--tip needs a URDF robot; " ++ show (poRobot o) ++ " is not a .urdf file"))
+          else loadRobot (poTip o) (poRobot o)
   ep <- readPathInput (poPath o)
   case (er, ep) of
     (Left e, _) -> failWith ("--robot: " ++ e)
@@ -212,32 +231,45 @@ runPlan o = do
                      { prZone = poZone o, prStart = start, prSpeed = poSpeed o *~ mps
                      , prAcceleration = poAcc o *~ mps2, prJerk = poJerk o *~ mps3, prTimeStep = poDt o *~ second
                      , prTrack = defaultTrackOptions { toEnvironment = fmap (\(cm, bvh) -> Environment cm bvh clearance) (menv r) } }
-          t0 <- getMonotonicTime
-          case planPath rq of
-            Left (InvalidPlan es) -> failWith (intercalate "; " (map renderFieldError (inUserTerms optionName es)))
-            Left f -> do
-              hPutStrLn stderr ("vprof plan: " ++ describePlanFailure f)
-              pure (ExitFailure 1)
-            Right plan -> do
-              _ <- pure $! U.sum (trQd (planTrajectory plan))
-              t1 <- getMonotonicTime
-              let outFmt = case (poFormat o, poOutput o) of
-                    (Just f, _) -> f
-                    (Nothing, Just file) | map toLower (takeExtension file) == ".json" -> Json
-                                         | otherwise -> Csv
-                    (Nothing, Nothing) -> Summary
-                  summary = renderSummary r plan (t1 - t0)
-                  body = case outFmt of
-                    Summary -> BL.pack summary
-                    Csv -> renderTrajectoryCsv (planTrajectory plan)
-                    Json -> A.encode (planJson r plan)
-              case poOutput o of
-                Just file -> BL.writeFile file body >> putStr summary
-                Nothing -> do
-                  BL.putStr body
-                  if outFmt == Summary then pure () else hPutStr stderr summary
-              mapM_ (\f -> plotPlan f r plan) (poPlot o)
-              pure (if planLegal plan && all resultLegal (planProfiles plan) then ExitSuccess else ExitFailure 1)
+              -- body numbers to leave out of the scene check that name none of the robot's bodies
+              hasCapsule = isJust (mtask >>= taskToolCapsule)
+              unknown what bs = [ what ++ ": " ++ e | isJust (menv r), b <- bs, Just e <- [unknownBody r hasCapsule b] ]
+              badBodies = unknown "--ignore-body" (poIgnore o) ++ unknown (poPath o ++ ": ignore_bodies") (maybe [] taskIgnoreBodies mtask)
+          if not (null badBodies) then failWith (intercalate "; " badBodies) else do
+            t0 <- getMonotonicTime
+            -- the plan computed within the budget: every sample's joint speeds, the verdicts, or
+            -- the failure's words (the output is written after it, as the profile's is)
+            done <- timeout (round (poBudget o * 1e6)) $ evaluate $ case planPath rq of
+              x@(Left f) -> length (describePlanFailure f) `seq` x
+              x@(Right p) -> U.sum (trQd (planTrajectory p)) `seq` all resultLegal (planProfiles p) `seq` planLegal p `seq` x
+            case done of
+              Nothing -> do
+                hPutStrLn stderr ("vprof plan: the plan was not done within --time-budget " ++ showNumber (poBudget o)
+                                  ++ " s at --dt " ++ showNumber (poDt o) ++ " s: try a coarser --dt or a larger --time-budget")
+                pure (ExitFailure 1)
+              Just (Left (InvalidPlan es)) -> failWith (intercalate "; " (map renderFieldError (inUserTerms optionName es)))
+              Just (Left f) -> do
+                hPutStrLn stderr ("vprof plan: " ++ describePlanFailure f)
+                pure (ExitFailure 1)
+              Just (Right plan) -> do
+                t1 <- getMonotonicTime
+                let outFmt = case (poFormat o, poOutput o) of
+                      (Just f, _) -> f
+                      (Nothing, Just file) | map toLower (takeExtension file) == ".json" -> Json
+                                           | otherwise -> Csv
+                      (Nothing, Nothing) -> Summary
+                    summary = renderSummary r plan (t1 - t0)
+                    body = case outFmt of
+                      Summary -> BL.pack summary
+                      Csv -> renderTrajectoryCsv (planTrajectory plan)
+                      Json -> A.encode (planJson r plan)
+                case poOutput o of
+                  Just file -> BL.writeFile file body >> putStr summary
+                  Nothing -> do
+                    BL.putStr body
+                    if outFmt == Summary then pure () else hPutStr stderr summary
+                mapM_ (\f -> plotPlan f r plan) (poPlot o)
+                pure (if planLegal plan && all resultLegal (planProfiles plan) then ExitSuccess else ExitFailure 1)
   where
     -- --environment replaces the task's cell; the ignored bodies of both are left out
     loadEnv mtask = case (poEnv o, maybe [] taskEnvironment mtask) of

@@ -47,10 +47,6 @@ data PlanQuery = PlanQuery
   , pqBudget :: Double
   }
 
--- | Seconds a plan may take when the request leaves time_budget at 0.
-defaultPlanBudget :: Double
-defaultPlanBudget = 10
-
 -- | The request's time budget: the default for 0, at most an hour; an invalid one is the default
 -- (and an error of 'planFromMsg').
 planBudgetOf :: PlanRequestMsg -> Double
