@@ -54,6 +54,10 @@ spec = describe "vprof robots / fk / ik" $ do
     mapM_ (\args -> run ikCommand (["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0"] ++ args) `shouldReturn` ExitFailure 99)
           -- (99: the option parser refused it; the vprof executable exits 2)
           [["--clearance", "-1"], ["--clearance", "NaN"], ["--ignore-body", "0"], ["--ignore-body", "x"]]
+  it "--ignore-body must name one of the robot's bodies (the UR5's are 1 to 6): exit 2 for 7 or 99" $ do
+    dir <- shared
+    let cell = dir </> "data" </> "cell" </> "cell.obj"
+    mapM_ (\b -> run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--environment", cell, "--ignore-body", b] `shouldReturn` ExitFailure 2) ["7", "99"]
   it "fk --format json writes null for the condition number at a singularity (JSON has no infinity; it was the string \"+inf\")" $
     withSystemTempDirectory "vprof-fk" $ \dir -> do
       let out = dir </> "fk.json"

@@ -5,6 +5,7 @@ module VProf.Kinematics.IkSpec (spec) where
 
 import Control.Monad (forM_)
 import Data.Either (isLeft)
+import Data.List (isInfixOf)
 import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 import Test.QuickCheck
@@ -157,7 +158,10 @@ spec = do
       -- J2 at 85° is 5° past the Lite's limit (80°)
       let q = U.fromList [0, deg 85, deg 10, 0]
       case solveIk defaultIkOptions k (forward ch q) Nothing of
-        Left (OutsideLimits sols) -> any (any (\(j, v) -> j == "J2" && abs (v - deg 5) < 1e-9)) sols `shouldBe` True
+        Left f@(OutsideLimits sols) -> do
+          any (any (\(j, v) -> j == "J2" && abs (v - deg 5) < 1e-9)) sols `shouldBe` True
+          -- in the joint's unit: a revolute joint's in rad and degrees
+          describeFailureFor (chainRobot ch) f `shouldSatisfy` isInfixOf "J2 above its maximum by 0.087266 rad (5.0000°)"
         other -> expectationFailure (show other)
 
   describe "numerical IK, all solutions" $
@@ -195,7 +199,10 @@ spec = do
           ch = kinChain k
           q = U.fromList [0.2, 0.4, 0.3, 0.1]
       case solveIk defaultIkOptions k (forward ch q) Nothing of
-        Left (OutsideLimits (s : _)) -> any (\(j, v) -> j == "J3" && abs (v - 0.09) < 1e-6) s `shouldBe` True
+        Left f@(OutsideLimits (s : _)) -> do
+          any (\(j, v) -> j == "J3" && abs (v - 0.09) < 1e-6) s `shouldBe` True
+          -- a prismatic joint's in mm
+          describeFailureFor (chainRobot ch) f `shouldSatisfy` isInfixOf "J3 above its maximum by 90.000 mm"
         other -> expectationFailure (show other)
     it "Cobra 600: a tilted tool (a SCARA cannot tilt) fails at once, naming the tilt" $ do
       let k = lib "adept-cobra600"

@@ -17,10 +17,13 @@ module VProf.Kinematics.Ik
   , solveIkIO
   , solvePose
   , checkRequest
+  , describeFailureFor
   , module VProf.Kinematics.Ik.Types
   ) where
 
+import Data.List (intercalate)
 import qualified Data.Vector.Unboxed as U
+import Numeric (showFFloat)
 
 import VProf.Kinematics.Forward (Pose (..), poseToTf)
 import VProf.Kinematics.Ik.Dobot
@@ -50,6 +53,20 @@ prepareChain ch = Kinematics ch method
 
 
 -- | Problems with a request (empty when it can be solved).
+-- | 'describeFailure' with each joint's limit miss in its unit: a revolute joint's in rad and
+-- degrees, a prismatic joint's in mm.
+describeFailureFor :: Robot -> IkFailure -> String
+describeFailureFor r = \case
+  OutsideLimits sols ->
+    "every solution breaks a joint limit: "
+    ++ concatMap (\sol -> "[" ++ intercalate "; " [ nm ++ " " ++ side v ++ " by " ++ amount nm (abs v) | (nm, v) <- sol ] ++ "]") sols
+  f -> describeFailure f
+  where
+    side v = if v < 0 then "below its minimum" else "above its maximum"
+    amount nm v = case [ jointKind j | j <- robotJoints r, jointName j == nm ] of
+      Prismatic : _ -> showFFloat (Just 3) (v * 1000) " mm"
+      _ -> showFFloat (Just 6) v " rad (" ++ showFFloat (Just 4) (v * 180 / pi) "°)"
+
 checkRequest :: Chain -> Tf -> Maybe (U.Vector Double) -> [String]
 checkRequest ch target seed
   | isRigid 1e-6 target && maybe True (\s -> U.length s == chainDof ch && U.all finite s) seed = []

@@ -189,7 +189,7 @@ evaluateRobot opts task bvh key robot0
           -- with a seed the clear solution nearest it (no exact clearance but the one taken's),
           -- without one the clearest
           Nothing -> case (if isJust seed then collisionFreeCandidates else solveCollisionFree) sopts kin cm bvh (tgPose t) seed of
-            Left (IkFailed f) -> failed t (ikFailureKind f) (describeFailure f)
+            Left (IkFailed f) -> failed t (ikFailureKind f) (describeFailureFor robot f)
             Left f -> failed t FailCollision (describeSelectIkFailure sopts f)
             Right cs ->
               let pick = case seed of

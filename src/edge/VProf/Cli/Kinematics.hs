@@ -35,7 +35,7 @@ import VProf.Kinematics.Format.Urdf (UrdfOptions (..), defaultUrdfOptions, readU
 import VProf.Kinematics.Library (libraryRobots, lookupRobot)
 import VProf.Geometry.Bvh (buildBvh)
 import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
-import VProf.Kinematics.Collision (Clearance (..), CollisionOptions (..), collisionModel, defaultCollisionOptions)
+import VProf.Kinematics.Collision (Clearance (..), CollisionOptions (..), collisionModel, defaultCollisionOptions, unknownBody)
 import VProf.Select.Ik
 import VProf.Plot.Robot (plotRobot)
 
@@ -256,6 +256,8 @@ runIk o = do
   case er of
     Left e -> failWith e
     Right r -> case ikPose o of
+      _ | e : _ <- [ e | _ <- maybe [] pure (ikEnvironment o), b <- ikIgnoreBodies o, Just e <- [unknownBody r False b] ] ->
+            failWith ("--ignore-body: " ++ e)
       [x, y, z, w, qx', qy', qz']
         | abs (sqrt (w * w + qx' * qx' + qy' * qy' + qz' * qz') - 1) > 1e-6 ->
             failWith ("--pose: the quaternion (" ++ unwords (map show [w, qx', qy', qz']) ++ ") is not a unit quaternion")
@@ -280,17 +282,17 @@ runIk o = do
     -- every solution with its clearance to the scene (m), or why there is none: Left a usage
     -- error (exit 2), Right a reason (exit 1)
     solveWithin env r target seed opts = case env of
-      Nothing -> either (Left . ikFail) (Right . map (, Nothing)) <$> solveIkIO (ikBudget o) opts (kinematicsFor r) target seed
+      Nothing -> either (Left . ikFail r) (Right . map (, Nothing)) <$> solveIkIO (ikBudget o) opts (kinematicsFor r) target seed
       Just bvh ->
         let sopts = defaultSelectIkOptions { siIk = opts, siClearance = ikClearance o }
             cm = collisionModel defaultCollisionOptions { coSceneIgnore = ikIgnoreBodies o } r
         in pure $ case solveCollisionFree sopts (kinematicsFor r) cm bvh target seed of
-             Left (IkFailed f) -> Left (ikFail f)
+             Left (IkFailed f) -> Left (ikFail r f)
              Left f -> Left (Right (describeSelectIkFailure sopts f))
              Right cs -> Right [ (cdSolution c, clrDistance <$> cdClearance c) | c <- cs ]
     order = maybe "nearest the seed" (const "largest clearance (then nearest the seed)") (ikEnvironment o)
-    ikFail (InvalidRequest es) = Left es
-    ikFail f = Right (describeFailure f)
+    ikFail _ (InvalidRequest es) = Left es
+    ikFail r f = Right (describeFailureFor r f)
     answer r res = case res of
               Left (Left es) -> failWith (intercalate "; " es)
               Left (Right why) -> do

@@ -19,6 +19,7 @@ import Control.DeepSeq (NFData (..))
 import qualified Data.Vector.Unboxed as U
 import Data.List (intercalate, sortOn)
 import Data.Word (Word64)
+import Numeric (showFFloat)
 
 import VProf.Kinematics.Transform
 
@@ -75,10 +76,10 @@ describeFailure :: IkFailure -> String
 describeFailure = \f -> case f of
   BeyondReach d r -> "beyond reach: the target is " ++ mm d ++ " away, the arm reaches " ++ mm r ++ " (" ++ mm (d - r) ++ " too far)"
   InsideReach d r -> "too close: the target is " ++ mm d ++ " away, the arm cannot fold closer than " ++ mm r ++ " (" ++ mm (r - d) ++ " too close)"
-  OutsideLimits sols -> "every solution breaks a joint limit: " ++ concatMap (\s -> "[" ++ intercalate "; " [j ++ " by " ++ show v | (j, v) <- s] ++ "]") sols
-  OrientationUnreachable t -> "the tool stays level: the target is tilted by " ++ show (t * 180 / pi) ++ " deg"
+  OutsideLimits sols -> "every solution breaks a joint limit (rad, m for a prismatic joint; negative below the minimum): " ++ concatMap (\s -> "[" ++ intercalate "; " [j ++ " by " ++ showFFloat (Just 6) v "" | (j, v) <- s] ++ "]") sols
+  OrientationUnreachable t -> "the tool stays level: the target is tilted by " ++ showFFloat (Just 4) (t * 180 / pi) " deg"
   Singular why -> "singular: " ++ why
-  NotConverged p r -> "not converged: best residual " ++ show p ++ " m, " ++ show r ++ " rad"
+  NotConverged p r -> "not converged: best residual " ++ mm p ++ ", " ++ showFFloat (Just 4) (r * 180 / pi) "°"
   Unreachable what d
     | d >= 0 -> "beyond reach: " ++ what ++ " (" ++ mm d ++ " too far)"
     | otherwise -> "too close: " ++ what ++ " (" ++ mm (negate d) ++ " too close)"
