@@ -49,6 +49,12 @@ spec = do
         run [f, "--robots", "ur5,abb-irb140"] `shouldReturn` ExitFailure 1
     it "is exit 2 for an unknown robot" $
       run ["examples/cell-task.yaml", "--robots", "no-such-robot"] `shouldReturn` ExitFailure 2
+    it "takes a real URDF with several leaves by --tip (without it exit 2); --tip without a URDF is exit 2" $ do
+      let panda = dir </> "data" </> "urdf" </> "panda.urdf"
+      run ["examples/cell-task.yaml", "--robots", panda] `shouldReturn` ExitFailure 2
+      run ["examples/cell-task.yaml", "--robots", "ur10," ++ panda, "--tip", "panda_hand_tcp"] `shouldReturn` ExitSuccess
+      run ["examples/cell-task.yaml", "--robots", panda, "--tip", "no_such_link"] `shouldReturn` ExitFailure 2
+      run ["examples/cell-task.yaml", "--robots", "ur10", "--tip", "tool0"] `shouldReturn` ExitFailure 2
   describe "bad task files: exit 2, the message names the field and the value" $ do
     let cases =
           [ ("a missing payload", "clearance: 0.01\ntargets:\n  - {position: [0.5, 0, 0.3]}\n", ["payload", "missing"])

@@ -151,9 +151,16 @@ spec = do
     it "a mimic of an unknown joint" $
       errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><limit lower=\"0\" upper=\"1\"/><mimic joint=\"ghost\"/></joint>")
         `shouldSatisfy` any ("ghost" `isInfixOf`)
-    it "an ambiguous base link asks for one" $
-      either id (const []) (readUrdf defaultUrdfOptions {urdfTip = Just "c"} (wrap ""))
-        `shouldSatisfy` any ("cannot choose the base link" `isInfixOf`)
+    it "the base is the root of the tip's tree: a link no joint touches and a second tree do not stop it" $ do
+      let arm = "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><axis xyz=\"0 0 1\"/><limit lower=\"0\" upper=\"1\"/></joint>"
+          other = "<link name=\"d\"/><link name=\"e\"/><joint name=\"k\" type=\"revolute\"><parent link=\"d\"/><child link=\"e\"/><axis xyz=\"0 0 1\"/><limit lower=\"0\" upper=\"1\"/></joint>"
+      -- link b of 'wrap' is touched by no joint
+      fmap (map jointName . robotJoints) (readUrdf defaultUrdfOptions (wrap arm)) `shouldBe` Right ["j"]
+      fmap (map jointName . robotJoints) (readUrdf defaultUrdfOptions {urdfTip = Just "e"} (wrap (arm ++ other))) `shouldBe` Right ["k"]
+      either id (const []) (readUrdf defaultUrdfOptions (wrap (arm ++ other)))
+        `shouldSatisfy` any (\e -> "2 leaf links (c e)" `isInfixOf` e && "--tip" `isInfixOf` e)
+      either id (const []) (readUrdf defaultUrdfOptions (wrap ""))
+        `shouldSatisfy` any ("no joint has a child link" `isInfixOf`)
     it "a missing file" $ do
       r <- readUrdfFile defaultUrdfOptions "/nonexistent/robot.urdf"
       either id (const []) r `shouldSatisfy` any ("cannot read" `isInfixOf`)

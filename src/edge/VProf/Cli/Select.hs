@@ -1,7 +1,7 @@
 {-# LANGUAGE OverloadedStrings #-}
 -- | The @vprof select@ command: which robots can do a task in its cell.
 --
--- > vprof select TASK [--robots all|NAME,...] [--format table|json] [--plot FILE.png]
+-- > vprof select TASK [--robots all|NAME,...] [--tip LINK] [--format table|json] [--plot FILE.png]
 --
 -- TASK is a task file (docs/select.md). Robots are library names or robot files. The table is the
 -- ranking, then each robot's failures with their reasons; JSON carries per robot and per target
@@ -23,6 +23,7 @@ import Numeric (showFFloat)
 import Options.Applicative
 import VProf.Plot.File (plotPath)
 import System.Exit
+import System.FilePath (takeExtension)
 import System.IO
 
 import VProf.Cli.Kinematics (loadRobot)
@@ -41,6 +42,7 @@ data Format = Table | Json deriving (Eq)
 data SelectArgs = SelectArgs
   { saTask :: FilePath
   , saRobots :: String
+  , saTip :: Maybe String
   , saFormat :: Format
   , saPlot :: Maybe FilePath
   }
@@ -50,6 +52,7 @@ selectCommand = runSelect <$> (SelectArgs
   <$> strArgument (metavar "TASK" <> help "the task file (YAML or JSON; docs/select.md)")
   <*> strOption (long "robots" <> metavar "all|NAME,..." <> value "all" <> showDefault
         <> help "the robots to check: all of the library, or library names and robot files, comma-separated")
+  <*> optional (strOption (long "tip" <> metavar "LINK" <> help "the last link of the chain of every URDF in --robots (default: each URDF's only leaf)"))
   <*> option (eitherReader fmt) (long "format" <> metavar "table|json" <> value Table <> help "output format (default: table)")
   <*> optional (option (eitherReader (plotPath [".png", ".svg"])) (long "plot" <> metavar "FILE.png|.svg" <> help "draw the cell and the best robot at its targets (top and side views)")))
   where
@@ -72,7 +75,7 @@ runSelect a = do
   case et of
     Left es -> failWith (intercalate "\n  " es)
     Right task -> do
-      robots <- loadRobots (saRobots a)
+      robots <- loadRobots (saTip a) (saRobots a)
       case robots of
         Left e -> failWith e
         Right rs -> do
@@ -97,32 +100,39 @@ runSelect a = do
                 _ -> pure ()
               pure (if any robotComplete ranked then ExitSuccess else ExitFailure 1)
 
--- | "all" or a comma-separated list of library names and robot files.
-loadRobots :: String -> IO (Either String [(String, Robot)])
-loadRobots spec
+-- | "all" or a comma-separated list of library names and robot files; the tip link, if given,
+-- for every URDF among them.
+loadRobots :: Maybe String -> String -> IO (Either String [(String, Robot)])
+loadRobots tip spec
+  | Just t <- tip, not (any isUrdf names) =
+      pure (Left ("--tip " ++ show t ++ ": names the last link of a URDF's chain, and --robots " ++ show spec ++ " names no .urdf file"))
   | map toLower spec == "all" = pure $ case [k | (k, Left _) <- libraryRobots] of
       [] -> Right [(k, r) | (k, Right r) <- libraryRobots]
       bad -> Left ("library robots broken: " ++ unwords bad)
   | otherwise = do
-      rs <- mapM (\n -> fmap (n,) <$> loadRobot Nothing n) (filter (not . null) (splitComma spec))
+      rs <- mapM (\n -> fmap (n,) <$> loadRobot tip n) names
       pure $ case [e | Left e <- rs] of
         [] | null rs -> Left ("--robots: no robot named in " ++ show spec)
            | otherwise -> Right [r | Right r <- rs]
         es -> Left ("--robots: " ++ intercalate "; " es)
+  where
+    names = filter (not . null) (splitComma spec)
+    isUrdf n = map toLower (takeExtension n) == ".urdf"
 
 num :: Int -> Double -> String
 num d x = showFFloat (Just d) x ""
 
+-- | s in a column n wide, and at least one space after it.
 pad :: Int -> String -> String
-pad n s = s ++ replicate (n - length s) ' '
+pad n s = s ++ replicate (max 1 (n - length s)) ' '
 
 renderTable :: Task -> [RobotResult] -> String
 renderTable task rs = unlines $
   [ show (length (taskTargets task)) ++ " targets" ++ (if taskPath task then " (and the segments between them, every " ++ num 1 (1000 * taskPathStep task) ++ " mm)" else "")
     ++ ", payload " ++ num 2 (taskPayload task) ++ " kg, clearance " ++ num 1 (1000 * taskClearance task) ++ " mm"
   , ""
-  , pad 5 "rank" ++ pad 22 "robot" ++ pad 10 "reached" ++ pad 24 "min clearance" ++ pad 12 "min manip." ++ pad 12 "cycle" ++ "score" ]
-  ++ [ pad 5 (show i) ++ pad 22 (rrKey r)
+  , pad 5 "rank" ++ pad wRobot "robot" ++ pad 10 "reached" ++ pad 24 "min clearance" ++ pad 12 "min manip." ++ pad 12 "cycle" ++ "score" ]
+  ++ [ pad 5 (show i) ++ pad wRobot (rrKey r)
        ++ case rrRejected r of
             Just why -> "rejected: " ++ why
             Nothing ->
@@ -134,6 +144,8 @@ renderTable task rs = unlines $
      | (i, r) <- zip [1 :: Int ..] rs ]
   ++ concatMap failures rs
   where
+    -- the robot column: as wide as the longest name (a robot file's path) and two spaces
+    wRobot = maximum (22 : map ((+ 2) . length . rrKey) rs)
     failures r =
       let ts = [ "    " ++ trLabel t ++ ": " ++ f | t <- rrTargets r, Just f <- [trFailure t] ]
           ss = [ "    " ++ f | s <- rrSegments r, Just f <- [sgFailure s] ]

@@ -77,11 +77,11 @@ fromDoc UrdfOptions{..} doc
   | not (null jointErrs) = Left jointErrs
   | not (null treeErrs) = Left treeErrs
   | otherwise = do
-      base <- maybe (pickRoot) Right urdfBase
       tip <- maybe pickLeaf Right urdfTip
       let known l = l `elem` allLinks
-      if not (known base) then Left ["base link " ++ show base ++ " is not a <link> of the robot"] else pure ()
       if not (known tip) then Left ["tip link " ++ show tip ++ " is not a <link> of the robot (links: " ++ unwords (take 30 allLinks) ++ ")"] else pure ()
+      base <- maybe (rootAbove tip) Right urdfBase
+      if not (known base) then Left ["base link " ++ show base ++ " is not a <link> of the robot"] else pure ()
       path <- pathTo base tip
       buildChain robotName path
   where
@@ -103,11 +103,17 @@ fromDoc UrdfOptions{..} doc
          | j <- joints, ujParent j == ujChild j ]
     children = nub (map ujChild joints)
     parents = nub (map ujParent joints)
-    pickRoot = case [l | l <- allLinks, l `notElem` children] of
-      [r] -> Right r
-      rs -> Left ["cannot choose the base link: " ++ show (length rs) ++ " root links (" ++ unwords rs ++ "); name one"]
-    pickLeaf = case [l | l <- allLinks, l `notElem` parents] of
+    -- the root of the tree the tip is in: links of other trees (a second robot, a link no joint
+    -- touches) do not matter
+    rootAbove tip = go tip (0 :: Int)
+      where
+        go l k
+          | k > length joints = Left ["the joints form a loop above link " ++ show tip]
+          | otherwise = maybe (Right l) (\j -> go (ujParent j) (k + 1)) (Map.lookup l byChild)
+    -- the leaves of the joints' trees (a link no joint touches is none)
+    pickLeaf = case [l | l <- allLinks, l `notElem` parents, l `elem` children] of
       [l] -> Right l
+      [] -> Left ["cannot choose the tip link: no joint has a child link"]
       ls -> Left ["cannot choose the tip link: " ++ show (length ls) ++ " leaf links (" ++ unwords ls ++ "); choose one with --tip LINK"]
     pathTo base tip = walk tip [] (0 :: Int)
       where
