@@ -21,7 +21,7 @@ module VProf.Validation
   , inUserTerms
   ) where
 
-import Numeric (showFFloat)
+import Numeric (showEFloat, showFFloat)
 
 -- | A value as the user gave it: a number (rendered in full precision) or any text.
 data FieldValue
@@ -37,9 +37,13 @@ data FieldError = FieldError
   , feRule  :: !String      -- ^ what is wrong
   } deriving (Eq, Show)
 
--- | Every digit of a double, without an exponent where it can be avoided.
+-- | Every digit of a double, without an exponent where that stays short: from 1e-12 to below
+-- 1e15 in magnitude (and 0); outside that range with one (1.0e300, not 301 digits).
 showNumber :: Double -> String
-showNumber x = showFFloat Nothing x ""
+showNumber x
+  | x == 0 || (a >= 1e-12 && a < 1e15) || isNaN x || isInfinite x = showFFloat Nothing x ""
+  | otherwise = showEFloat Nothing x ""
+  where a = abs x
 
 renderValue :: FieldValue -> String
 renderValue = \case

@@ -14,7 +14,11 @@ import Support.Cli (parserRefused, runCommand)
 
 import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
 import VProf.Profile.Format.File (readRequest)
+import VProf.Profile.Format.Text (table)
 import VProf.Profile.Request
+import VProf.Profile.Sampled (Profile (..))
+import VProf.Validation (showNumber)
+import qualified Data.Vector.Unboxed as U
 
 run :: Parser (IO ExitCode) -> [String] -> IO ExitCode
 run = runCommand
@@ -24,6 +28,21 @@ simple = "examples/simple.json"
 
 spec :: Spec
 spec = do
+  describe "numbers written for people" $ do
+    it "the table writes every time distinctly, whatever the time step (was 3 decimals: 0.0005 s steps repeated times)" $
+      mapM_ (\h -> do
+               let p = Profile h (U.fromList (replicate 40 1)) 0 0
+                   ts = map (head . words) (drop 1 (lines (table p)))
+               length ts `shouldBe` 40
+               and (zipWith (/=) ts (drop 1 ts)) `shouldBe` True
+               map read ts `shouldSatisfy` (\xs -> and [ abs (x - fromIntegral k * h) <= 1e-9 | (k, x) <- zip [0 :: Int ..] (xs :: [Double]) ]))
+            [0.125, 0.004, 0.001, 0.0005, 0.00025, 1e-5, 3e-7]
+    it "huge and tiny numbers in messages take an exponent (1e300 was 301 digits)" $ do
+      showNumber 1e300 `shouldBe` "1.0e300"
+      showNumber (-2.5e-20) `shouldBe` "-2.5e-20"
+      showNumber 0.000000001 `shouldBe` "0.000000001"
+      showNumber 123456.5 `shouldBe` "123456.5"
+      showNumber 0 `shouldBe` "0.0"
   describe "vprof check" $ do
     it "a profile whose velocities are NaN is illegal (exit 1), in CSV, JSON and as a NaN time" $
       withSystemTempDirectory "vprof-check" $ \dir -> do

@@ -244,7 +244,7 @@ validate rq =
       , all (\(st, v) -> finite st && finite v && v > 0) zones =
           let lower = leastSamples len dt sorted
           in check (lower <= fromIntegral maxSamples) "route_length" len "m"
-               ("needs at least " ++ show (ceiling lower :: Integer) ++ " samples at time_step " ++ num dt
+               ("needs at least " ++ (if lower < 1e15 then show (ceiling lower :: Integer) else showNumber lower) ++ " samples at time_step " ++ num dt
                 ++ " s (each zone at its speed limit), above the cap of " ++ show maxSamples
                 ++ " samples; split the route or raise time_step")
       | otherwise = []

@@ -147,14 +147,14 @@ describeRobot r = unlines $
   [ robotName r ++ " — " ++ robotDescription r
   , "DOF " ++ show (dof r) ++ ", reach " ++ maybe "not given" (\x -> num 3 x ++ " m") (robotReach r)
     ++ ", payload " ++ maybe "not given" (\x -> num 2 x ++ " kg") (robotPayload r)
-  , "joints (limits in deg for revolute, m for prismatic; speed in deg/s or m/s):" ]
+  , "joints (limits in deg for revolute, mm for prismatic; speed in deg/s or mm/s):" ]
   ++ [ "  " ++ jointName j ++ ": " ++ show (jointKind j) ++ " [" ++ showL (conv j (limMin (jointLimits j))) ++ ", "
        ++ showL (conv j (limMax (jointLimits j))) ++ "]"
        ++ maybe "" (\v -> ", speed " ++ num 1 (conv j v)) (jointMaxVelocity j)
      | j <- robotJoints r ]
   ++ "sources:" : map ("  " ++) (robotSources r)
   where
-    conv j x = if jointKind j == Revolute then x * 180 / pi else x
+    conv j x = if jointKind j == Revolute then x * 180 / pi else x * 1000
     showL x | isInfinite x = if x > 0 then "inf" else "-inf"
             | otherwise = num 2 x
 ------------------------------------------------------------------------------ fk

@@ -61,7 +61,16 @@ csv p = renderChunked (BB.string7 "t,s,v,a,j\n" : [ foldMap row [i .. i + m - 1]
     num c k = doubleBuilder (U.unsafeIndex c k)
     comma = BB.char7 ','
 
+-- | The aligned table: the time with as many decimals as the time step needs (at least 3, at
+-- most 9), so that no two samples show the same time.
 table :: Profile -> String
 table p = unlines $
-  printf "%10s %12s %10s %10s %10s" ("t [s]" :: String) ("s [m]" :: String) ("v [m/s]" :: String) ("a [m/s2]" :: String) ("j [m/s3]" :: String)
-  : [ printf "%10.3f %12.4f %10.5f %10.5f %10.5f" t s v a j | (t, s, v, a, j) <- rows p ]
+  printf "%*s %12s %10s %10s %10s" wt ("t [s]" :: String) ("s [m]" :: String) ("v [m/s]" :: String) ("a [m/s2]" :: String) ("j [m/s3]" :: String)
+  : [ printf "%*.*f %12.4f %10.5f %10.5f %10.5f" wt dt t s v a j | (t, s, v, a, j) <- rows p ]
+  where
+    dt = timeDecimals (prDt p)
+    wt = max 10 (dt + 7)
+
+-- | The fewest decimals (3 to 9) that write the time step h exactly to a part in 10⁶.
+timeDecimals :: Double -> Int
+timeDecimals h = head ([ d | d <- [3 .. 8], let k = h * 10 ^^ d, abs (k - fromIntegral (round k :: Integer)) <= 1e-6 * k ] ++ [9])
