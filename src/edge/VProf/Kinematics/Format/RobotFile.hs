@@ -28,6 +28,7 @@ import qualified Data.Text as T
 import qualified Data.Vector as V
 import qualified Data.Yaml as Y
 
+import VProf.Format.DuplicateKeys (duplicateKeyErrors)
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform
 import VProf.Kinematics.Validate
@@ -42,6 +43,7 @@ readRobotFile path = do
 readRobotYaml :: BS.ByteString -> Either [String] Robot
 readRobotYaml bs = case Y.decodeEither' bs of
   Left e -> Left ["not valid YAML/JSON: " ++ Y.prettyPrintParseException e]
+  Right _ | dups@(_ : _) <- duplicateKeyErrors bs -> Left dups
   Right v -> do
     r <- fromValue v
     case validateRobot r of

@@ -19,10 +19,12 @@ import Data.Aeson.Types (Parser, parseEither)
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Lazy as BL
 import Data.Char (toUpper)
+import Data.List (intercalate)
 import Data.Scientific (toRealFloat)
 import qualified Data.Text as T
 import qualified Data.Vector.Unboxed as U
 
+import VProf.Format.DuplicateKeys (duplicateKeyErrors)
 import VProf.Format.Chunked (chunkRanges, renderChunked)
 import VProf.Format.Number (doubleBuilder)
 import VProf.Profile.Generate
@@ -32,7 +34,9 @@ import VProf.Profile.Request
 import VProf.Units
 
 requestFromJson :: BL.ByteString -> Either String Request
-requestFromJson bs = eitherDecode bs >>= requestFromValue
+requestFromJson bs = case duplicateKeyErrors (BL.toStrict bs) of
+  [] -> eitherDecode bs >>= requestFromValue
+  dups -> Left (intercalate "; " dups)
 
 requestFromValue :: Value -> Either String Request
 requestFromValue = parseEither parseRequest

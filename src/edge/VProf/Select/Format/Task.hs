@@ -38,6 +38,7 @@ import VProf.Compress.Clean (Sample (..))
 import VProf.Geometry.Vec (P3 (..), Q4 (..))
 import VProf.Kinematics.Model (Capsule (..))
 import VProf.Kinematics.Transform
+import VProf.Format.DuplicateKeys (duplicateKeyErrors)
 import VProf.Select.Task
 import VProf.Validation (renderFieldError)
 
@@ -51,6 +52,7 @@ readTaskFile path = do
     Left (e :: SomeException) -> pure (Left ["cannot read the task file " ++ path ++ ": " ++ show e])
     Right bs -> case Y.decodeEither' bs of
       Left e -> pure (Left [path ++ ": not valid YAML/JSON: " ++ Y.prettyPrintParseException e])
+      Right _ | dups@(_ : _) <- duplicateKeyErrors bs -> pure (Left (map ((path ++ ": ") ++) dups))
       Right v -> case parseTask v of
         Left es -> pure (Left (map ((path ++ ": ") ++) es))
         Right (task, pathSpec) -> do
