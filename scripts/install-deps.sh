@@ -14,7 +14,7 @@ APT_PACKAGES=(
   libghc-chart-dev libghc-chart-cairo-dev libghc-lens-dev libghc-colour-dev
   libghc-data-default-class-dev libghc-hspec-dev libghc-quickcheck2-dev libghc-protobuf-dev
   libghc-cereal-dev libghc-unordered-containers-dev libghc-temporary-dev
-  libghc-double-conversion-dev libghc-yaml-dev libghc-libyaml-dev libghc-conduit-dev
+  libghc-double-conversion-dev libghc-yaml-dev libghc-libyaml-dev libghc-attoparsec-dev libghc-conduit-dev
   libghc-resourcet-dev libghc-xml-conduit-dev libghc-file-embed-dev
   protobuf-compiler libprotobuf-dev pkg-config g++ make python3
   libjs-chart.js

@@ -11,7 +11,7 @@ import System.IO.Temp (withSystemTempDirectory)
 import Test.Hspec
 import Test.QuickCheck
 
-import VProf.Format.DuplicateKeys (duplicateKeys)
+import VProf.Format.DuplicateKeys (duplicateJsonKeyErrors, duplicateKeyErrors, duplicateKeys)
 import VProf.Kinematics.Format.RobotFile (readRobotYaml)
 import VProf.Profile.Format.Json (requestFromJson)
 import VProf.Select.Format.Task (readTaskFile)
@@ -69,6 +69,11 @@ spec = do
           let (path, twice) = ms !! i
               d' = twice d
           in counterexample (json d') $ duplicateKeys (B.pack (json d')) === [path] .&&. duplicateKeys (B.pack ("top:" ++ yaml 2 d')) === [(if take 1 path == "[" then "top" else "top.") ++ path]
+    it "JSON: the fast check agrees with the walk, with and without a repeated key" $
+      property $ forAll (sized (genDoc . min 12)) $ \d ->
+        let ms = mappings "" d
+            docs = B.pack (json d) : [ B.pack (json (twice d)) | (_, twice) <- take 3 ms ]
+        in conjoin [ duplicateJsonKeyErrors b === duplicateKeyErrors b | b <- docs ]
     it "a document libyaml cannot parse has none (the decoder says what is wrong)" $
       duplicateKeys (B.pack "{\"a\": [1, 2") `shouldBe` []
   describe "the readers refuse a repeated key, naming it (one of the values was kept silently)" $ do

@@ -19,7 +19,7 @@ import Data.ProtocolBuffers (getField)
 import qualified Data.Vector.Unboxed as U
 import System.FilePath (takeExtension)
 
-import VProf.Format.DuplicateKeys (duplicateKeyErrors)
+import VProf.Format.DuplicateKeys (duplicateJsonKeyErrors)
 import VProf.Profile.Format.Json
 import VProf.Profile.Request
 import VProf.Wire.Messages
@@ -49,7 +49,7 @@ readProfile path = do
       ".csv" -> fromColumns =<< parseCsv (BLC.unpack (BL.fromStrict bytes))
       ".json" -> case A.eitherDecodeStrict bytes of
         Left e -> Left (path ++ ": " ++ e)
-        Right (A.Object _) | dups@(_ : _) <- duplicateKeyErrors bytes -> Left (path ++ ": " ++ intercalate "; " dups)
+        Right (A.Object _) | dups@(_ : _) <- duplicateJsonKeyErrors bytes -> Left (path ++ ": " ++ intercalate "; " dups)
         Right (A.Object _) -> case A.eitherDecodeStrict bytes :: Either String ProfileJson of
           Left e -> Left (path ++ ": " ++ e)
           Right (ProfileJson ts vs) -> sameLength ts vs >> fromColumns (zip ts vs)

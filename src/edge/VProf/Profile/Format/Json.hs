@@ -24,7 +24,7 @@ import Data.Scientific (toRealFloat)
 import qualified Data.Text as T
 import qualified Data.Vector.Unboxed as U
 
-import VProf.Format.DuplicateKeys (duplicateKeyErrors)
+import VProf.Format.DuplicateKeys (duplicateJsonKeyErrors)
 import VProf.Format.Chunked (chunkRanges, renderChunked)
 import VProf.Format.Number (doubleBuilder)
 import VProf.Profile.Generate
@@ -34,7 +34,7 @@ import VProf.Profile.Request
 import VProf.Units
 
 requestFromJson :: BL.ByteString -> Either String Request
-requestFromJson bs = case duplicateKeyErrors (BL.toStrict bs) of
+requestFromJson bs = case duplicateJsonKeyErrors (BL.toStrict bs) of
   [] -> eitherDecode bs >>= requestFromValue
   dups -> Left (intercalate "; " dups)
 
