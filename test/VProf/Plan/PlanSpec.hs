@@ -4,7 +4,7 @@
 -- UR5's workspace.
 module VProf.Plan.PlanSpec (spec) where
 
-import Data.List (nubBy)
+import Data.List (isInfixOf, nubBy)
 import qualified Data.Vector.Unboxed as U
 import qualified Linear as L
 import System.FilePath ((</>))
@@ -114,8 +114,9 @@ spec = describe "VProf.Plan" $ do
         wps = [waypoint (-0.4, 0.3, 0.3) (0, 1, 0, 0), waypoint (-0.4, -0.3, 0.3) (0, 1, 0, 0)]
         start = U.fromList (map (* (pi / 180)) [143, 20, 30, 0, 30, 0])
     case planPath (planRequest r wps) { prStart = Just start } of
-      Left (Stopped (PlanStop (JointLimit j l) s _)) -> do
+      Left (Stopped st@(PlanStop (JointLimit j _ l) s _)) -> do
         j `shouldBe` "J1"
+        describeStop st `shouldSatisfy` isInfixOf "J1 reaches its limit 180.00°"
         abs l `shouldSatisfy` (\x -> abs (x - pi) < 1e-9)
         -- y crosses 0 (the base angle 180°) at s = 0.3 m
         s `shouldSatisfy` (\x -> abs (x - 0.3) <= 0.0015)

@@ -18,7 +18,7 @@ module VProf.Service.PlanSpec (spec) where
 
 import Control.Monad (forM_)
 import qualified Data.ByteString.Char8 as BC
-import Data.List (sort)
+import Data.List (isInfixOf, sort)
 import Data.Maybe (fromMaybe)
 import Data.ProtocolBuffers (getField, putField)
 import qualified Data.Text as T
@@ -230,8 +230,10 @@ spec = do
                             (buildBvh (composeScene [ScenePart plateMesh 1 identity])) 0.005
           plateMesh = fromTriangles [ (V3 0.45 (-0.5) 0, V3 0.45 0.5 0, V3 0.45 0.5 0.8), (V3 0.45 (-0.5) 0, V3 0.45 0.5 0.8, V3 0.45 (-0.5) 0.8) ]
       case planPath (planRequest placedUr5 (waypointsOf rows)) { prZone = Blend (0.01 *~ meter), prTrack = defaultTrackOptions { toEnvironment = Just env } } of
-        Left (Stopped (PlanStop (Collision b c) s _)) -> do
+        Left (Stopped st@(PlanStop (Collision b c need) s _)) -> do
           (txt (getField (plrStopBody p)), dbl (getField (plrStopValue p)), dbl (getField (plrStopDistance p))) `shouldBe` (b, c, s)
+          need `shouldBe` 0.005
+          describeStop st `shouldSatisfy` isInfixOf "mm from the environment (at least 5.00 mm asked)"
         Left f -> expectationFailure ("the core stopped otherwise: " ++ describePlanFailure f)
         Right _ -> expectationFailure "the core planned through the plate"
 

@@ -66,10 +66,10 @@ data Environment = Environment
 
 data StopReason
   = OutOfReach String            -- ^ the IK's explanation
-  | JointLimit String Double     -- ^ the joint and its limit (rad or m)
+  | JointLimit String JointKind Double -- ^ the joint, its kind and its limit (rad or m)
   | Singularity Double           -- ^ the smallest singular value
-  | Jump String Double           -- ^ the joint and its step (rad or m)
-  | Collision String Double      -- ^ the body and its clearance (m)
+  | Jump String JointKind Double -- ^ the joint, its kind and its step (rad or m)
+  | Collision String Double Double -- ^ the body, its clearance and the least asked (m)
   | NoSolution String            -- ^ any other IK failure
   deriving (Eq, Show)
 
@@ -87,11 +87,17 @@ describeStop (PlanStop r s (V3 x y z)) =
     mm v = showFFloat (Just 1) (v * 1000) "" ++ " mm"
     what = case r of
       OutOfReach m -> "out of reach: " ++ m
-      JointLimit j l -> "joint limit: " ++ j ++ " reaches its limit " ++ showFFloat (Just 2) (l * 180 / pi) "" ++ "°"
+      JointLimit j k l -> "joint limit: " ++ j ++ " reaches its limit " ++ joint k l
       Singularity sv -> "singularity: the Jacobian's smallest singular value is " ++ showFFloat (Just 6) sv ""
-      Jump j d -> "jump: " ++ j ++ " would move " ++ showFFloat (Just 1) (d * 180 / pi) "" ++ "° between two samples"
-      Collision b c -> "collision: " ++ b ++ " at " ++ mm c ++ " from the environment"
+      Jump j k d -> "jump: " ++ j ++ " would move " ++ joint k d ++ " between two samples"
+      Collision b c need -> "collision: " ++ b ++ " at " ++ showFFloat (Just 2) (c * 1000) "" ++ " mm from the environment (at least "
+                            ++ showFFloat (Just 2) (need * 1000) "" ++ " mm asked)"
       NoSolution m -> "no IK solution: " ++ m
+
+-- | A joint value in the unit a person reads: degrees for a revolute joint, mm for a prismatic one.
+joint :: JointKind -> Double -> String
+joint Revolute x = showFFloat (Just 2) (x * 180 / pi) "°"
+joint Prismatic x = showFFloat (Just 1) (x * 1000) " mm"
 
 -- | The tracked route: the grid s_0..s_N and the joint vectors there (row k of n values).
 data Tracked = Tracked
@@ -253,7 +259,7 @@ trackRoute TrackOptions{..} kin rt start = do
           let steps = U.zipWith (\a b -> abs (a - b)) q prev
               j = U.maxIndex steps
           if steps U.! j > toMaxJointStep
-            then stop s (maybe (Jump (jointName (joints !! j)) (steps U.! j)) (uncurry JointLimit) (nearLimit prev trend))
+            then stop s (maybe (Jump (jointName (joints !! j)) (jointKind (joints !! j)) (steps U.! j)) (\(nm, kd, l) -> JointLimit nm kd l) (nearLimit prev trend))
             else do
               checkAt s q
               go (k + 1) q (Just (U.zipWith (-) q prev)) (q : qs)
@@ -289,18 +295,18 @@ trackRoute TrackOptions{..} kin rt start = do
         BeyondReach {} -> stop s (OutOfReach (describeFailure f))
         InsideReach {} -> stop s (OutOfReach (describeFailure f))
         Unreachable {} -> stop s (OutOfReach (describeFailure f))
-        OutsideLimits sols -> case [ (nm, limitOf nm by) | (nm, by) : _ <- sols ] of
-          ((nm, l) : _) -> stop s (JointLimit nm l)
+        OutsideLimits sols -> case [ (nm, kd, l) | (nm, by) : _ <- sols, let (kd, l) = limitOf nm by ] of
+          ((nm, kd, l) : _) -> stop s (JointLimit nm kd l)
           [] -> stop s (NoSolution (describeFailure f))
         _ -> case prev >>= \p -> nearLimit p trend of
-          Just (nm, l) -> stop s (JointLimit nm l)
+          Just (nm, kd, l) -> stop s (JointLimit nm kd l)
           Nothing
             | Just p <- prev, smallestSingularValue ch p < 10 * toMinSigma -> stop s (Singularity (smallestSingularValue ch p))
             | otherwise -> stop s (NoSolution (describeFailure f))
 
-    limitOf nm by = case [ jointLimits jt | jt <- joints, jointName jt == nm ] of
-      (Limits lo hi : _) -> if by < 0 then lo else hi
-      [] -> 0
+    limitOf nm by = case [ jt | jt <- joints, jointName jt == nm ] of
+      (jt : _) -> let Limits lo hi = jointLimits jt in (jointKind jt, if by < 0 then lo else hi)
+      [] -> (Revolute, 0)
 
     -- a joint within one jump bound of a finite limit and moving toward it (by the last step's
     -- direction): the one nearest its limit
@@ -308,7 +314,7 @@ trackRoute TrackOptions{..} kin rt start = do
       let toward i dirSign = case trend of
             Nothing -> True
             Just t -> signum (t U.! i) == dirSign
-          cands = [ (d, (jointName jt, l))
+          cands = [ (d, (jointName jt, jointKind jt, l))
                   | (i, jt) <- zip [0 ..] joints
                   , let x = q U.! i; Limits lo hi = jointLimits jt
                   , (l, d, sg) <- [(lo, x - lo, -1), (hi, hi - x, 1)]
@@ -325,5 +331,5 @@ trackRoute TrackOptions{..} kin rt start = do
         Just Environment{..}
           | robotClearanceAtLeast envModel envBvh q envClearance -> Right ()
           | otherwise -> case robotClearance envModel envBvh q of
-              Just c -> stop s (Collision (clrBodyName c) (clrDistance c))
+              Just c -> stop s (Collision (clrBodyName c) (clrDistance c) envClearance)
               Nothing -> Right ()

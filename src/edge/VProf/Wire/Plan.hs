@@ -209,10 +209,10 @@ planToMsg rid secs q p = (withRoute q (bare rid secs PlanStatusOk))
 stopStatus :: StopReason -> PlanStatusEnum
 stopStatus = \case
   OutOfReach _ -> PlanStatusOutOfReach
-  JointLimit _ _ -> PlanStatusJointLimit
+  JointLimit {} -> PlanStatusJointLimit
   Singularity _ -> PlanStatusSingularity
-  Jump _ _ -> PlanStatusJump
-  Collision _ _ -> PlanStatusCollision
+  Jump {} -> PlanStatusJump
+  Collision {} -> PlanStatusCollision
   NoSolution _ -> PlanStatusNoSolution
 
 -- | A plan that stops (INFEASIBLE: where, why, and the route's pose there) or has no legal profile
@@ -223,13 +223,13 @@ planFailureToMsg rid secs q f = case f of
   InvalidPlan es -> planErrors rid secs (inUserTerms wireName es)
   Stopped st@(PlanStop reason s _) ->
     let (joint, body, value) = case reason of
-          JointLimit j l -> (j, "", l)
-          Jump j x -> (j, "", x)
+          JointLimit j _ l -> (j, "", l)
+          Jump j _ x -> (j, "", x)
           Singularity sv -> ("", "", sv)
-          Collision b c -> ("", b, c)
+          Collision b c _ -> ("", b, c)
           _ -> ("", "", 0)
         field = case reason of
-          Collision _ _ -> "environment"
+          Collision {} -> "environment"
           _ -> "waypoints"
     in (at s (stopStatus reason))
          { plrStopJoint = putField (txt joint), plrStopBody = putField (txt body)
