@@ -52,7 +52,6 @@ prepareChain ch = Kinematics ch method
       _ -> NumericLM
 
 
--- | Problems with a request (empty when it can be solved).
 -- | 'describeFailure' with each joint's limit miss in its unit: a revolute joint's in rad and
 -- degrees, a prismatic joint's in mm.
 describeFailureFor :: Robot -> IkFailure -> String
@@ -67,6 +66,7 @@ describeFailureFor r = \case
       Prismatic : _ -> showFFloat (Just 3) (v * 1000) " mm"
       _ -> showFFloat (Just 6) v " rad (" ++ showFFloat (Just 4) (v * 180 / pi) "°)"
 
+-- | Problems with a request (empty when it can be solved).
 checkRequest :: Chain -> Tf -> Maybe (U.Vector Double) -> [String]
 checkRequest ch target seed
   | isRigid 1e-6 target && maybe True (\s -> U.length s == chainDof ch && U.all finite s) seed = []
