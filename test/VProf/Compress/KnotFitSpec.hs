@@ -145,6 +145,24 @@ spec = do
                .&&. phead p === phead (rcP pr) .&&. plast p === plast (rcP pr)
                .&&. qangle (phead q) (phead (rcQ pr)) < 1e-9 .&&. qangle (plast q) (plast (rcQ pr)) < 1e-9
                .&&. U.length (paT pa) === k
+    it "no two waypoints closer than half the median sample step (or half the shortest, where the start has them so), at any number of points, with or without the wider search (were microseconds apart: segments hundreds of times faster than the recording)" $
+      property $ forAll (choose (20, 200)) $ \n -> forAll (choose (2, n - 1)) $ \k -> forAll (choose (0, 3)) $ \r -> forAllBlind (genWalk n) $ \pr ->
+        let PathA t _ _ = fitKnots defaultKnotConfig { kcSearch = r } pr defaultWeights k
+            gaps = U.zipWith (-) (U.tail t) t
+            -- (the start puts waypoints at the ends and midway between samples: half a step)
+            least = min (rcMinGap pr) (0.5 * U.minimum (rcDt pr))
+        in counterexample (show (rcMinGap pr, least, U.minimum gaps)) $
+             U.length t === k .&&. U.minimum gaps >= least * (1 - 1e-9)
+    it "the first 100 samples of freiburg1_xyz at 50 and 70 points: no segment faster than twice the recording's fastest step (one was 476 m/s against 0.56 m/s)" $ do
+      Recording (Track ts ps qs) <- loadTum "freiburg1_xyz-groundtruth.txt"
+      let n = 100
+          ps' = pgenerate n (pindex ps) :: V3s
+          qs' = pgenerate n (pindex qs) :: Qs
+          pr = prepareRecording (either error id (recordingFromArrays (U.take n ts) ps' qs'))
+          speeds t p = [ distance (pindex p i) (pindex p (i + 1)) / (t U.! (i + 1) - t U.! i) | i <- [0 .. U.length t - 2] ]
+          fastest = maximum (speeds (rcT pr) (rcP pr))
+      mapM_ (\k -> let PathA t p _ = fitKnots defaultKnotConfig pr defaultWeights k
+                   in maximum (speeds t p) `shouldSatisfy` (<= 2 * fastest)) [50, 70]
     it "is never worse in position error than its start (position weight only)" $
       property $ forAll (choose (60, 300)) $ \n -> forAll (choose (3, n `div` 6)) $ \k -> forAllBlind (genWalk n) $ \pr ->
         let start = solveStretchPositions pr (startKnots defaultKnotConfig pr k) 0 (k - 1)

@@ -250,9 +250,12 @@ updateTimes pr w frac which pa0@(PathA ts0 _ _)
               -- best position and orientation of waypoint j for a time tau
               fitAt tau = fitMiddle pr w lo tau hi pA (pindex ps j) pC qA (pindex qs j) qC i0 i1
               f tau = let (pj, qj) = fitAt tau in costAt tau pj qj
-              gap = 1e-3 * (hi - lo)
+              -- never closer to a neighbour than 'rcMinGap' (half a sample step) unless it
+              -- already is, nor within a thousandth of the two segments
+              gapLo = max (1e-3 * (hi - lo)) (min (rcMinGap pr) (cur - lo))
+              gapHi = max (1e-3 * (hi - lo)) (min (rcMinGap pr) (hi - cur))
               -- search near the current time: a third of the way to each neighbour
-              best = golden f (max (lo + gap) (cur - (cur - lo) * frac)) (min (hi - gap) (cur + (hi - cur) * frac)) 8
+              best = golden f (max (lo + gapLo) (cur - (cur - lo) * frac)) (min (hi - gapHi) (cur + (hi - cur) * frac)) 8
               (pb, qb) = fitAt best
               cNew = costAt best pb qb
               cOld = costAt cur (pindex ps j) (pindex qs j)

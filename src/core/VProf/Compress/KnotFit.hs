@@ -111,7 +111,8 @@ exchangeKnots pr iters passes kn0 = go passes kn0
         ts = kT kn
         k = U.length ts
         rems = take 8 (sortBy (comparing fst) [ (removalDelta kn j, j) | j <- [1 .. k - 2] ])
-        ins = take 10 (sortBy (comparing fst) [ (insertionDelta kn s, s) | s <- [0 .. k - 2] ])
+        -- (a segment too short to halve keeps its waypoints 'rcMinGap' apart: no insertion)
+        ins = take 10 (sortBy (comparing fst) [ (insertionDelta kn s, s) | s <- [0 .. k - 2], ts U.! (s + 1) - ts U.! s >= 2 * rcMinGap pr ])
         pairs = take 12 (sortBy (comparing fst) [ (dr + di, (j, s)) | (dr, j) <- rems, (di, s) <- ins, s >= j + 4 || s <= j - 5 ])
         tryPairs [] = Nothing
         tryPairs ((_, (j, s)) : rest) = case exchange kn j s of
@@ -191,15 +192,22 @@ searchKnots cfg pr kn0
                           | otherwise = perturbed g best
               cand = optimiseKnots cfg pr start
               f = knotSse pr cand
-          in if U.length (kT cand) == k && f < fBest then go (r + 1) g' cand f else go (r + 1) g' best fBest
-    -- k−2 distinct uniform interior times (a repeated draw is drawn again)
-    randomStart g0 = draw g0 []
+          in if U.length (kT cand) == k && f < fBest && spaced cand then go (r + 1) g' cand f else go (r + 1) g' best fBest
+    -- every waypoint at least 'rcMinGap' after the one before (a round's start that is not,
+    -- a perturbation's or the dynamic program's on an irregular recording, cannot win)
+    spaced kn = let ts = kT kn in U.and (U.zipWith (\a b -> b - a >= rcMinGap pr * (1 - 1e-9)) ts (U.tail ts))
+    -- k−2 uniform interior times 'rcMinGap' apart and from the ends (a draw too close to
+    -- another is drawn again; after 100 draws a waypoint, the line partition's start)
+    randomStart g0 = draw g0 (100 * k :: Int) []
       where
-        draw g acc
+        gap = rcMinGap pr
+        draw g budget acc
           | length acc == k - 2 = (atTimes (U.fromList ([tA] ++ sort acc ++ [tB])), g)
+          | budget <= 0 = (startKnots cfg pr k, g)
           | otherwise = let (u, g') = unit g
                             t = tA + u * (tB - tA)
-                        in if t > tA && t < tB && t `notElem` acc then draw g' (t : acc) else draw g' acc
+                        in if t - tA >= gap && tB - t >= gap && all (\a -> abs (t - a) >= gap) acc
+                             then draw g' (budget - 1) (t : acc) else draw g' (budget - 1) acc
     perturbed g0 kn =
       let ts = kT kn
           (d1, g1) = below (k - 2) g0

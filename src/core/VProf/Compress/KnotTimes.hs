@@ -171,7 +171,11 @@ refineStretch pr iters ja jb kn0
   where
     kp0 = solveStretchPositions pr kn0 ja jb
     span' = (kT kn0 U.! jb) - (kT kn0 U.! ja)
-    minGap = 1e-9 * span'
+    -- waypoints at least half a sample step apart ('rcMinGap'): a step may not bring two
+    -- closer than that, nor closer than they are when they already are (an irregular recording's
+    -- start can have such a pair), nor ever within 1e-9 of the stretch
+    floorGap = 1e-9 * span'
+    admitted old new = new > floorGap && new >= min (rcMinGap pr) old
     loop 0 _ kn f = (kn, f)
     loop m mu kn f = case tryMu (10 :: Int) mu of
       Nothing -> (kn, f)
@@ -185,7 +189,7 @@ refineStretch pr iters ja jb kn0
           Nothing -> tryMu (c - 1) (mu1 * 4)
           Just dx ->
             let ts' = U.imap (\j t -> if j > ja && j < jb then t + dx U.! (4 * (j - ja - 1) + 3) else t) ts
-                ordered = U.and (U.generate (jb - ja) (\l -> ts' U.! (ja + l + 1) - ts' U.! (ja + l) > minGap))
+                ordered = U.and (U.generate (jb - ja) (\l -> admitted (ts U.! (ja + l + 1) - ts U.! (ja + l)) (ts' U.! (ja + l + 1) - ts' U.! (ja + l))))
                 kn' = solveStretchPositions pr (Knots ts' (kP kn)) ja jb
                 f' = stretchSse pr kn' ja jb
             in if ordered && f' < f then Just (kn', f', mu1) else tryMu (c - 1) (mu1 * 4)

@@ -29,6 +29,7 @@ module VProf.Compress.Objective
   , segPose
   ) where
 
+import Data.List (sort)
 import qualified Data.Vector.Unboxed as U
 
 
@@ -48,14 +49,25 @@ data Prepared = Prepared
   , rcDt :: !(U.Vector Double)        -- ^ length N−1
   , rcInvDt :: !(U.Vector Double)     -- ^ 1 / dt
   , rcEnds :: !Ends
+  , rcMinGap :: !Double               -- ^ the least time between two waypoints (s): 'minKnotGap'
   }
 
 prepareRecording :: Recording -> Prepared
-prepareRecording (Recording (Track t p q)) = Prepared t p (alignHemisphere q) v dt (U.map (1 /) dt) EndsPinned
+prepareRecording (Recording (Track t p q)) = Prepared t p (alignHemisphere q) v dt (U.map (1 /) dt) EndsPinned (minKnotGap dt)
   where
     n = U.length t
     dt = U.generate (n - 1) (\i -> t U.! (i + 1) - t U.! i)
     v = pgenerate (n - 1) (\i -> (pindex p (i + 1) ^-^ pindex p i) ^/ (dt U.! i))
+
+-- | The least time between two waypoints: half the median sample step. The position error is
+-- measured at the samples only, so a segment with no sample in it is free to jump: two
+-- waypoints microseconds apart gave a segment hundreds of times faster than the recording.
+-- Half a step keeps every start (waypoints at samples or midway between them) admissible.
+minKnotGap :: U.Vector Double -> Double
+minKnotGap dt
+  | U.null dt = 0
+  | otherwise = 0.5 * (sortU dt U.! (U.length dt `div` 2))
+  where sortU = U.fromList . sort . U.toList
 
 -- | A path as plain arrays (times, positions, orientations).
 data PathA = PathA
