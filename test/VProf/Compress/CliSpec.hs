@@ -64,6 +64,23 @@ v101Path dir name k args = do
 
 spec :: Spec
 spec = describe "vprof compress" $ do
+  it "refuses counts beyond range (were wrapped around: --points 2^64+5 ran as 5; --search 2^64+5 as 5, now past the limit of 1000) and RAPID names that are not identifiers (wrote invalid RAPID)" $ do
+    rec <- dataFile "freiburg1_xyz-groundtruth.txt"
+    mapM_ (\args -> runCli (rec : args) `shouldReturn` ExitFailure 99)
+      [ ["--points", "18446744073709551621"], ["--points", "99999999999999999999"], ["--search", "x"]
+      , ["--rapid-module", "my mod"], ["--rapid-module", ""], ["--rapid-module", "A\nENDMODULE"], ["--rapid-speed", ""], ["--rapid-zone", "z 10"]
+      , ["--rapid-tool", "9tool"], ["--rapid-wobj", replicate 33 'w'] ]
+  it "an output it cannot write is exit 2 (was a raw exception, exit 1); a UTF-8 byte-order mark before the data is skipped (was \"not a number\")" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      rec <- dataFile "freiburg1_xyz-groundtruth.txt"
+      runCli [rec, "--points", "10", "-o", dir </> "no" </> "such" </> "x.txt"] `shouldReturn` ExitFailure 2
+      runCli [rec, "--points", "10", "--search", "18446744073709551621"] `shouldReturn` ExitFailure 2
+      runCli [rec, "--points", "10", "--plot", dir </> "no" </> "such" </> "x.png"] `shouldReturn` ExitFailure 2
+      src <- B.readFile rec
+      let bom = dir </> "bom.txt"
+      B.writeFile bom (B.append (B.pack "\xEF\xBB\xBF") (B.unlines (take 200 (filter (\l -> not (B.null l) && B.head l /= '#') (B.lines src)))))
+      tr <- writtenTum dir "bom-out.txt" [bom, "--points", "10"]
+      trackLength tr `shouldBe` 10
   it "writes a RAPID module with the requested number of moves and exits 0" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       rec <- dataFile "freiburg1_xyz-groundtruth.txt"

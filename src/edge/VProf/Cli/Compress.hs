@@ -12,7 +12,7 @@ import Control.Monad (when)
 import qualified Data.Aeson as A
 import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy.Char8 as BL
-import Data.Char (toLower)
+import Data.Char (isDigit, toLower)
 import Data.List (intercalate, isPrefixOf)
 import GHC.Clock (getMonotonicTime)
 import Options.Applicative
@@ -20,12 +20,13 @@ import VProf.Plot.File (plotPath)
 import System.Exit (ExitCode (..))
 import System.Directory (doesFileExist)
 import System.FilePath (dropExtension, takeExtension, takeFileName)
-import System.IO (hPutStrLn, stderr)
+import System.IO (hFlush, hPutStrLn, stderr, stdout)
 import Numeric.Units.Dimensional.Prelude (metre, milli, (*~))
 import Prelude
 
 import VProf.Compress
 import VProf.Compress.Clean
+import VProf.Compress.Format.Common (dropBom)
 import VProf.Compress.Format.Csv
 import VProf.Compress.Format.Kitti
 import VProf.Compress.Format.Log
@@ -109,11 +110,16 @@ compressOptions' = CompressOptions
         <|> (StopMargin <$> option auto (long "margin" <> metavar "M" <> help "stop removing points when the error passes M times the grown path's error"))
         <|> (StopTolerance <$> option auto (long "tolerance" <> metavar "MM" <> help "largest position error allowed, mm"))
     rapidP = RapidOptions
-      <$> strOption (long "rapid-module" <> metavar "NAME" <> value (roModule defaultRapidOptions) <> showDefault <> help "RAPID module name")
-      <*> strOption (long "rapid-speed" <> metavar "SPEED" <> value (roSpeed defaultRapidOptions) <> showDefault <> help "RAPID speed data")
-      <*> strOption (long "rapid-zone" <> metavar "ZONE" <> value (roZone defaultRapidOptions) <> showDefault <> help "RAPID zone data")
-      <*> strOption (long "rapid-tool" <> metavar "TOOL" <> value (roTool defaultRapidOptions) <> showDefault <> help "RAPID tool data")
-      <*> strOption (long "rapid-wobj" <> metavar "WOBJ" <> value (roWobj defaultRapidOptions) <> showDefault <> help "RAPID work object")
+      <$> option (eitherReader (rapidName "--rapid-module")) (long "rapid-module" <> metavar "NAME" <> value (roModule defaultRapidOptions) <> showDefault <> help "RAPID module name")
+      <*> option (eitherReader (rapidName "--rapid-speed")) (long "rapid-speed" <> metavar "SPEED" <> value (roSpeed defaultRapidOptions) <> showDefault <> help "RAPID speed data")
+      <*> option (eitherReader (rapidName "--rapid-zone")) (long "rapid-zone" <> metavar "ZONE" <> value (roZone defaultRapidOptions) <> showDefault <> help "RAPID zone data")
+      <*> option (eitherReader (rapidName "--rapid-tool")) (long "rapid-tool" <> metavar "TOOL" <> value (roTool defaultRapidOptions) <> showDefault <> help "RAPID tool data")
+      <*> option (eitherReader (rapidName "--rapid-wobj")) (long "rapid-wobj" <> metavar "WOBJ" <> value (roWobj defaultRapidOptions) <> showDefault <> help "RAPID work object")
+    -- a RAPID identifier: a letter, then letters, digits or underscores, 32 characters at most
+    rapidName what s
+      | (c : cs) <- s, isAsciiLetter c, all (\x -> isAsciiLetter x || isDigit x || x == '_') cs, length s <= 32 = Right s
+      | otherwise = Left (what ++ " " ++ show s ++ ": expected a RAPID identifier (a letter, then letters, digits or _; at most 32 characters)")
+    isAsciiLetter x = (x >= 'a' && x <= 'z') || (x >= 'A' && x <= 'Z')
     inFmt s = case map toLower s of
       "tum" -> Right InTum
       "log" -> Right InLog
@@ -135,12 +141,14 @@ compressOptions' = CompressOptions
       "pinned" -> Right EndsPinned
       "free" -> Right EndsFree
       _ -> Left ("--ends " ++ s ++ ": expected pinned or free")
+    -- read as an Integer, so that a number beyond Int is refused, not wrapped around
+    -- (above 1000 the run's own check names the limit)
     searchRounds s = case reads s of
-      [(r, "")] | r >= (0 :: Int) -> Right r
+      [(r, "")] | r >= (0 :: Integer) -> Right (fromInteger (min r 1001))
       _ -> Left ("--search " ++ s ++ ": expected a whole number >= 0")
     posInt s = case reads s of
-      [(k, "")] | k >= (2 :: Int) -> Right k
-      _ -> Left ("--points " ++ s ++ ": expected a whole number >= 2")
+      [(k, "")] | k >= (2 :: Integer) && k <= 1000000000 -> Right (fromInteger k)
+      _ -> Left ("--points " ++ s ++ ": expected a whole number from 2 to 10^9")
     weights s = case mapM readD (splitOn ',' s) of
       Just [p, o, v] | all (\x -> finite x && x >= 0) [p, o, v] && (p > 0 || v > 0) -> Right (p, o, v)
       _ -> Left ("--weights " ++ s ++ ": expected three finite numbers >= 0, P,O,V, with P or V > 0")
@@ -166,7 +174,7 @@ splitOn c s = case break (== c) s of
 
 runCompress :: CompressOptions -> IO ExitCode
 runCompress o = do
-  src <- try (B.readFile file)
+  src <- try (dropBom <$> B.readFile file)
   case src of
     Left e -> failInput ("cannot read " ++ file ++ ": " ++ show (e :: IOException))
     Right bytes -> do
@@ -207,7 +215,7 @@ runCompress o = do
         Nothing -> pure (Left (file ++ ": KITTI poses (12 numbers a line) carry no times: give --times FILE (one time in s a line, KITTI's times.txt); "
                                ++ sibling ++ " does not exist"))
         Just tf -> do
-          tb <- try (B.readFile tf)
+          tb <- try (dropBom <$> B.readFile tf)
           pure $ case tb of
             Left e -> Left ("cannot read the times " ++ tf ++ ": " ++ show (e :: IOException))
             Right times -> case readKitti b times of
@@ -269,13 +277,18 @@ runCompress o = do
                 OutTum -> renderTum tr
                 OutCsv -> renderCsv tr
                 OutMod -> BL.pack (renderRapid (coRapid o) tr)
-          case coOutput o of
-            Just f -> BL.writeFile f (render f)
-            Nothing -> when (not (coReport o || coReportJson o) && coPlot o == Nothing) $ BL.putStr (render "")
-          case coPlot o of
-            Just f -> plotCompression f (takeFileName (coInput o) ++ ", " ++ show k ++ " points") (prepareRecording rec) (toPathA (oPath out))
-            Nothing -> pure ()
-          if oToleranceMet out
+          -- an output that cannot be written is a bad option: exit 2 naming it
+          let writing what act = try (act >> hFlush stdout) >>= \case
+                Left (e :: IOException) -> hPutStrLn stderr ("vprof compress: cannot write " ++ what ++ ": " ++ show e) >> pure False
+                Right () -> pure True
+          okOut <- case coOutput o of
+            Just f -> writing f (BL.writeFile f (render f))
+            Nothing | not (coReport o || coReportJson o) && coPlot o == Nothing -> writing "the path to standard output" (BL.putStr (render ""))
+                    | otherwise -> writing "standard output" (pure ())
+          okPlot <- case coPlot o of
+            Just f -> writing f (plotCompression f (takeFileName (coInput o) ++ ", " ++ show k ++ " points") (prepareRecording rec) (toPathA (oPath out)))
+            Nothing -> pure True
+          if not (okOut && okPlot) then pure (ExitFailure 2) else if oToleranceMet out
             then pure ExitSuccess
             else do
               hPutStrLn stderr ("vprof compress: tolerance not met: largest position error "

@@ -2,6 +2,7 @@
 -- track they make, and one-pose-a-line output.
 module VProf.Compress.Format.Common
   ( readDouble
+  , dropBom
   , trackFromRows
   , dataLines
   , numberFields
@@ -29,6 +30,10 @@ trackFromRows format rows =
                            (pfromList [q | (_, _, q) <- rows]) of
     Left e -> Left (format ++ ": " ++ e ++ " (sample k is the k-th data line, counting from 0)")
     Right (Recording tr) -> Right tr
+
+-- | The text without a UTF-8 byte-order mark at its start (spreadsheets write one before a CSV).
+dropBom :: B.ByteString -> B.ByteString
+dropBom s = if B.pack "\xEF\xBB\xBF" `B.isPrefixOf` s then B.drop 3 s else s
 
 -- | A decimal number (optional sign, fraction, exponent) filling the whole string.
 readDouble :: B.ByteString -> Maybe Double
