@@ -37,6 +37,7 @@ import System.Timeout (timeout)
 
 import VProf.Cli.Kinematics (loadRobot)
 import VProf.Compress.Clean (fileLocator, nonUnitWarning, renderCleanWarning)
+import VProf.Compress.Format.Common (dropBom)
 import VProf.Compress.Format.Csv (parseCsv, readCsv)
 import VProf.Compress.Format.Rapid (parseRapid, readRapid)
 import VProf.Compress.Format.Tum (parseTum, readTum)
@@ -164,7 +165,7 @@ poseTf = \case
 -- @vprof compress@ gives for them on stderr.
 readPath :: FilePath -> IO (Either String Track)
 readPath f = do
-  r <- try (B.readFile f) :: IO (Either IOException B.ByteString)
+  r <- try (dropBom <$> B.readFile f) :: IO (Either IOException B.ByteString)
   case r of
     Left e -> pure (Left (f ++ ": " ++ show e))
     Right src -> do
@@ -208,9 +209,7 @@ readPathInput f
 
 runPlan :: PlanOpts -> IO ExitCode
 runPlan o = do
-  er <- if isJust (poTip o) && map toLower (takeExtension (poRobot o)) /= ".urdf"
-          then pure (Left ("--tip needs a URDF robot; " ++ show (poRobot o) ++ " is not a .urdf file"))
-          else loadRobot (poTip o) (poRobot o)
+  er <- loadRobot (poTip o) (poRobot o)
   ep <- readPathInput (poPath o)
   case (er, ep) of
     (Left e, _) -> failWith ("--robot: " ++ e)
@@ -233,7 +232,7 @@ runPlan o = do
                      , prTrack = defaultTrackOptions { toEnvironment = fmap (\(cm, bvh) -> Environment cm bvh clearance) (menv r) } }
               -- body numbers to leave out of the scene check that name none of the robot's bodies
               hasCapsule = isJust (mtask >>= taskToolCapsule)
-              unknown what bs = [ what ++ ": " ++ e | isJust (menv r), b <- bs, Just e <- [unknownBody r hasCapsule b] ]
+              unknown what bs = [ what ++ ": " ++ e | b <- bs, Just e <- [unknownBody r hasCapsule b] ]
               badBodies = unknown "--ignore-body" (poIgnore o) ++ unknown (poPath o ++ ": ignore_bodies") (maybe [] taskIgnoreBodies mtask)
           if not (null badBodies) then failWith (intercalate "; " badBodies) else do
             t0 <- getMonotonicTime
