@@ -58,6 +58,11 @@ spec = describe "vprof robots / fk / ik" $ do
     dir <- shared
     let cell = dir </> "data" </> "cell" </> "cell.obj"
     mapM_ (\b -> run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--environment", cell, "--ignore-body", b] `shouldReturn` ExitFailure 2) ["7", "99"]
+    run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--ignore-body", "99"] `shouldReturn` ExitFailure 2
+  it "--tip with a library robot is exit 2 (was ignored); --time-budget must be > 0 (0 and -5 were taken)" $ do
+    run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--tip", "nosuch"] `shouldReturn` ExitFailure 2
+    run fkCommand ["ur5", "0", "0", "0", "0", "0", "0", "--tip", "tool0"] `shouldReturn` ExitFailure 2
+    mapM_ (\b -> run ikCommand ["franka-panda", "--pose", "0.5 0 0.3 0 1 0 0", "--time-budget", b] `shouldReturn` ExitFailure 99) ["0", "-5", "nan"]
   it "fk --format json writes null for the condition number at a singularity (JSON has no infinity; it was the string \"+inf\")" $
     withSystemTempDirectory "vprof-fk" $ \dir -> do
       let out = dir </> "fk.json"

@@ -37,6 +37,7 @@ spec = do
     it "--ignore-body must name one of the robot's bodies (exit 2)" $ do
       run ["examples/plan-square.csv", "--robot", "ur5", "--environment", cell, "--ignore-body", "7"] `shouldReturn` ExitFailure 2
       run ["examples/plan-square.csv", "--robot", "ur5", "--environment", cell, "--ignore-body", "99"] `shouldReturn` ExitFailure 2
+      run ["examples/plan-square.csv", "--robot", "ur5", "--ignore-body", "99"] `shouldReturn` ExitFailure 2
   it "reads RAPID speed data vN as N mm/s and refuses anything else" $ do
     parseSpeedData "v500" `shouldBe` Right 0.5
     parseSpeedData "V7000" `shouldBe` Right 7

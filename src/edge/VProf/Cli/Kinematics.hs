@@ -55,6 +55,9 @@ tipOption = optional (strOption (long "tip" <> metavar "LINK" <> help "URDF only
 
 -- | A library robot or a robot file; Left is a message for the user.
 loadRobot :: Maybe String -> String -> IO (Either String Robot)
+loadRobot (Just t) name
+  | map toLower (takeExtension name) /= ".urdf" =
+      pure (Left ("--tip " ++ show t ++ ": names the last link of a URDF's chain, and " ++ show name ++ " is not a .urdf file"))
 loadRobot tip name = case map toLower (takeExtension name) of
   ext | ext `elem` [".yaml", ".yml", ".json"] -> joinErrors <$> readRobotFile name
       | ext == ".urdf" -> joinErrors <$> readUrdfFile defaultUrdfOptions { urdfTip = tip } name
@@ -221,7 +224,7 @@ ikCommand = runIk <$> (IkOpts
   <*> switch (long "all" <> help "search for every solution (the numerical solver keeps restarting), not only the nearest")
   <*> switch (long "deg" <> help "joint values in and out in degrees")
   <*> tipOption <*> formatOption
-  <*> option auto (long "time-budget" <> metavar "SECONDS" <> value 1 <> showDefault <> help "wall-clock budget of the numerical solver")
+  <*> option (eitherReader budgetR) (long "time-budget" <> metavar "SECONDS" <> value 1 <> showDefault <> help "wall-clock budget of the numerical solver (> 0, at most 3600)")
   <*> optional (option (eitherReader branch) (long "branch" <> metavar "RUN|LDF|..."
         <> help "six-axis closed forms: only this branch (shoulder R/L, elbow U/D, wrist N/F)"))
   <*> optional (strOption (long "environment" <> metavar "FILE.obj"
@@ -233,6 +236,9 @@ ikCommand = runIk <$> (IkOpts
   <*> many (option (eitherReader bodyNumber) (long "ignore-body" <> metavar "N"
         <> help "with --environment: leave body N out of the scene check (1 = the first link, e.g. a base column on a table); repeatable")))
   where
+    budgetR str = case readD str of
+      Just x | not (isNaN x || isInfinite x) && x > 0 && x <= 3600 -> Right x
+      _ -> Left ("--time-budget " ++ show str ++ " s: expected a number > 0 and at most 3600")
     nonNegClearance str = case readD str of
       Just x | not (isNaN x || isInfinite x) && x >= 0 -> Right x
       _ -> Left ("--clearance " ++ show str ++ " m: expected a finite number >= 0")
@@ -256,7 +262,7 @@ runIk o = do
   case er of
     Left e -> failWith e
     Right r -> case ikPose o of
-      _ | e : _ <- [ e | _ <- maybe [] pure (ikEnvironment o), b <- ikIgnoreBodies o, Just e <- [unknownBody r False b] ] ->
+      _ | e : _ <- [ e | b <- ikIgnoreBodies o, Just e <- [unknownBody r False b] ] ->
             failWith ("--ignore-body: " ++ e)
       [x, y, z, w, qx', qy', qz']
         | abs (sqrt (w * w + qx' * qx' + qy' * qy' + qz' * qz') - 1) > 1e-6 ->

@@ -110,7 +110,7 @@ loadRobots tip spec
       [] -> Right [(k, r) | (k, Right r) <- libraryRobots]
       bad -> Left ("library robots broken: " ++ unwords bad)
   | otherwise = do
-      rs <- mapM (\n -> fmap (n,) <$> loadRobot tip n) names
+      rs <- mapM (\n -> fmap (n,) <$> loadRobot (if isUrdf n then tip else Nothing) n) names
       pure $ case [e | Left e <- rs] of
         [] | null rs -> Left ("--robots: no robot named in " ++ show spec)
            | otherwise -> Right [r | Right r <- rs]
