@@ -80,6 +80,9 @@ spec = do
     it "a profile request as JSON" $
       requestFromJson (BL.pack "{\"route_length\": 10, \"route_length\": 20, \"speed_limits\": [{\"start_distance\": 0, \"velocity\": 1}], \"max_acceleration\": 1, \"min_acceleration\": -1, \"max_jerk\": 1, \"min_jerk\": -1, \"time_step\": 0.01}")
         `shouldSatisfy` either ("route_length: the key appears more than once" `isInfixOf`) (const False)
+    it "a profile request with one field in both spellings (snake_case and lowerCamelCase)" $
+      requestFromJson (BL.pack "{\"route_length\": 10, \"routeLength\": 20, \"speed_limits\": [{\"start_distance\": 0, \"velocity\": 1}], \"max_acceleration\": 1, \"min_acceleration\": -1, \"max_jerk\": 1, \"min_jerk\": -1, \"time_step\": 0.01}")
+        `shouldSatisfy` either ("route_length and routeLength" `isInfixOf`) (const False)
     it "a robot file" $
       readRobotYaml (B.pack "name: r\nname: s\n") `shouldSatisfy` either (any ("name: the key appears more than once" `isInfixOf`)) (const False)
     it "a task file" $
@@ -88,3 +91,13 @@ spec = do
         writeFile f "payload: 1\nclearance: 0.01\nclearance: 0.5\ntargets:\n  - {position: [0.5, 0, 0.3]}\n"
         r <- readTaskFile f
         r `shouldSatisfy` either (any ("clearance: the key appears more than once" `isInfixOf`)) (const False)
+    it "a task file's misspelt keys in nested mappings (path, environment, tool_capsule) and a path step below 0.1 mm (ran for minutes)" $
+      withSystemTempDirectory "vprof-dup" $ \dir -> do
+        let f = dir </> "task.yaml"
+            errsOf body = do
+              writeFile f ("payload: 1\nclearance: 0.01\n" ++ body)
+              either id (const []) <$> readTaskFile f
+        errsOf "path: {file: /dev/null, folow: true}\n" >>= (`shouldSatisfy` any ("path.folow: unknown field" `isInfixOf`))
+        errsOf "environment: [{file: /dev/null, scael: 0.001}]\ntargets:\n  - {position: [0.5, 0, 0.3]}\n" >>= (`shouldSatisfy` any ("environment[0].scael: unknown field" `isInfixOf`))
+        errsOf "tool_capsule: {a: [0, 0, 0], b: [0, 0, 0.1], radus: 0.02}\ntargets:\n  - {position: [0.5, 0, 0.3]}\n" >>= (`shouldSatisfy` any ("tool_capsule.radus: unknown field" `isInfixOf`))
+        errsOf "path: {file: /dev/null, follow: true, step: 1.0e-7}\n" >>= (`shouldSatisfy` any ("path.step = 0.0000001 m: must be at least 0.0001 m" `isInfixOf`))

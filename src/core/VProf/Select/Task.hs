@@ -10,6 +10,8 @@ module VProf.Select.Task
   , MeshPlacement (..)
   , Target (..)
   , defaultPathStep
+  , minPathStep
+  , minPathStepRule
   , checkTask
   , placeRobot
   , segmentSamples
@@ -55,12 +57,20 @@ data Task = Task
 defaultPathStep :: Double
 defaultPathStep = 0.005
 
+-- | The finest sampling of a path's segments (m): every step is an IK solution and a clearance
+-- check, so a step of 1e-7 m ran for minutes.
+minPathStep :: Double
+minPathStep = 1e-4
+
+minPathStepRule :: String
+minPathStepRule = "must be at least 0.0001 m (0.1 mm): every step is an IK solution and a clearance check"
+
 -- | Every problem of a task's numbers, each naming its field and value (m, kg).
 checkTask :: Task -> [FieldError]
 checkTask Task{..} = concat
   [ ensureFinite "payload" taskPayload "kg" (ensure (taskPayload >= 0) (fieldError "payload" taskPayload "kg" "must be >= 0"))
   , ensureFinite "clearance" taskClearance "m" (ensure (taskClearance >= 0) (fieldError "clearance" taskClearance "m" "must be >= 0"))
-  , ensureFinite "path_step" taskPathStep "m" (ensure (taskPathStep > 0) (fieldError "path_step" taskPathStep "m" "must be > 0"))
+  , ensureFinite "path_step" taskPathStep "m" (ensure (taskPathStep >= minPathStep) (fieldError "path_step" taskPathStep "m" minPathStepRule))
   , concat [ ensureFinite ("environment[" ++ show i ++ "].scale") (mpScale m) ""
                (ensure (mpScale m > 0) (fieldError ("environment[" ++ show i ++ "].scale") (mpScale m) "" "must be > 0"))
            | (i, m) <- zip [0 :: Int ..] taskEnvironment ]

@@ -87,6 +87,8 @@ dbl o name = fieldWith protoDouble o name 0
 
 fieldWith :: (Value -> Parser a) -> Object -> String -> a -> Parser a
 fieldWith parse o name def = case KM.lookup (K.fromString name) o of
+  Just _ | camel name /= name, KM.member (K.fromString (camel name)) o ->
+    fail (name ++ " and " ++ camel name ++ ": the same field twice (in its two spellings); which value was meant?")
   Just v -> named v
   Nothing -> case KM.lookup (K.fromString (camel name)) o of
     Just v -> named v

@@ -40,7 +40,7 @@ import VProf.Kinematics.Model (Capsule (..))
 import VProf.Kinematics.Transform
 import VProf.Format.DuplicateKeys (duplicateKeyErrors)
 import VProf.Select.Task
-import VProf.Validation (renderFieldError)
+import VProf.Validation (renderFieldError, showNumber)
 
 type P a = Either [String] a
 
@@ -115,6 +115,7 @@ parseTask v = do
     mesh i m = do
       let p = "environment[" ++ show i ++ "]"
       mo <- obj p m
+      onlyKeys p ["file", "scale", "pose"] mo
       f <- reqP p mo "file" >>= str (p ++ ".file")
       s <- optionalP p mo "scale" (Right 1) (num (p ++ ".scale") "")
       t <- optionalP p mo "pose" (Right identity) (pose (p ++ ".pose"))
@@ -125,17 +126,26 @@ parseTask v = do
       pure (Target p tf)
     capsule c = do
       co <- obj "tool_capsule" c
+      onlyKeys "tool_capsule" ["a", "b", "radius"] co
       a <- reqP "tool_capsule" co "a" >>= vec3 "tool_capsule.a"
       b <- reqP "tool_capsule" co "b" >>= vec3 "tool_capsule.b"
       r <- reqP "tool_capsule" co "radius" >>= num "tool_capsule.radius" "m"
       pure (Capsule a b r)
     pathField pv = do
       po <- obj "path" pv
+      onlyKeys "path" ["file", "follow", "step", "frame"] po
       f <- reqP "path" po "file" >>= str "path.file"
       follow <- optionalP "path" po "follow" (Right False) (bool "path.follow")
       step <- optionalP "path" po "step" (Right defaultPathStep) (num "path.step" "m")
+      if step >= minPathStep then Right () else Left ["path.step = " ++ showNumber step ++ " m: " ++ minPathStepRule]
       frame <- optionalP "path" po "frame" (Right identity) (pose "path.frame")
       pure (Just (f, frame), follow, step)
+
+-- | Every key of a mapping one of the known ones: a misspelt key is an error, not ignored.
+onlyKeys :: String -> [String] -> A.Object -> P ()
+onlyKeys p known o = case [k | k <- map K.toString (KM.keys o), k `notElem` known] of
+  [] -> Right ()
+  ks -> Left [p ++ "." ++ k ++ ": unknown field (known: " ++ unwords known ++ ")" | k <- ks]
 
 -- | A pose: @position: [x, y, z]@ (m) and either @quaternion: [w, x, y, z]@ (unit) or
 -- @rpy_deg: [roll, pitch, yaw]@ (degrees, R = Rz(yaw)·Ry(pitch)·Rx(roll)); no orientation is
