@@ -20,6 +20,10 @@ import Support.Recordings (loadTum)
 -- | A smooth recording: 30–150 samples, steps of 5–50 ms with ±10 % jitter, positions a
 -- sum of slow sines (amplitude up to 0.3 m, up to 1 Hz), a steady rotation up to 1 rad/s.
 -- Locations are line numbers from 1.
+-- | The longest run of spiked samples the outlier rule removes whole.
+maxRun :: Int
+maxRun = 2
+
 genBase :: Gen [Sample]
 genBase = do
   n <- choose (30, 150)
@@ -229,6 +233,15 @@ spec = describe "VProf.Compress.Clean" $ do
               .&&. trackLength (clTrack c) + countOf isOutlier c === length ss
               .&&. U.toList (clLocs c) === [ smLoc s | (i, s) <- zip [0 ..] ss, i `notElem` idx ]
               .&&. conjoin [ sort (map snd xs) === map (smLoc . (ss !!)) idx | OutliersRejected _ _ xs <- clWarnings c, k <= 5 ]
+    it "with rejection, a run of one or two spiked samples anywhere, the first and last sample included, is removed exactly (a two-sample spike used to cost its good neighbours, an end spike was kept)" $
+      property $ forAll genBase $ \ss -> forAll (choose (1, maxRun)) $ \len -> forAll (choose (0, length ss - len)) $ \i0 ->
+        forAll (P3 <$> choose (1, 2) <*> choose (-1, 1) <*> choose (-1, 1)) $ \d ->
+          let idx = [i0 .. i0 + len - 1]
+              sp = [ if i `elem` idx then s { smPos = smPos s ^+^ d } else s | (i, s) <- zip [0 :: Int ..] ss ]
+          in case clean defaultCleanOptions { cleanRejectOutliers = Just defaultOutlierFactor } sp of
+               Left e -> counterexample (show e) False
+               Right c -> counterexample (show (clWarnings c)) $
+                 U.toList (clLocs c) === [ smLoc s | (i, s) <- zip [0 ..] ss, i `notElem` idx ]
     it "with rejection, a clean recording loses nothing" $
       property $ forAll genBase $ \ss ->
         case clean defaultCleanOptions { cleanRejectOutliers = Just defaultOutlierFactor } ss of

@@ -14,7 +14,7 @@
 --   'DropDuplicates', only the first kept; a warning says how many and where;
 -- * q and −q are the same orientation: the cleaned track is sign-aligned so that
 --   consecutive quaternions have a non-negative dot product (a note counts the flips);
--- * optionally ('cleanRejectOutliers'), isolated position spikes are removed: see
+-- * optionally ('cleanRejectOutliers'), position spikes are removed: see
 --   'rejectOutliers'; a warning says how many and where;
 -- * fewer than 2 samples left: an error;
 -- * a time step more than 'cleanGapFactor' times the median step: accepted, with a warning
@@ -245,19 +245,22 @@ alignSigns (s0 : rest) = go (smRot s0) rest [s0] []
       | qdot prev (smRot s) < 0 = let s' = s { smRot = qneg (smRot s) } in go (smRot s') ss (s' : acc) (smLoc s : fl)
       | otherwise = go (smRot s) ss (s : acc) fl
 
--- | Isolated position spikes, removed. For an interior sample i, the residual r_i is its
--- distance from the straight line (in time) between its neighbours i−1 and i+1. It is
--- rejected when r_i is the largest of r_(i−1), r_i, r_(i+1) and
+-- | Position spikes, removed. Each sample i is compared with a robust line in time through
+-- the seven samples around it (i−3 … i+3, shifted inward at the ends of the recording so that
+-- it stays seven wide): per coordinate the repeated-median line (Siegel 1982: the slope the
+-- median over j of the median over l ≠ j of the slopes between samples j and l, the intercept
+-- the median of what is left), which a few spiked samples among the seven do not move. The
+-- residual r_i is the distance from that line at t_i; the sample is rejected when
 --
--- > r_i > k · max(s_i, median r + 1.4826 · MAD r)
+-- > r_i > k · max(median step, median r + 1.4826 · MAD r)
 --
--- where s_i is the largest of the steps next to the neighbours (|p_(i−1) − p_(i−2)|,
--- |p_(i+2) − p_(i+1)|) and the median step: a corner of the motion leaves a residual of
--- at most about one step, sensor noise a residual of about its robust spread (the median
--- absolute deviation scaled to a standard deviation), a spike of k times both is not
--- motion. The first and last samples are never rejected, and a recording of fewer than 5
--- samples is left alone. Passes repeat (at most 10) until none is rejected, so that a
--- second spike next to a first is found once the first is gone.
+-- A corner of the motion leaves a residual of a few steps, sensor noise one of about its
+-- robust spread (the median absolute deviation scaled to a standard deviation); a spike of k
+-- times both is not motion. Spikes of one or two samples, the first and last samples
+-- included, are removed exactly (tested); three in a row can cost a good neighbour. (The line
+-- through the neighbours that an earlier rule used rejected a two-sample spike's good
+-- neighbours instead of it, and never judged the ends.) A recording of fewer than 7 samples
+-- is left alone. Passes repeat (at most 10) until none is rejected.
 rejectOutliers :: Double -> [Sample] -> ([Sample], [Sample])
 rejectOutliers k ss0 = go (10 :: Int) ss0 []
   where
@@ -268,24 +271,25 @@ rejectOutliers k ss0 = go (10 :: Int) ss0 []
       in if null bad then (ss, sortOn smTime out)
          else go (m - 1) [ s | (i, s) <- zip [0 ..] ss, i `notElem` bad ] (map (v V.!) bad ++ out)
     spikes v
-      | n < 5 = []
-      | otherwise = [ i | i <- [1 .. n - 2], let ri = r U.! i
-                        , ri >= r U.! (i - 1), ri >= r U.! (i + 1)
-                        , ri > k * maximum [sigma, medStep, step (i - 1), step (i + 2)] ]
+      | n < 7 = []
+      | otherwise = [ i | i <- [0 .. n - 1], r U.! i > k * max sigma medStep ]
       where
         n = V.length v
         t i = smTime (v V.! i)
         p i = smPos (v V.! i)
         r = U.generate n $ \i ->
-          if i == 0 || i == n - 1 then 0
-          else let a = (t i - t (i - 1)) / (t (i + 1) - t (i - 1))
-               in distance (p i) (p (i - 1) ^+^ a *^ (p (i + 1) ^-^ p (i - 1)))
-        step j | j >= 1 && j <= n - 1 = distance (p j) (p (j - 1))
-               | otherwise = 0
-        interior = [ r U.! i | i <- [1 .. n - 2] ]
-        medR = median interior
-        sigma = medR + 1.4826 * median [ abs (x - medR) | x <- interior ]
-        medStep = median [ step j | j <- [1 .. n - 1] ]
+          let lo = max 0 (min (n - 7) (i - 3))
+              js = [lo .. lo + 6]
+              fit f = let tc = t i   -- times relative to t_i, for the intercept's precision
+                          pts = [ (t j - tc, f (p j)) | j <- js ]
+                          slope = median [ median [ (yb - ya) / (xb - xa) | (b, (xb, yb)) <- zip [0 :: Int ..] pts, b /= a ]
+                                         | (a, (xa, ya)) <- zip [0 ..] pts ]
+                      in median [ y - slope * x | (x, y) <- pts ]
+          in distance (p i) (P3 (fit (\(P3 a _ _) -> a)) (fit (\(P3 _ b _) -> b)) (fit (\(P3 _ _ c) -> c)))
+        rs = U.toList r
+        medR = median rs
+        sigma = medR + 1.4826 * median [ abs (x - medR) | x <- rs ]
+        medStep = median [ distance (p j) (p (j - 1)) | j <- [1 .. n - 1] ]
 
 median :: [Double] -> Double
 median [] = 0
