@@ -133,6 +133,11 @@ spec = do
       hasCsvHeader (B.pack "\n# time [ms], x [mm], y [mm], z [mm], qw, qx, qy, qz\n") `shouldBe` True
       hasCsvHeader (B.pack "1540012, 719.7, -97.2, -480.8, -0.61, 0.12, -0.75, 0.22, 0, 0\n") `shouldBe` False
       hasCsvHeader (B.pack "# a comment\n1540012, 719.7, -97.2, -480.8, -0.61, 0.12, -0.75, 0.22\n") `shouldBe` False
+      -- a comment before the header (was read as a log: "not a number: time"); a header in
+      -- other separators is taken as one, so that the CSV reader says what it lacks
+      hasCsvHeader (B.pack "# exported by a tracker\ntime,x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n") `shouldBe` True
+      hasCsvHeader (B.pack "time;x;y;z;qw;qx;qy;qz\n0;0;0;0;1;0;0;0\n") `shouldBe` True
+      hasCsvHeader (B.pack "1540012, 1e-3, -97.2, -480.8, -0.61, 0.12, -0.75, 0.22\n") `shouldBe` False
   describe "KITTI poses with a times file" $ do
     it "reads [R | t] rows (9 significant digits, as KITTI writes them) as the same poses, the times from the times file" $
       property $ forAll genTrack $ \tr ->

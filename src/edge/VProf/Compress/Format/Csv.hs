@@ -16,7 +16,7 @@ module VProf.Compress.Format.Csv
 
 import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy as BL
-import Data.Char (isSpace, toLower)
+import Data.Char (isAlpha, isSpace, toLower)
 import Data.List (elemIndex, intercalate, sort)
 import Data.Maybe (isJust, isNothing)
 
@@ -59,13 +59,24 @@ describeLayout l =
     cols3 (a, b, c) = intercalate ", " (map show [a, b, c])
     cols4 (a, b, c, d) = intercalate ", " (map show [a, b, c, d])
 
--- | Whether the first line that is not blank is a CSV header (at least four
--- comma-separated fields, not all numbers; a leading @#@ allowed). A file without one is
--- the thesis's Polhemus log ("VProf.Compress.Format.Log").
+-- | Whether the first line that is neither blank nor a @#@ comment is a CSV header (at least
+-- four comma-separated fields, not all numbers; a leading @#@ allowed, as EuRoC writes it), or
+-- an attempt at one (words where numbers would be, e.g. a header separated by semicolons,
+-- which 'readCsv' then explains). A file without one is the thesis's Polhemus log
+-- ("VProf.Compress.Format.Log").
 hasCsvHeader :: B.ByteString -> Bool
-hasCsvHeader src = case filter (not . B.all isSpace) (B.lines src) of
-  l : _ -> isJust (headerFields l)
-  [] -> False
+hasCsvHeader src = go (filter (not . B.all isSpace) (B.lines src))
+  where
+    go (l : ls)
+      | isJust (headerFields l) = True
+      | B.isPrefixOf (B.pack "#") (B.strip l) = go ls      -- a comment before the header
+      | any word (B.split ',' l) = True   -- words where numbers would be: a header 'readCsv' explains
+      | otherwise = False
+    go [] = False
+    -- a field that is no number and holds letters, other than the words of non-finite numbers
+    word f = let g = B.strip f
+             in isNothing (readDouble g) && B.any isAlpha g
+                && map toLower (B.unpack (B.dropWhile (`elem` ("+-" :: String)) g)) `notElem` ["nan", "inf", "infinity"]
 
 headerFields :: B.ByteString -> Maybe [String]
 headerFields l0 =
