@@ -111,7 +111,12 @@ spec = do
       map jointLimits (robotJoints r) `shouldBe` [Limits (-1 / 0) (1 / 0)]
 
   describe "malformed URDF: clear errors, nothing thrown" $ do
-    it "not XML" $ errs "<robot><link" `shouldSatisfy` any ("not well-formed XML" `isInfixOf`)
+    it "not XML, in words: the line and column or the tags, no Haskell records (were ParseError {errorContexts = …} and Name {nameLocalName = …})" $ do
+      errs "<robot><link" `shouldSatisfy` any ("not well-formed XML" `isInfixOf`)
+      let bad = [ "<robot name=\"x\"><link name=\"a\"></robot>", "<robot name=\"x\"><link name=\"a\"/>\n<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"</joint></robot>" ]
+      mapM_ (\src -> errs src `shouldSatisfy` all (\e -> not ("Name {" `isInfixOf` e) && not ("ParseError" `isInfixOf` e) && not ("errorContexts" `isInfixOf` e))) bad
+      errs (bad !! 0) `shouldSatisfy` any ("<link>" `isInfixOf`)
+      errs (bad !! 1) `shouldSatisfy` any ("line 2, column 66" `isInfixOf`)
     it "wrong root" $ errs "<model/>" `shouldSatisfy` any ("expected <robot>" `isInfixOf`)
     it "bad origin numbers name the joint and the attribute" $
       errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><origin xyz=\"1 x 2\"/><limit lower=\"0\" upper=\"1\"/></joint>")

@@ -17,7 +17,7 @@ module VProf.Kinematics.Format.Urdf
 import Control.Exception (SomeException, try)
 import qualified Data.ByteString.Lazy as BL
 import Data.Either (lefts, rights)
-import Data.List (find, nub)
+import Data.List (find, isPrefixOf, nub, stripPrefix)
 import qualified Data.Map.Strict as Map
 import Data.Maybe (fromMaybe, listToMaybe, mapMaybe)
 import qualified Data.Text as T
@@ -63,12 +63,38 @@ urdfJointNames = map jointName . robotJoints
 
 readUrdf :: UrdfOptions -> BL.ByteString -> Either [String] Robot
 readUrdf opts bs = case X.parseLBS X.def bs of
-  Left e -> Left ["not well-formed XML: " ++ takeWhile (/= '\n') (show e)]
+  Left e -> Left ["not well-formed XML: " ++ xmlError (takeWhile (/= '\n') (show e))]
   Right doc -> do
     r <- fromDoc opts doc
     case validateRobot r of
       [] -> Right r
       es -> Left (map renderFieldError es)
+
+-- | The XML parser's message in a person's words: its Haskell records (@Name {nameLocalName =
+-- "link", …}@, @ParseError {errorContexts = …}@) become @<link>@ and "line 2, column 66: …".
+xmlError :: String -> String
+xmlError msg
+  | Just rest <- stripPrefix ("ParseError {errorContexts = " :: String) msg =
+      let (ctx, r1) = break (== ']') rest
+          pos = takeWhile (/= ' ') (drop (length posKey) (snd (breakOn posKey r1)))
+          (line, col) = break (== ':') pos
+          what = concatMap (\c -> if c == ',' then ", " else [c]) [ c | c <- ctx, c `notElem` ("[]\"" :: String) ]
+      in "line " ++ line ++ ", column " ++ drop 1 col ++ ": malformed XML (in: " ++ what ++ ")"
+  | otherwise = replace ("EventEndElement " :: String) "the end tag " (replace ("EventBeginElement " :: String) "the start tag " (names msg))
+  where
+    posKey = "errorPosition = " :: String
+    nameKey = "Name {nameLocalName = \"" :: String
+    replace pat new s = case breakOn pat s of
+      (a, "") -> a
+      (a, b) -> a ++ new ++ replace pat new (drop (length pat) b)
+    names s = case breakOn nameKey s of
+      (a, "") -> a
+      (a, b) -> let nm = takeWhile (/= '"') (drop (length nameKey) b)
+                    after = drop 1 (dropWhile (/= '}') b)
+                in a ++ "<" ++ nm ++ ">" ++ names after
+    breakOn pat s = case [ i | i <- [0 .. length s - length pat], pat `isPrefixOf` drop i s ] of
+      i : _ -> splitAt i s
+      [] -> (s, "")
 
 fromDoc :: UrdfOptions -> X.Document -> Either [String] Robot
 fromDoc UrdfOptions{..} doc
