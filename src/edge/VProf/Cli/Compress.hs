@@ -20,10 +20,11 @@ import VProf.Plot.File (plotPath)
 import System.Exit (ExitCode (..))
 import System.Directory (doesFileExist)
 import System.FilePath (dropExtension, takeExtension, takeFileName)
-import System.IO (hFlush, hPutStrLn, stderr, stdout)
+import System.IO (hPutStrLn, stderr)
 import Numeric.Units.Dimensional.Prelude (metre, milli, (*~))
 import Prelude
 
+import qualified VProf.Cli.Output as Out
 import VProf.Compress
 import VProf.Compress.Clean
 import VProf.Compress.Format.Common (dropBom)
@@ -278,9 +279,7 @@ runCompress o = do
                 OutCsv -> renderCsv tr
                 OutMod -> BL.pack (renderRapid (coRapid o) tr)
           -- an output that cannot be written is a bad option: exit 2 naming it
-          let writing what act = try (act >> hFlush stdout) >>= \case
-                Left (e :: IOException) -> hPutStrLn stderr ("vprof compress: cannot write " ++ what ++ ": " ++ show e) >> pure False
-                Right () -> pure True
+          let writing = Out.writing "vprof compress"
           okOut <- case coOutput o of
             Just f -> writing f (BL.writeFile f (render f))
             Nothing | not (coReport o || coReportJson o) && coPlot o == Nothing -> writing "the path to standard output" (BL.putStr (render ""))

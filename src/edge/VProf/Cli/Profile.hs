@@ -16,7 +16,6 @@ module VProf.Cli.Profile
 import qualified Data.ByteString as B
 import qualified Data.ByteString.Lazy as BL
 import qualified Data.ByteString.Lazy.Char8 as BLC
-import Control.Exception (IOException, try)
 import Data.Char (toLower)
 import Options.Applicative
 import VProf.Plot.File (plotPath)
@@ -24,6 +23,7 @@ import System.Exit
 import System.FilePath (takeExtension)
 import System.IO
 
+import qualified VProf.Cli.Output as Out
 import VProf.Profile.Generate
 import VProf.Profile.Format.File
 import VProf.Profile.Format.Json
@@ -89,9 +89,7 @@ runGenerate o = do
           toStdout = goOutput o == Nothing && fmt /= Nothing
           summaryHandle = if toStdout then stderr else stdout
           -- an output that cannot be written is a bad option: exit 2 naming the file
-          writing what act = try act >>= \case
-            Left (e :: IOException) -> hPutStrLn stderr ("vprof: cannot write " ++ what ++ ": " ++ show e) >> pure False
-            Right () -> pure True
+          writing = Out.writing "vprof"
       hPutStr summaryHandle (summary res)
       okOut <- case (fmt, resOutcome res) of
         (Just f, _) -> writing (maybe "the profile" id (goOutput o)) (writeProfile f (goOutput o) res)
@@ -163,6 +161,6 @@ encodeCommand = run
       er <- readRequest inp
       case er of
         Left e -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
-        Right rq -> try (B.writeFile out (encodeBare (requestToMsg rid rq))) >>= \case
-          Left (e :: IOException) -> hPutStrLn stderr ("vprof: cannot write " ++ out ++ ": " ++ show e) >> pure (ExitFailure 2)
-          Right () -> pure ExitSuccess
+        Right rq -> do
+          ok <- Out.writing "vprof" out (B.writeFile out (encodeBare (requestToMsg rid rq)))
+          pure (if ok then ExitSuccess else ExitFailure 2)
