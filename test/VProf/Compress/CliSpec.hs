@@ -243,6 +243,14 @@ spec = describe "vprof compress" $ do
         code `shouldBe` ExitFailure 2
         err `shouldSatisfy` ("has no samples" `isInfixOf`)
         runCli [one] `shouldReturn` ExitFailure 2
+    it "the thesis method on a recording a few moves fit exactly gives fewer points than asked and says so (was silent, stop ReachedPoints)" $
+      withSystemTempDirectory "vprof-cli" $ \dir -> do
+        let f = dir </> "still.txt"
+        writeFile f (unlines [ show (fromIntegral i * 0.01 :: Double) ++ " 1 2 3 0 0 0 1" | i <- [0 .. 99 :: Int] ])
+        (code, err) <- captureStderr (dir </> "stderr.txt") (runCli [f, "--points", "20", "--method", "thesis", "-o", dir </> "p.txt"])
+        code `shouldBe` ExitSuccess
+        err `shouldSatisfy` ("fewer than the 20 asked" `isInfixOf`)
+        err `shouldSatisfy` ("FewerSuffice" `isInfixOf`)
     it "--reject-outliers removes a spike injected into the real recording and says where" $
       withSystemTempDirectory "vprof-cli" $ \dir -> do
         src <- B.readFile =<< dataFile "freiburg1_xyz-groundtruth.txt"

@@ -74,7 +74,9 @@ data FitConfig = FitConfig
 defaultFitConfig :: FitConfig
 defaultFitConfig = FitConfig defaultWeights Nothing Nothing Nothing 40 1 0.10 4 10
 
-data StopReason = ReachedPoints | ReachedMargin | ReachedTolerance | ReachedMinimum
+-- | Why the fit stopped. 'FewerSuffice': fewer points than asked, because no further
+-- waypoint lowered the error (a recording that a few straight moves fit exactly).
+data StopReason = ReachedPoints | ReachedMargin | ReachedTolerance | ReachedMinimum | FewerSuffice
   deriving (Show, Eq)
 
 data FitResult = FitResult
@@ -500,7 +502,8 @@ fitThesis cfg pr
     result pa0 _ why hist =
       let pol = finalPolish cfg pr pa0
           pa = if tolOk pol || not (tolOk pa0) then pol else pa0
-      in FitResult pa (totalCost pr w pa) cg (U.length (paT grown)) why (tolOk pa) (reverse hist)
+          why' = if maybe False (> U.length (paT pa)) (fcPoints cfg) then FewerSuffice else why
+      in FitResult pa (totalCost pr w pa) cg (U.length (paT grown)) why' (tolOk pa) (reverse hist)
     shrinkLoop pa c hist single
       | kk <= target = result pa c (if target > 2 || fcPoints cfg /= Nothing then ReachedPoints else ReachedMinimum) hist
       | not grownTolOk = result pa c ReachedTolerance hist

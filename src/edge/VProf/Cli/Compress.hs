@@ -241,6 +241,11 @@ runCompress o = do
           _ <- evaluate (mPoints (oMetrics out))
           t1 <- getMonotonicTime
           let k = mPoints (oMetrics out)
+          case sPoints settings of
+            Just asked | k < asked -> hPutStrLn stderr ("vprof compress: note: " ++ file ++ ": " ++ show k ++ " points, fewer than the "
+                                                         ++ show asked ++ " asked: no further waypoint lowered the error (stop: " ++ oStop out ++ ")")
+            _ -> pure ()
+          let
               -- the knot fit hands a margin or a tolerance to the thesis method: name what ran
               ran = if coMethod o == MethodKnots && (sMargin settings /= Nothing || sTolerance settings /= Nothing)
                       then MethodThesis else coMethod o
