@@ -38,6 +38,8 @@ spec = do
       run ["examples/plan-square.csv", "--robot", "ur5", "--environment", cell, "--ignore-body", "7"] `shouldReturn` ExitFailure 2
       run ["examples/plan-square.csv", "--robot", "ur5", "--environment", cell, "--ignore-body", "99"] `shouldReturn` ExitFailure 2
       run ["examples/plan-square.csv", "--robot", "ur5", "--ignore-body", "99"] `shouldReturn` ExitFailure 2
+    it "--start of the wrong length is exit 2, named as typed (was in radians with --deg)" $
+      run ["examples/plan-square.csv", "--robot", "ur5", "--start", "0 -90 -90 -90 90", "--deg"] `shouldReturn` ExitFailure 2
   it "reads RAPID speed data vN as N mm/s and refuses anything else" $ do
     parseSpeedData "v500" `shouldBe` Right 0.5
     parseSpeedData "V7000" `shouldBe` Right 7

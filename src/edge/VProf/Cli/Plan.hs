@@ -230,11 +230,15 @@ runPlan o = do
                      { prZone = poZone o, prStart = start, prSpeed = poSpeed o *~ mps
                      , prAcceleration = poAcc o *~ mps2, prJerk = poJerk o *~ mps3, prTimeStep = poDt o *~ second
                      , prTrack = defaultTrackOptions { toEnvironment = fmap (\(cm, bvh) -> Environment cm bvh clearance) (menv r) } }
-              -- body numbers to leave out of the scene check that name none of the robot's bodies
+              -- body numbers to leave out of the scene check that name none of the robot's bodies, and
               hasCapsule = isJust (mtask >>= taskToolCapsule)
               unknown what bs = [ what ++ ": " ++ e | b <- bs, Just e <- [unknownBody r hasCapsule b] ]
-              badBodies = unknown "--ignore-body" (poIgnore o) ++ unknown (poPath o ++ ": ignore_bodies") (maybe [] taskIgnoreBodies mtask)
-          if not (null badBodies) then failWith (intercalate "; " badBodies) else do
+              badOptions = unknown "--ignore-body" (poIgnore o) ++ unknown (poPath o ++ ": ignore_bodies") (maybe [] taskIgnoreBodies mtask)
+                -- (a start of the wrong length, named as typed: in degrees with --deg)
+                ++ [ "--start \"" ++ unwords (map showNumber qs) ++ "\"" ++ (if poDeg o then " (deg)" else "") ++ ": expected "
+                     ++ show (dof r) ++ " joint values for " ++ robotName r ++ ", got " ++ show (length qs)
+                   | Just qs <- [poStart o], length qs /= dof r ]
+          if not (null badOptions) then failWith (intercalate "; " badOptions) else do
             t0 <- getMonotonicTime
             -- the plan computed within the budget: every sample's joint speeds, the verdicts, or
             -- the failure's words (the output is written after it, as the profile's is)
