@@ -1,4 +1,3 @@
-{-# LANGUAGE LambdaCase, ScopedTypeVariables #-}
 -- | Keys that appear more than once in one mapping of a YAML or JSON document. The YAML and
 -- JSON decoders keep one of the values without a word, so a task file with @clearance@ twice
 -- would be read with one of its two values; the readers (task files, robot files, profile

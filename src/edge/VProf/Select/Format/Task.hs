@@ -92,9 +92,7 @@ resolvePath dir f
 parseTask :: A.Value -> P (Task, Maybe (FilePath, Tf))
 parseTask v = do
   o <- obj "the file" v
-  let known = ["environment", "base", "tool", "tool_capsule", "payload", "clearance", "ignore_bodies", "targets", "path"]
-      unknown = [k | k <- map K.toString (KM.keys o), k `notElem` known]
-  if null unknown then Right () else Left ["unknown field " ++ show k ++ " (known: " ++ unwords known ++ ")" | k <- unknown]
+  onlyKeys "" ["environment", "base", "tool", "tool_capsule", "payload", "clearance", "ignore_bodies", "targets", "path"] o
   env <- optional o "environment" (Right []) (\e -> arr "environment" e >>= collect . zipWith mesh [0 :: Int ..])
   base <- optional o "base" (Right identity) (pose "base")
   tool <- optional o "tool" (Right identity) (pose "tool")
@@ -141,11 +139,12 @@ parseTask v = do
       frame <- optionalP "path" po "frame" (Right identity) (pose "path.frame")
       pure (Just (f, frame), follow, step)
 
--- | Every key of a mapping one of the known ones: a misspelt key is an error, not ignored.
+-- | Every key of a mapping (at path p; "" the file's top level) one of the known ones: a
+-- misspelt key is an error, not ignored.
 onlyKeys :: String -> [String] -> A.Object -> P ()
 onlyKeys p known o = case [k | k <- map K.toString (KM.keys o), k `notElem` known] of
   [] -> Right ()
-  ks -> Left [p ++ "." ++ k ++ ": unknown field (known: " ++ unwords known ++ ")" | k <- ks]
+  ks -> Left [(if null p then k else p ++ "." ++ k) ++ ": unknown field (known: " ++ unwords known ++ ")" | k <- ks]
 
 -- | A pose: @position: [x, y, z]@ (m) and either @quaternion: [w, x, y, z]@ (unit) or
 -- @rpy_deg: [roll, pitch, yaw]@ (degrees, R = Rz(yaw)·Ry(pitch)·Rx(roll)); no orientation is
