@@ -71,6 +71,9 @@ isGap = \case Gaps {} -> True; _ -> False
 isOutlier = \case OutliersRejected {} -> True; _ -> False
 isNonUnit = \case NonUnitQuaternions {} -> True; _ -> False
 
+isMissing :: CleanWarning -> Bool
+isMissing = \case MissingPoses {} -> True; _ -> False
+
 isLong :: CleanWarning -> Bool
 isLong = \case LongMedianStep {} -> True; _ -> False
 
@@ -248,6 +251,27 @@ spec = describe "VProf.Compress.Clean" $ do
           Left e -> counterexample (show e) False
           Right c -> trackLength (clTrack c) === length ss .&&. clWarnings c === []
 
+  describe "samples without a pose (tracking lost)" $
+    it "are dropped: the result is the recording cleaned without them, each counted and located" $
+      property $ forAll genBase $ \ss -> forAll (sublistOf [0 .. length ss - 1]) $ \idx0 ->
+        forAll (vectorOf (length idx0) (choose (0 :: Int, 8))) $ \kinds ->
+          let idx = take (length ss - 2) idx0
+              lose k x = case k of   -- one NaN component, all of them, or a zero quaternion
+                7 -> x { smPos = P3 (0 / 0) (0 / 0) (0 / 0), smRot = Q4 (0 / 0) (0 / 0) (0 / 0) (0 / 0) }
+                8 -> x { smRot = Q4 0 0 0 0 }
+                _ -> let P3 a b c = smPos x; Q4 w i j l = smRot x
+                         v = [a, b, c, w, i, j, l]
+                         [a', b', c', w', i', j', l'] = [ if m == k then 0 / 0 else e | (m, e) <- zip [0 ..] v ]
+                     in x { smPos = P3 a' b' c', smRot = Q4 w' i' j' l' }
+              dirty = [ maybe x (`lose` x) (lookup i (zip idx kinds)) | (i, x) <- zip [0 ..] ss ]
+              kept = [ x | (i, x) <- zip [0 ..] ss, i `notElem` idx ]
+          in case (clean defaultCleanOptions dirty, clean defaultCleanOptions kept) of
+               (Right c, Right c0) -> counterexample (show (clWarnings c)) $
+                 clTrack c === clTrack c0 .&&. clLocs c === clLocs c0
+                 .&&. [ (n, xs) | MissingPoses n xs <- clWarnings c ]
+                      === [ (length idx, take 5 [ (smTime x, smLoc x) | (i, x) <- zip [0 ..] ss, i `elem` idx ]) | not (null idx) ]
+                 .&&. filter (not . isMissing) (clWarnings c) === clWarnings c0
+               r -> counterexample (show r) False
   it "everything at once (duplicates, flips, gaps): strictly increasing, continuous, every removed sample counted" $
     property $ forAll genBase $ \ss -> forAll ((,,) <$> choose (0, 4) <*> choose (0, 6) <*> choose (0, 3)) $ \(kd, kf, kg) ->
       forAll (genIndices kg 1 (length ss - 1) 1) $ \gi -> forAll (injectGaps gi ss) $ \(gapped, _) ->
@@ -271,14 +295,28 @@ spec = describe "VProf.Compress.Clean" $ do
       pindex (tRot (clTrack c)) 1 `shouldBe` Q4 1 0 0 0
       pindex (tRot (clTrack c)) 2 `shouldBe` Q4 1 0 0 0
       concatMap (renderCleanWarning fileLocator) (clWarnings c) `shouldSatisfy` ("line 2: norm 2.0" `isInfixOf`)
-    it "refuses NaN and infinite values and zero quaternions, naming the line" $ do
+    it "refuses a time that is not finite and infinite values, naming the line" $ do
       let bad = [ [s 0 (Q4 1 0 0 0), s (0 / 0) (Q4 1 0 0 0)]
+                , [s 0 (Q4 1 0 0 0), s (1 / 0) (Q4 1 0 0 0)]
                 , [s 0 (Q4 1 0 0 0), (s 1 (Q4 1 0 0 0)) { smPos = P3 (1 / 0) 0 0 }]
-                , [s 0 (Q4 1 0 0 0), s 1 (Q4 (0 / 0) 0 0 0)]
-                , [s 0 (Q4 1 0 0 0), s 1 (Q4 0 0 0 0)] ]
+                , [s 0 (Q4 1 0 0 0), s 1 (Q4 (-1 / 0) 0 0 0)]
+                , [s 0 (Q4 1 0 0 0), (s 1 (Q4 (1 / 0) 0 0 0)) { smPos = P3 (0 / 0) 0 0 }] ]
       mapM_ (\ss -> case clean defaultCleanOptions (renumber ss) of
                       Left [e] -> renderFieldError e `shouldSatisfy` ("at line 2" `isInfixOf`)
                       r -> expectationFailure (show r)) bad
+    it "drops samples without a pose (tracking lost: a NaN component, a zero quaternion), with a warning naming time and line" $ do
+      let ss = renumber [s 0 (Q4 1 0 0 0), (s 1 (Q4 1 0 0 0)) { smPos = P3 (0 / 0) 0 0 }, s 2 (Q4 0 0 0 0), s 3 (Q4 1 0 0 0)]
+          Right c = clean defaultCleanOptions ss
+      U.toList (tTime (clTrack c)) `shouldBe` [0, 3]
+      U.toList (clLocs c) `shouldBe` [1, 4]
+      [ (n, xs) | MissingPoses n xs <- clWarnings c ] `shouldBe` [(2, [(1, 2), (2, 3)])]
+      concatMap (renderCleanWarning fileLocator) (clWarnings c)
+        `shouldSatisfy` ("2 samples without a pose" `isInfixOf`)
+      concatMap (renderCleanWarning fileLocator) (clWarnings c)
+        `shouldSatisfy` ("t = 1.0 s at line 2; t = 2.0 s at line 3" `isInfixOf`)
+      -- a recording the tracker never saw: an error, not an empty path
+      let Left [e] = clean defaultCleanOptions (renumber [s 0 (Q4 0 0 0 0), s 1 (Q4 (0 / 0) 0 0 0), s 2 (Q4 1 0 0 0)])
+      renderFieldError e `shouldSatisfy` ("1 sample with distinct times after cleaning (of 3 read)" `isInfixOf`)
     it "refuses an empty recording and one of fewer than 2 distinct times" $ do
       clean defaultCleanOptions [] `shouldSatisfy` isLeft
       clean defaultCleanOptions [s 0 (Q4 1 0 0 0)] `shouldSatisfy` isLeft

@@ -81,6 +81,21 @@ spec = describe "vprof compress" $ do
       B.writeFile bom (B.append (B.pack "\xEF\xBB\xBF") (B.unlines (take 200 (filter (\l -> not (B.null l) && B.head l /= '#') (B.lines src)))))
       tr <- writtenTum dir "bom-out.txt" [bom, "--points", "10"]
       trackLength tr `shouldBe` 10
+  it "takes a recording with tracking dropouts (pose fields nan) and says how many samples it dropped and where" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      rec <- dataFile "freiburg1_xyz-groundtruth.txt"
+      src <- B.readFile rec
+      let ls = take 300 (numbered src)
+          lost = [(i, l) | (i, l) <- ls, i >= 104, i < 110]
+          blank l = B.unwords (take 1 (B.words l) ++ replicate 7 (B.pack "nan"))
+          f = dir </> "dropouts.txt"
+      B.writeFile f (B.unlines [ if (i, l) `elem` lost then blank l else l | (i, l) <- ls ])
+      (tr, err) <- captureStderr (dir </> "err") (writtenTum dir "out.txt" [f, "--points", "10"])
+      trackLength tr `shouldBe` 10
+      -- the lines of the new file: the data lines in order from 1
+      let lines' = [ n | (n, (i, _)) <- zip [1 :: Int ..] ls, i >= 104, i < 110 ]
+      err `shouldSatisfy` ("6 samples without a pose" `isInfixOf`)
+      err `shouldSatisfy` (("at line " ++ show (head lines')) `isInfixOf`)
   it "writes a RAPID module with the requested number of moves and exits 0" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       rec <- dataFile "freiburg1_xyz-groundtruth.txt"

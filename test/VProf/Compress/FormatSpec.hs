@@ -66,10 +66,19 @@ spec = do
       map smTime ss `shouldBe` [2, 1, 1]
       map smPos ss `shouldBe` [P3 1 2 3, P3 4 5 6, P3 4 5 6]
       map smRot ss `shouldBe` replicate 3 (Q4 1 0 0 0)
-    it "names the line of a nan or inf field" $
+    it "names the line of an inf or text field, and of a time that is not a number" $ do
       mapM_ (\v -> case readTum (B.pack ("1 0 0 0 0 0 0 1\n2 0 " ++ v ++ " 0 0 0 0 1\n")) of
                      Left e -> e `shouldSatisfy` ("line 2, column 3" `isInfixOf`)
-                     Right _ -> expectationFailure v) ["nan", "NaN", "inf", "-Infinity"]
+                     Right _ -> expectationFailure v) ["inf", "-Infinity", "x", "1,5"]
+      mapM_ (\v -> case readTum (B.pack ("1 0 0 0 0 0 0 1\n" ++ v ++ " 0 0 0 0 0 0 1\n")) of
+                     Left e -> e `shouldSatisfy` ("line 2, column 1" `isInfixOf`)
+                     Right _ -> expectationFailure v) ["nan", "inf", "null"]
+    it "reads a pose value written nan (any case or sign), na, n/a or null as NaN: a sample the cleaning drops" $
+      forM_ ["nan", "NaN", "-nan", "NA", "n/a", "null"] $ \v -> do
+        let Right ss = readTum (B.pack ("1 0 0 0 0 0 0 1\n2 0 " ++ v ++ " 0 0 0 0 1\n3 1 1 1 0 0 0 " ++ v ++ "\n"))
+        map smTime ss `shouldBe` [1, 2, 3]
+        let P3 _ y _ = smPos (ss !! 1); Q4 w _ _ _ = smRot (ss !! 2)
+        (isNaN y, isNaN w) `shouldBe` (True, True)
   describe "CSV with a header" $ do
     it "round trips vprof's own CSV (time,x,y,z,qw,qx,qy,qz in SI)" $ property $ forAll genTrack $ \tr ->
       case parseCsv (BL.toStrict (renderCsv tr)) of
@@ -128,6 +137,20 @@ spec = do
       err "time,x [ft],y [ft],z [ft],qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n" `shouldSatisfy` ("[ft]" `isInfixOf`)
       err "time,x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n1,0,0\n" `shouldSatisfy` ("line 3" `isInfixOf`)
       err "time,x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n1,0,abc,0,1,0,0,0\n" `shouldSatisfy` (\e -> "line 3, column 3" `isInfixOf` e && "abc" `isInfixOf` e)
+    it "reads empty pose fields (an OptiTrack or Vicon export while the body was lost) as NaN; an empty time is an error naming it" $ do
+      let src = "time,x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n0.01,,,,,,,\n0.02,1,NaN,1,1,0,0,0\n0.03,1,1,1,1,0,0,0\n"
+      case readCsv (B.pack src) of
+        Left e -> expectationFailure e
+        Right (_, ss) -> do
+          map smLoc ss `shouldBe` [2, 3, 4, 5]
+          map (\(Sample _ _ (P3 x y z) (Q4 w a b c)) -> any isNaN [x, y, z, w, a, b, c]) ss `shouldBe` [False, True, True, False]
+      either id (const "no error") (readCsv (B.pack "time,x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n,1,1,1,1,0,0,0\n"))
+        `shouldSatisfy` ("line 3, column 1" `isInfixOf`)
+      -- a log line with a lost pose is not mistaken for a header
+      hasCsvHeader (B.pack "1000,nan,nan,nan,nan,nan,nan,nan\n1010,1,2,3,1,0,0,0\n") `shouldBe` False
+      hasCsvHeader (B.pack "1000,,,,,,,\n1010,1,2,3,1,0,0,0\n") `shouldBe` False
+      let Right ls = readLog (B.pack "1000,,,,,,,\n1010,1,2,3,1,0,0,0\n")
+      map (isNaN . (\(P3 x _ _) -> x) . smPos) ls `shouldBe` [True, False]
     it "tells a header from a Polhemus log line or a comment" $ do
       hasCsvHeader (B.pack "time,x,y,z,qw,qx,qy,qz\n") `shouldBe` True
       hasCsvHeader (B.pack "\n# time [ms], x [mm], y [mm], z [mm], qw, qx, qy, qz\n") `shouldBe` True

@@ -139,6 +139,25 @@ spec = describe "serveCompress" $ do
     map T.unpack (getField (cpWarnings rsp)) `shouldSatisfy` any ("at sample 700, sample 701" `isInfixOf`)
     decodeBare (encodeBare rsp) `shouldBe` Right rsp
     validateWire TCompressedPath (encodeBare rsp) `shouldBe` Right ()
+  it "drops samples sent without a pose (NaN components, a zero quaternion) and says which; an infinite value is refused" $ do
+    Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let poses = trackToPoses tr
+        setAt k v xs = take k xs ++ [v] ++ drop (k + 1) xs
+        req = (request tr 60) { crqRecording = putField (Just poses
+                 { posX = putField (setAt 500 (0 / 0) (getField (posX poses)))
+                 , posQw = putField (setAt 900 0 (getField (posQw poses))), posQx = putField (setAt 900 0 (getField (posQx poses)))
+                 , posQy = putField (setAt 900 0 (getField (posQy poses))), posQz = putField (setAt 900 0 (getField (posQz poses))) }) }
+    rsp <- serveCompress req
+    getField (cpError rsp) `shouldBe` Nothing
+    fmap (getField . cmSamples) (getField (cpMetrics rsp)) `shouldBe` Just (Just 2998)
+    map T.unpack (getField (cpWarnings rsp)) `shouldSatisfy` any (\w -> "2 samples without a pose" `isInfixOf` w
+                                                                   && "at sample 500" `isInfixOf` w && "at sample 900" `isInfixOf` w)
+    let inf = (request tr 60) { crqRecording = putField (Just poses { posY = putField (setAt 500 (1 / 0) (getField (posY poses))) }) }
+    rspI <- serveCompress inf
+    let Just err = getField (cpError rspI)
+    getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
+    getField (errField err) `shouldBe` Just (T.pack "recording.position")
+    fmap (T.isInfixOf (T.pack "sample 500")) (getField (errMessage err)) `shouldBe` Just True
   it "names the missing recording" $ do
     let req = CompressRequestMsg (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
                 (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)

@@ -3,8 +3,12 @@
 -- parse (into 'Sample's with the line or index they came from) and every interface runs
 -- the same rules:
 --
--- * a time, position or quaternion component that is not a finite number, or a
---   quaternion of norm below 1e-6: an error naming the sample;
+-- * a time that is not a finite number, or an infinite position or quaternion component:
+--   an error naming the sample;
+-- * a sample without a pose (a position or quaternion component NaN, which the formats
+--   read from an empty or @nan@ field, or a quaternion of norm below 1e-6): what motion
+--   capture writes while the tracker has lost the body; dropped, with a warning that says
+--   how many and where (the hole it leaves is a gap like any other);
 -- * a time before the previous one (unsorted input): an error naming the sample and both
 --   times; nothing is sorted behind the user's back;
 -- * a quaternion whose norm differs from 1 by more than 1e-3: normalised, with a warning
@@ -20,9 +24,9 @@
 -- * a time step more than 'cleanGapFactor' times the median step: accepted, with a warning
 --   (how many, the largest and where).
 --
--- Every sample of the input is either kept, merged into another sample of the same time,
--- dropped as a duplicate or rejected as an outlier, and each of those is counted in a
--- warning: nothing is dropped silently.
+-- Every sample of the input is either kept, dropped for want of a pose, merged into another
+-- sample of the same time, dropped as a duplicate or rejected as an outlier, and each of
+-- those is counted in a warning: nothing is dropped silently.
 module VProf.Compress.Clean
   ( Sample (..)
   , Duplicates (..)
@@ -42,7 +46,7 @@ module VProf.Compress.Clean
   , nonUnitWarning
   ) where
 
-import Data.List (sort, sortOn)
+import Data.List (partition, sort, sortOn)
 import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
 
@@ -79,7 +83,9 @@ defaultCleanOptions = CleanOptions MergeDuplicates Nothing 10
 
 -- | What cleaning changed (or noticed). Locations are 'smLoc's; lists hold the first few.
 data CleanWarning
-  = NonUnitQuaternions !Int [(Int, Double)]
+  = MissingPoses !Int [(Double, Int)]
+    -- ^ samples without a pose (tracking lost) dropped; (time, where) of the first few
+  | NonUnitQuaternions !Int [(Int, Double)]
     -- ^ how many quaternions were normalised; (where, norm) of the first few
   | DuplicateTimes !Duplicates !Int !Int [(Double, [Int])]
     -- ^ merged or dropped; samples removed (merged into another or dropped); times that
@@ -127,6 +133,7 @@ unitTolerance = 1e-3
 -- | How many samples (or quaternions) a warning is about.
 warningCount :: CleanWarning -> Int
 warningCount = \case
+  MissingPoses n _ -> n
   NonUnitQuaternions n _ -> n
   DuplicateTimes _ n _ _ -> n
   SignFlips n _ _ -> n
@@ -145,7 +152,8 @@ cleanSamples loc opts raw
   | not (null badValues) = Left badValues
   | not (null backwards) = Left backwards
   | otherwise = do
-      let (normed, nonUnit) = normalise raw
+      let (present, missing) = partition hasPose raw
+          (normed, nonUnit) = normalise present
           groups = groupTimes normed
           merged = map (collapse (cleanDuplicates opts)) groups
           (aligned, flips) = alignSigns merged
@@ -156,7 +164,8 @@ cleanSamples loc opts raw
           dupGroups = [ g | g <- groups, length g > 1 ]
           nDup = sum [ length g - 1 | g <- dupGroups ]
           warnings = concat
-            [ [ NonUnitQuaternions (length nonUnit) (take firstFew nonUnit) | not (null nonUnit) ]
+            [ [ MissingPoses (length missing) (take firstFew [ (smTime m, smLoc m) | m <- missing ]) | not (null missing) ]
+            , [ NonUnitQuaternions (length nonUnit) (take firstFew nonUnit) | not (null nonUnit) ]
             , [ DuplicateTimes (cleanDuplicates opts) nDup (length dupGroups)
                   (take firstFew [ (smTime (head g), map smLoc g) | g <- dupGroups ]) | nDup > 0 ]
             , [ SignFlips (length flips) (length changes) (take firstFew changes) | not (null flips) ]
@@ -181,21 +190,25 @@ cleanSamples loc opts raw
       (a, []) -> a
       (a, rest) -> a ++ [literalError (lcField loc "") "" ("and " ++ show (length rest) ++ " more such problems")]
     badValues = capped (concatMap checkValues raw)
-    checkValues (Sample l t (P3 x y z) q@(Q4 w a b c))
+    -- NaN is a missing value ('hasPose'); an infinity is no marker of anything
+    checkValues (Sample l t (P3 x y z) (Q4 w a b c))
       | not (finite t) = [fieldError (lcField loc "time") t "s" ("at " ++ lcAt loc l ++ ": must be a finite number")]
-      | not (all finite [x, y, z]) =
+      | any isInfinite [x, y, z] =
           [literalError (lcField loc "position") (show (x, y, z)) ("at " ++ lcAt loc l ++ ": must be finite numbers (m)")]
-      | not (all finite [w, a, b, c]) =
+      | any isInfinite [w, a, b, c] =
           [literalError (lcField loc "orientation") (show (w, a, b, c)) ("at " ++ lcAt loc l ++ ": must be finite numbers (w, x, y, z)")]
-      | sqrt (qdot q q) < 1e-6 =
-          [literalError (lcField loc "orientation") (show (w, a, b, c))
-             ("at " ++ lcAt loc l ++ ": norm " ++ showNumber (sqrt (qdot q q)) ++ " is too small to be a rotation")]
       | otherwise = []
     backwards = capped
       [ fieldError (lcField loc "time") (smTime s) "s"
           ("at " ++ lcAt loc (smLoc s) ++ ": goes back before the previous time " ++ showNumber (smTime p)
            ++ " s at " ++ lcAt loc (smLoc p) ++ " (times must never decrease; sort the recording first)")
       | (p, s) <- zip raw (drop 1 raw), smTime s < smTime p ]
+
+-- | Whether a sample has a pose: no position or quaternion component NaN, and a quaternion
+-- of norm at least 1e-6 (a zero quaternion is what some trackers write when they lose the
+-- body). Infinite components are refused before this is asked.
+hasPose :: Sample -> Bool
+hasPose (Sample _ _ (P3 x y z) q@(Q4 w a b c)) = not (any isNaN [x, y, z, w, a, b, c]) && sqrt (qdot q q) >= 1e-6
 
 -- | Normalise every quaternion; (where, norm) of those off unit length by more than
 -- 'unitTolerance'.
@@ -315,6 +328,9 @@ gapWarning f ss
 -- | One line of text for a warning.
 renderCleanWarning :: Locator -> CleanWarning -> String
 renderCleanWarning loc = \case
+  MissingPoses n xs ->
+    show n ++ " sample" ++ plural n ++ " without a pose (a position or orientation value empty or NaN, or a zero quaternion: "
+    ++ "the tracker lost the body) dropped (" ++ list [ "t = " ++ showNumber t ++ " s at " ++ lcAt loc l | (t, l) <- xs ] n ++ ")"
   NonUnitQuaternions n xs ->
     show n ++ " quaternion" ++ plural n ++ " of norm off 1 by more than " ++ showNumber unitTolerance
     ++ " normalised (" ++ list [ lcAt loc l ++ ": norm " ++ showNumber nm | (l, nm) <- xs ] n ++ ")"

@@ -6,12 +6,15 @@ module VProf.Compress.Format.Common
   , trackFromRows
   , dataLines
   , numberFields
+  , poseFields
+  , missingToken
   , renderPoseLines
   ) where
 
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy as BL
+import Data.Char (toLower)
 import Data.List (intercalate)
 import Numeric (showFFloat)
 import qualified Data.Text.Encoding as TE
@@ -60,6 +63,26 @@ numberFields format i = traverse field . zip [1 :: Int ..]
     field (c, w) = case readDouble w of
       Just d -> Right d
       Nothing -> Left (format ++ " line " ++ show i ++ ", column " ++ show c ++ ": not a number: " ++ show (B.unpack w))
+
+-- | Whether a field marks a value the tracker did not deliver: empty, or @nan@, @na@, @n/a@
+-- or @null@ in any case and with any sign (what motion-capture exports, numpy, R and
+-- spreadsheets write when the body was lost).
+missingToken :: B.ByteString -> Bool
+missingToken w =
+  map toLower (B.unpack (B.dropWhile (`elem` ("+-" :: String)) (B.strip w))) `elem` ["", "nan", "na", "n/a", "null"]
+
+-- | The pose fields of data line i (position, orientation) as numbers, a missing value
+-- ('missingToken') as NaN: a sample without a pose, which "VProf.Compress.Clean" drops with
+-- a warning. Anything else that is not a number is an error naming the format, line and
+-- column (counted from @col0@).
+poseFields :: String -> Int -> Int -> [B.ByteString] -> Either String [Double]
+poseFields format i col0 = traverse field . zip [col0 ..]
+  where
+    field (c, w)
+      | missingToken w = Right (0 / 0)
+      | otherwise = case readDouble w of
+          Just d -> Right d
+          Nothing -> Left (format ++ " line " ++ show i ++ ", column " ++ show c ++ ": not a number: " ++ show (B.unpack w))
 
 -- | One pose a line after a header line: the time (6 decimals), then the numbers @cols@
 -- makes of the position and orientation (9 decimals), separated by @sep@.

@@ -21,7 +21,7 @@ import Data.List (elemIndex, intercalate, sort)
 import Data.Maybe (isJust, isNothing)
 
 import VProf.Compress.Clean (Sample (..))
-import VProf.Compress.Format.Common (numberFields, readDouble, renderPoseLines, trackFromRows)
+import VProf.Compress.Format.Common (missingToken, numberFields, poseFields, readDouble, renderPoseLines, trackFromRows)
 import VProf.Compress.Types
 import VProf.Geometry.Vec
 
@@ -76,17 +76,19 @@ hasCsvHeader src = go (filter (not . B.all isSpace) (B.lines src))
     -- a field that is no number and holds letters, other than the words of non-finite numbers
     word f = let g = B.strip f
              in isNothing (readDouble g) && B.any isAlpha g
-                && map toLower (B.unpack (B.dropWhile (`elem` ("+-" :: String)) g)) `notElem` ["nan", "inf", "infinity"]
+                && not (missingToken g) && map toLower (B.unpack (B.dropWhile (`elem` ("+-" :: String)) g)) `notElem` ["inf", "infinity"]
 
 headerFields :: B.ByteString -> Maybe [String]
 headerFields l0 =
   let l = B.dropWhile (== '#') (B.strip l0)
       fs = map (B.unpack . B.strip) (B.split ',' l)
-  in if length fs >= 4 && any (isNothing . readDouble . B.pack) fs then Just fs else Nothing
+  in if length fs >= 4 && any (\f -> isNothing (readDouble (B.pack f)) && not (missingToken (B.pack f))) fs
+       then Just fs else Nothing
 
 -- | The samples of a headed CSV (SI units), each with its line number (from 1), and the
 -- layout found. Lines before the header, blank lines and later lines starting with @#@
--- are skipped. Errors name the line and column, or the columns the header lacks.
+-- are skipped; an empty or @nan@ pose value (what motion-capture exports write when the
+-- body was lost) is read as NaN, for the cleaning to drop. Errors name the line and column, or the columns the header lacks.
 readCsv :: B.ByteString -> Either String (CsvLayout, [Sample])
 readCsv src = do
   (hi, names) <- case [ (i, fs) | (i, l) <- numbered, Just fs <- [headerFields l] ] of
@@ -105,7 +107,7 @@ readCsv src = do
                         ++ " comma-separated fields (the header's columns up to the quaternion), got "
                         ++ show (length cols))
              else do
-               vs <- traverse (field i cols) used
+               vs <- (:) <$> field i cols (head used) <*> traverse (poseField i cols) (drop 1 used)
                case vs of
                  [t, px, py, pz, qw, qx, qy, qz] -> Right (i, t, P3 px py pz, Q4 qw qx qy qz)
                  _ -> Left "impossible"
@@ -119,6 +121,7 @@ readCsv src = do
     field i cols c = case numberFields "CSV" i [cols !! (c - 1)] of
       Right [d] -> Right d
       _ -> Left ("CSV line " ++ show i ++ ", column " ++ show c ++ ": not a number: " ++ show (B.unpack (cols !! (c - 1))))
+    poseField i cols c = head <$> poseFields "CSV" i c [cols !! (c - 1)]
 
 -- | What a header names: the time, a position axis (0–2) or a quaternion part (w x y z: 0–3).
 data Role = RTime | RPos Int | RQuat Int deriving (Eq)

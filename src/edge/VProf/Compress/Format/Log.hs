@@ -9,7 +9,7 @@ module VProf.Compress.Format.Log
 
 import qualified Data.ByteString.Char8 as B
 
-import VProf.Compress.Format.Common (dataLines, numberFields, trackFromRows)
+import VProf.Compress.Format.Common (dataLines, numberFields, poseFields, trackFromRows)
 import VProf.Compress.Clean (Sample (..))
 import VProf.Compress.Types
 import VProf.Geometry.Vec
@@ -23,7 +23,8 @@ logTimeScale = 1e-3
 parseLog :: B.ByteString -> Either String Track
 parseLog src = readLog src >>= trackFromRows "log" . map (\(Sample _ t p q) -> (t, p, q))
 
--- | The samples of a log as written (SI units), each with its line number (from 1).
+-- | The samples of a log as written (SI units), each with its line number (from 1); an
+-- empty or @nan@ pose value is read as NaN, for the cleaning to drop.
 readLog :: B.ByteString -> Either String [Sample]
 readLog src = traverse row (dataLines (\c -> c == '|' || c == ' ') src)
   where
@@ -33,8 +34,9 @@ readLog src = traverse row (dataLines (\c -> c == '|' || c == ' ') src)
            then Left ("log line " ++ show i ++ ": expected at least 8 comma-separated numbers "
                       ++ "(time ms, x y z mm, qw qx qy qz), got " ++ show (length cols))
            else do
-             vs <- numberFields "log" i (take 8 cols)
-             case vs of
+             ts <- numberFields "log" i (take 1 cols)
+             vs <- poseFields "log" i 2 (take 7 (drop 1 cols))
+             case ts ++ vs of
                [t, x, y, z, qw, qx, qy, qz] ->
                  Right (Sample i (t * logTimeScale) (P3 (x * 1e-3) (y * 1e-3) (z * 1e-3)) (Q4 qw qx qy qz))
                _ -> Left "impossible"

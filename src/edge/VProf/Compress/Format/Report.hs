@@ -91,7 +91,8 @@ warningsJson loc ws = toJSONList
   [ object [ "kind" .= kind w, "count" .= warningCount w, "message" .= renderCleanWarning loc w ] | w <- ws ]
   where
     kind = \case
-      NonUnitQuaternions {} -> "non_unit_quaternions" :: String
+      MissingPoses {} -> "missing_poses" :: String
+      NonUnitQuaternions {} -> "non_unit_quaternions"
       DuplicateTimes {} -> "duplicate_times"
       SignFlips {} -> "sign_flips"
       OutliersRejected {} -> "outliers_rejected"

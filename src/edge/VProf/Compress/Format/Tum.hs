@@ -9,7 +9,7 @@ module VProf.Compress.Format.Tum
 import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy as BL
 
-import VProf.Compress.Format.Common (dataLines, numberFields, renderPoseLines, trackFromRows)
+import VProf.Compress.Format.Common (dataLines, numberFields, poseFields, renderPoseLines, trackFromRows)
 import VProf.Compress.Clean (Sample (..))
 import VProf.Compress.Types
 import VProf.Geometry.Vec
@@ -21,15 +21,17 @@ parseTum :: B.ByteString -> Either String Track
 parseTum src = readTum src >>= trackFromRows "TUM" . map (\(Sample _ t p q) -> (t, p, q))
 
 -- | The samples of a TUM file as written, each with its line number (from 1); blank
--- lines, @#@ comments, CRLF line ends and any whitespace between fields are accepted.
--- Errors name the line number and the offending text.
+-- lines, @#@ comments, CRLF line ends and any whitespace between fields are accepted; a
+-- pose value written @nan@ (the tracker lost the body) is read as NaN, for the cleaning to
+-- drop. Errors name the line number and the offending text.
 readTum :: B.ByteString -> Either String [Sample]
 readTum src = traverse row (dataLines (const False) src)
   where
     row (i, l) = case B.words l of
-      ws@[_, _, _, _, _, _, _, _] -> do
-        vs <- numberFields "TUM" i ws
-        case vs of
+      w0 : ws@[_, _, _, _, _, _, _] -> do
+        ts <- numberFields "TUM" i [w0]
+        vs <- poseFields "TUM" i 2 ws
+        case ts ++ vs of
           [t, x, y, z, qx, qy, qz, qw] -> pure (Sample i t (P3 x y z) (Q4 qw qx qy qz))
           _ -> Left "impossible"
       ws -> Left ("TUM line " ++ show i ++ ": expected 8 numbers (timestamp tx ty tz qx qy qz qw), got "
