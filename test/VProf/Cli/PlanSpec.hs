@@ -8,6 +8,7 @@ import qualified Data.ByteString.Lazy as BL
 import qualified Data.Vector.Unboxed as U
 import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
+import System.IO.Temp (withSystemTempDirectory)
 import Test.Hspec
 import Test.QuickCheck
 
@@ -38,6 +39,19 @@ spec = do
       run ["examples/plan-square.csv", "--robot", "ur5", "--environment", cell, "--ignore-body", "7"] `shouldReturn` ExitFailure 2
       run ["examples/plan-square.csv", "--robot", "ur5", "--environment", cell, "--ignore-body", "99"] `shouldReturn` ExitFailure 2
       run ["examples/plan-square.csv", "--robot", "ur5", "--ignore-body", "99"] `shouldReturn` ExitFailure 2
+    it "an output (-o, --plot) that is the path itself is refused (exit 2) and the path left as it was; a path with a missing pose value is exit 2" $
+      withSystemTempDirectory "vprof-plan" $ \tmp -> do
+        src <- BL.readFile "examples/plan-square.csv"
+        let p = tmp </> "square.csv"
+        BL.writeFile p src
+        run [p, "--robot", "ur5", "-o", p] `shouldReturn` ExitFailure 2
+        run [p, "--robot", "ur5", "-o", tmp </> "." </> "square.csv"] `shouldReturn` ExitFailure 2
+        BL.readFile p `shouldReturn` src
+        run [p, "--robot", "ur5", "-o", tmp </> "traj.csv"] `shouldReturn` ExitSuccess
+        let holed = tmp </> "holed.csv"
+            ls = BL.split 10 src
+        BL.writeFile holed (BL.intercalate "\n" (take 2 ls ++ ["1,nan,-0.10,0.30,0,1,0,0"] ++ drop 3 ls))
+        run [holed, "--robot", "ur5"] `shouldReturn` ExitFailure 2
     it "--start of the wrong length is exit 2, named as typed (was in radians with --deg)" $
       run ["examples/plan-square.csv", "--robot", "ur5", "--start", "0 -90 -90 -90 90", "--deg"] `shouldReturn` ExitFailure 2
   it "reads RAPID speed data vN as N mm/s and refuses anything else" $ do

@@ -6,7 +6,7 @@ import qualified Data.ByteString as B
 import Data.List (isInfixOf)
 import Options.Applicative
 import System.Exit (ExitCode (..))
-import System.FilePath ((</>))
+import System.FilePath (takeFileName, (</>))
 import System.IO.Temp (withSystemTempDirectory)
 import Test.Hspec
 
@@ -43,6 +43,16 @@ spec = do
       showNumber 0.000000001 `shouldBe` "0.000000001"
       showNumber 123456.5 `shouldBe` "123456.5"
       showNumber 0 `shouldBe` "0.0"
+  describe "vprof (generate)" $
+    it "an output (-o, --plot) that is the request itself is refused (exit 2) and the request left as it was" $
+      withSystemTempDirectory "vprof-gen" $ \dir -> do
+        src <- B.readFile simple
+        let rq = dir </> "rq.json"
+        B.writeFile rq src
+        run generateOptions [rq, "-o", rq] `shouldReturn` ExitFailure 2
+        run generateOptions [rq, "-o", dir </> ".." </> takeFileName dir </> "rq.json"] `shouldReturn` ExitFailure 2
+        B.readFile rq `shouldReturn` src
+        run generateOptions [rq, "-o", dir </> "profile.csv"] `shouldReturn` ExitSuccess
   describe "vprof check" $ do
     it "a profile whose velocities are NaN is illegal (exit 1), in CSV, JSON and as a NaN time" $
       withSystemTempDirectory "vprof-check" $ \dir -> do

@@ -96,6 +96,20 @@ spec = describe "vprof compress" $ do
       let lines' = [ n | (n, (i, _)) <- zip [1 :: Int ..] ls, i >= 104, i < 110 ]
       err `shouldSatisfy` ("6 samples without a pose" `isInfixOf`)
       err `shouldSatisfy` (("at line " ++ show (head lines')) `isInfixOf`)
+  it "refuses an output (-o, --plot) that is the recording itself, by any name (exit 2, the recording untouched), and --times beside a recording with times" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      rec <- dataFile "freiburg1_xyz-groundtruth.txt"
+      src <- B.readFile rec
+      let f = dir </> "rec.txt"
+      B.writeFile f (B.unlines (take 300 (B.lines src)))
+      before <- B.readFile f
+      runCli [f, "--points", "10", "-o", f] `shouldReturn` ExitFailure 2
+      runCli [f, "--points", "10", "-o", dir </> "." </> "rec.txt"] `shouldReturn` ExitFailure 2
+      B.readFile f `shouldReturn` before
+      (code, err) <- captureStderr (dir </> "err") (runCli [f, "--points", "10", "--times", f, "-o", dir </> "out.txt"])
+      code `shouldBe` ExitFailure 2
+      err `shouldSatisfy` ("only KITTI poses take a times file" `isInfixOf`)
+      runCli [f, "--points", "10", "-o", dir </> "out.txt"] `shouldReturn` ExitSuccess
   it "writes a RAPID module with the requested number of moves and exits 0" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       rec <- dataFile "freiburg1_xyz-groundtruth.txt"

@@ -175,21 +175,30 @@ splitOn c s = case break (== c) s of
 
 runCompress :: CompressOptions -> IO ExitCode
 runCompress o = do
-  src <- try (dropBom <$> B.readFile file)
-  case src of
-    Left e -> failInput ("cannot read " ++ file ++ ": " ++ show (e :: IOException))
-    Right bytes -> do
-      parsed <- parseWith (maybe (guessIn file bytes) id (coInputFormat o)) bytes
-      case parsed of
-        Left e -> failInput e
-        Right (notes, samples) -> case cleanSamples fileLocator (coClean o) samples of
-          Left errs -> failInput (file ++ ": " ++ intercalate "; " (map renderFieldError errs))
-          Right cl -> do
-            mapM_ (\n -> hPutStrLn stderr ("vprof compress: note: " ++ file ++ ": " ++ n)) notes
-            mapM_ (\w -> hPutStrLn stderr ("vprof compress: " ++ label w ++ ": " ++ file ++ ": " ++ renderCleanWarning fileLocator w))
-                  (clWarnings cl)
-            go (clWarnings cl) (Recording (clTrack cl))
+  clash <- Out.overwritesInput (("the recording", file) : [ ("the times file", f) | Just f <- [coTimes o] ])
+                               ([ ("-o", f) | Just f <- [coOutput o] ] ++ [ ("--plot", f) | Just f <- [coPlot o] ])
+  maybe readAndRun failInput clash
   where
+    readAndRun = do
+      src <- try (dropBom <$> B.readFile file)
+      case src of
+        Left e -> failInput ("cannot read " ++ file ++ ": " ++ show (e :: IOException))
+        Right bytes -> do
+          let fmt = maybe (guessIn file bytes) id (coInputFormat o)
+          parsed <- case coTimes o of
+            -- a times file beside a recording that has its own times would be ignored
+            Just tf | fmt /= InKitti -> pure (Left ("--times " ++ tf ++ ": only KITTI poses take a times file; " ++ file
+                                                   ++ " is read as " ++ formatName fmt ++ ", whose times it holds itself"))
+            _ -> parseWith fmt bytes
+          case parsed of
+            Left e -> failInput e
+            Right (notes, samples) -> case cleanSamples fileLocator (coClean o) samples of
+              Left errs -> failInput (file ++ ": " ++ intercalate "; " (map renderFieldError errs))
+              Right cl -> do
+                mapM_ (\n -> hPutStrLn stderr ("vprof compress: note: " ++ file ++ ": " ++ n)) notes
+                mapM_ (\w -> hPutStrLn stderr ("vprof compress: " ++ label w ++ ": " ++ file ++ ": " ++ renderCleanWarning fileLocator w))
+                      (clWarnings cl)
+                go (clWarnings cl) (Recording (clTrack cl))
     -- sign flips change no orientation (q and -q are the same): a note, not a warning
     label = \case SignFlips {} -> "note"; _ -> "warning"
     failInput msg = hPutStrLn stderr ("vprof compress: " ++ msg) >> pure (ExitFailure 2)
@@ -201,6 +210,12 @@ runCompress o = do
       _ | looksLikeKitti bytes -> InKitti
         | otherwise -> InTum
     file = coInput o
+    formatName = \case
+      InTum -> "TUM"
+      InLog -> "a Polhemus log"
+      InCsv -> "CSV"
+      InMod -> "RAPID"
+      InKitti -> "KITTI poses"
     -- a reader's answer: its error after the file's name, or its samples with the notes on how it read them
     answered :: (a -> ([String], [Sample])) -> Either String a -> IO (Either String ([String], [Sample]))
     answered notes = pure . either (Left . ((file ++ ": ") ++)) (Right . notes)

@@ -36,6 +36,7 @@ import System.IO
 import System.Timeout (timeout)
 
 import VProf.Cli.Kinematics (loadRobot)
+import qualified VProf.Cli.Output as Out
 import VProf.Compress.Clean (fileLocator, nonUnitWarning, renderCleanWarning)
 import VProf.Compress.Format.Common (dropBom)
 import VProf.Compress.Format.Csv (parseCsv, readCsv)
@@ -209,9 +210,12 @@ readPathInput f
 
 runPlan :: PlanOpts -> IO ExitCode
 runPlan o = do
+  clash <- Out.overwritesInput ([("the path", poPath o), ("the robot file", poRobot o)] ++ [ ("the environment", f) | Just f <- [poEnv o] ])
+                               ([ ("-o", f) | Just f <- [poOutput o] ] ++ [ ("--plot", f) | Just f <- [poPlot o] ])
   er <- loadRobot (poTip o) (poRobot o)
   ep <- readPathInput (poPath o)
   case (er, ep) of
+    _ | Just msg <- clash -> failWith msg
     (Left e, _) -> failWith ("--robot: " ++ e)
     (_, Left e) -> failWith e
     (Right r0, Right (PathInput wps mtask)) -> do

@@ -75,7 +75,9 @@ generateOptions = runGenerate <$> (GenOpts
 
 runGenerate :: GenOpts -> IO ExitCode
 runGenerate o = do
-  er <- readRequest (goRequest o)
+  clash <- Out.overwritesInput [("the request", goRequest o)]
+                               ([ ("-o", f) | Just f <- [goOutput o] ] ++ [ ("--plot", f) | Just f <- [goPlot o] ])
+  er <- maybe (readRequest (goRequest o)) (pure . Left) clash
   case er of
     Left e -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
     Right rq0 -> do

@@ -21,18 +21,23 @@ import qualified Data.Text.Encoding as TE
 import qualified Data.Text.Read as TR
 import qualified Data.Vector.Unboxed as U
 
+import VProf.Compress.Clean (Sample (..))
 import VProf.Compress.Types
 import VProf.Geometry.Vec
 
--- | The recording made of parsed data lines (time, position, orientation); a problem
--- with it names the format and counts samples by data line.
-trackFromRows :: String -> [(Double, P3, Q4)] -> Either String Track
-trackFromRows format rows =
-  case recordingFromArrays (U.fromList [t | (t, _, _) <- rows])
-                           (pfromList [p | (_, p, _) <- rows])
-                           (pfromList [q | (_, _, q) <- rows]) of
-    Left e -> Left (format ++ ": " ++ e ++ " (sample k is the k-th data line, counting from 0)")
-    Right (Recording tr) -> Right tr
+-- | The strictly valid track made of parsed data lines, for reading back a path: a pose
+-- value missing ('missingToken', read as NaN) is an error naming the format and the line;
+-- any other problem names the format and counts samples by data line.
+trackFromRows :: String -> [Sample] -> Either String Track
+trackFromRows format rows
+  | (Sample l _ _ _) : _ <- filter lacksPose rows =
+      Left (format ++ " line " ++ show l ++ ": a position or orientation value is missing (empty or nan); every pose of a path must be given")
+  | otherwise =
+      case recordingFromArrays (U.fromList (map smTime rows)) (pfromList (map smPos rows)) (pfromList (map smRot rows)) of
+        Left e -> Left (format ++ ": " ++ e ++ " (sample k is the k-th data line, counting from 0)")
+        Right (Recording tr) -> Right tr
+  where
+    lacksPose (Sample _ _ (P3 x y z) (Q4 w a b c)) = any isNaN [x, y, z, w, a, b, c]
 
 -- | The text without a UTF-8 byte-order mark at its start (spreadsheets write one before a CSV).
 dropBom :: B.ByteString -> B.ByteString

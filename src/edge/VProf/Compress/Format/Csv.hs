@@ -32,7 +32,7 @@ renderCsv = renderPoseLines "time,x,y,z,qw,qx,qy,qz" "," (\(P3 x y z) (Q4 w a b 
 -- reading back paths vprof wrote. Real recordings go through 'readCsv' and
 -- "VProf.Compress.Clean".
 parseCsv :: B.ByteString -> Either String Track
-parseCsv src = readCsv src >>= trackFromRows "CSV" . map (\(Sample _ t p q) -> (t, p, q)) . snd
+parseCsv src = readCsv src >>= trackFromRows "CSV" . snd
 
 -- | Where the pose is in a headed CSV and in which units (columns counted from 1).
 data CsvLayout = CsvLayout

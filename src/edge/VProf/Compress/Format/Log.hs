@@ -21,7 +21,7 @@ logTimeScale = 1e-3
 -- | A strictly valid track (increasing times, no duplicates); real recordings go through
 -- 'readLog' and "VProf.Compress.Clean".
 parseLog :: B.ByteString -> Either String Track
-parseLog src = readLog src >>= trackFromRows "log" . map (\(Sample _ t p q) -> (t, p, q))
+parseLog src = readLog src >>= trackFromRows "log"
 
 -- | The samples of a log as written (SI units), each with its line number (from 1); an
 -- empty or @nan@ pose value is read as NaN, for the cleaning to drop.

@@ -18,7 +18,7 @@ import VProf.Geometry.Vec
 -- checks: increasing times, no duplicates); for reading back files vprof wrote. Real
 -- recordings go through 'readTum' and "VProf.Compress.Clean".
 parseTum :: B.ByteString -> Either String Track
-parseTum src = readTum src >>= trackFromRows "TUM" . map (\(Sample _ t p q) -> (t, p, q))
+parseTum src = readTum src >>= trackFromRows "TUM"
 
 -- | The samples of a TUM file as written, each with its line number (from 1); blank
 -- lines, @#@ comments, CRLF line ends and any whitespace between fields are accepted; a
