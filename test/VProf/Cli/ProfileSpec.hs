@@ -3,7 +3,7 @@
 module VProf.Cli.ProfileSpec (spec) where
 
 import qualified Data.ByteString as B
-import Data.List (isInfixOf)
+import Data.List (intercalate, isInfixOf)
 import Options.Applicative
 import System.Exit (ExitCode (..))
 import System.FilePath (takeFileName, (</>))
@@ -25,6 +25,11 @@ run = runCommand
 
 simple :: FilePath
 simple = "examples/simple.json"
+
+splitComma :: String -> [String]
+splitComma r = case break (== ',') r of
+  (a, _ : b) -> a : splitComma b
+  (a, []) -> [a]
 
 spec :: Spec
 spec = do
@@ -54,6 +59,17 @@ spec = do
         B.readFile rq `shouldReturn` src
         run generateOptions [rq, "-o", dir </> "profile.csv"] `shouldReturn` ExitSuccess
   describe "vprof check" $ do
+    it "reads a profile CSV by its header's names; a row with another count of columns is exit 2 (a 3-column row was read), CRLF and blank lines are fine" $
+      withSystemTempDirectory "vprof-check" $ \dir -> do
+        let good = dir </> "good.csv"; f = dir </> "f.csv"
+        run generateOptions [simple, "-o", good] `shouldReturn` ExitSuccess
+        rows <- lines <$> readFile good
+        writeFile f (concatMap (++ "\r\n") (take 5 rows ++ [""] ++ drop 5 rows))
+        run checkCommand [simple, f] `shouldReturn` ExitSuccess
+        writeFile f (unlines [ if i == (7 :: Int) then intercalate "," (take 3 (splitComma r)) else r | (i, r) <- zip [1 ..] rows ])
+        run checkCommand [simple, f] `shouldReturn` ExitFailure 2
+        writeFile f (unlines ("t,s,speed,a,j" : drop 1 rows))
+        run checkCommand [simple, f] `shouldReturn` ExitFailure 2
     it "a profile whose velocities are NaN is illegal (exit 1), in CSV, JSON and as a NaN time" $
       withSystemTempDirectory "vprof-check" $ \dir -> do
         let csv = dir </> "nan.csv"; js = dir </> "nan.json"; good = dir </> "good.csv"; badT = dir </> "badt.csv"

@@ -13,8 +13,8 @@ import qualified Data.Aeson as A
 import qualified Data.ByteString as B
 import qualified Data.ByteString.Lazy as BL
 import qualified Data.ByteString.Lazy.Char8 as BLC
-import Data.Char (toLower)
-import Data.List (intercalate)
+import Data.Char (isSpace, toLower)
+import Data.List (elemIndex, intercalate)
 import Data.ProtocolBuffers (getField)
 import qualified Data.Vector.Unboxed as U
 import System.FilePath (takeExtension)
@@ -59,15 +59,25 @@ readProfile path = do
         Right m -> let ts = getField (prsTime m); vs = getField (prsVelocity m)
                    in sameLength ts vs >> fromColumns (zip ts vs)
   where
-    parseCsv txt = case lines txt of
-      (hdr : rest) | takeWhile (/= ',') hdr == "t" ->
-        mapM parseRow (zip [2 :: Int ..] (filter (not . null) rest))
-      _ -> Left (path ++ ": expected a CSV header t,s,v,a,j")
-    parseRow (ln, row) = case splitOn ',' row of
-      (t : _ : v : _) -> case (reads t, reads v) of
-        ([(t', "")], [(v', "")]) -> Right (t', v')
-        _ -> Left (path ++ ":" ++ show ln ++ ": cannot read t and v from " ++ show row)
-      _ -> Left (path ++ ":" ++ show ln ++ ": expected 5 columns, got " ++ show row)
+    -- the header names the columns (vprof writes t,s,v,a,j); every row has as many
+    parseCsv txt = case [ (i, filter (/= '\r') l) | (i, l) <- zip [1 :: Int ..] (lines txt) ] of
+      (_, hdr) : rest -> do
+        let names = map strip (splitOn ',' hdr)
+            col n = maybe (Left (path ++ ":1: the header " ++ show hdr ++ " names no column " ++ n
+                                 ++ " (expected t,s,v,a,j as vprof writes it)")) Right (elemIndex n names)
+        tc <- col "t"
+        vc <- col "v"
+        mapM (parseRow (length names) tc vc) [ r | r@(_, l) <- rest, not (all isSpace l) ]
+      [] -> Left (path ++ ": empty; expected a CSV header t,s,v,a,j and a row a sample")
+    parseRow n tc vc (ln, row) =
+      let fs = map strip (splitOn ',' row)
+      in if length fs /= n
+           then Left (path ++ ":" ++ show ln ++ ": expected " ++ show n ++ " columns as in the header, got "
+                      ++ show (length fs) ++ ": " ++ show row)
+           else case (reads (fs !! tc), reads (fs !! vc)) of
+             ([(t', "")], [(v', "")]) -> Right (t', v')
+             _ -> Left (path ++ ":" ++ show ln ++ ": cannot read t and v from " ++ show row)
+    strip = dropWhile isSpace . reverse . dropWhile isSpace . reverse
     splitOn c s = case break (== c) s of
       (a, _ : b) -> a : splitOn c b
       (a, []) -> [a]
