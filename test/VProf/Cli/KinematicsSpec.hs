@@ -32,11 +32,13 @@ spec = describe "vprof robots / fk / ik" $ do
   it "lists the library and shows a robot" $ do
     run robotsCommand [] `shouldReturn` ExitSuccess
     run robotsCommand ["ur5", "--format", "json"] `shouldReturn` ExitSuccess
-  it "forward kinematics: 0 for good joint values (negative ones too), 2 for a wrong count, NaN or an unknown robot" $ do
+  it "forward kinematics: 0 for good joint values (negative ones too), 2 for a wrong count or an unknown robot; NaN and a value beyond a double (1e400) refused by the parser" $ do
     run fkCommand ["ur5", "0", "-90", "90", "0", "90", "0", "--deg"] `shouldReturn` ExitSuccess
     run fkCommand ["ur5", "0", "1"] `shouldReturn` ExitFailure 2
     run fkCommand ["no-such-robot", "0"] `shouldReturn` ExitFailure 2
-    run fkCommand ["ur5", "0", "0", "0", "0", "0", "NaN"] `shouldReturn` ExitFailure 2
+    -- (99: the option parser refused it; the vprof executable exits 2)
+    mapM_ (\v -> run fkCommand ["ur5", "0", "0", "0", "0", "0", v] `shouldReturn` ExitFailure 99) ["NaN", "1e400", "-1e400", "x"]
+    mapM_ (\p -> run ikCommand ["ur5", "--pose", p] `shouldReturn` ExitFailure 99) ["0.4 0.1 1e400 0 1 0 0", "0.4 0.1 0.3 0 1 0 NaN"]
   it "inverse kinematics: 0 for a reachable pose, 1 beyond reach or tilted, 2 for a quaternion that is not a unit" $ do
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0"] `shouldReturn` ExitSuccess
     -- the Dobot's flange points down (a half turn about y): a level target is reachable,
@@ -118,7 +120,8 @@ spec = describe "vprof robots / fk / ik" $ do
       isPng png3 `shouldReturn` True
       let bad = tmp </> "bad.png"
       run robotsCommand ["ur5", "--plot", bad, "--q", "0 1"] `shouldReturn` ExitFailure 2
-      run robotsCommand ["ur5", "--plot", bad, "--q", "0 0 0 0 0 NaN"] `shouldReturn` ExitFailure 2
+      run robotsCommand ["ur5", "--plot", bad, "--q", "0 0 0 0 0 NaN"] `shouldReturn` ExitFailure 99
+      run robotsCommand ["ur5", "--plot", bad, "--q", "0 0 0 0 0 1e999"] `shouldReturn` ExitFailure 99
       run robotsCommand ["no-such-robot", "--plot", bad] `shouldReturn` ExitFailure 2
       run robotsCommand ["--plot", bad] `shouldReturn` ExitFailure 2
       -- a plot file name the tool cannot write, refused by the option parser (it wrote PNG data under .pdf and .jpg)

@@ -64,6 +64,7 @@ spec = do
           , ("a quaternion that is not a unit", "payload: 1\nclearance: 0.01\ntargets:\n  - {position: [0.5, 0, 0.3], quaternion: [1, 1, 0, 0]}\n", ["targets[0].quaternion", "unit"])
           , ("no targets", "payload: 1\nclearance: 0.01\n", ["targets", "missing"])
           , ("an unknown field", "payload: 1\nclearance: 0.01\nclearence: 0.02\ntargets:\n  - {position: [0.5, 0, 0.3]}\n", ["clearence"])
+          , ("a number beyond a double (read as infinity)", "payload: 1\nclearance: 0.01\ntargets:\n  - {position: [0.5, 0, 1e400]}\n", ["targets[0].position[2]", "1.0e400"])
           , ("a missing path file", "payload: 1\nclearance: 0.01\npath: {file: nowhere.mod}\n", ["path.file", "nowhere.mod"])
           ]
     mapM_ (\(what, body, needles) -> it what $ withSystemTempDirectory "vprof-select" $ \tmp -> do
@@ -75,6 +76,12 @@ spec = do
       f <- writeTask tmp (tmp </> "no-cell.obj") "payload: 1\nclearance: 0.01\ntargets:\n  - {position: [0.5, 0, 0.3]}\n"
       es <- errorsOf f
       es `shouldSatisfy` any (\e -> "environment[0].file" `isInfixOf` e && "no-cell.obj" `isInfixOf` e)
+      run [f, "--robots", "ur5"] `shouldReturn` ExitFailure 2
+    it "a path file with a missing pose value names its line" $ withSystemTempDirectory "vprof-select" $ \tmp -> do
+      writeFile (tmp </> "p.txt") "# t x y z qx qy qz qw\n0 0.5 0 0.3 0 0 0 1\n1 0.5 0.1 nan 0 0 0 1\n"
+      f <- writeTask tmp cell "payload: 1\nclearance: 0.01\npath: {file: p.txt}\n"
+      es <- errorsOf f
+      es `shouldSatisfy` any (\e -> "line 3" `isInfixOf` e)
       run [f, "--robots", "ur5"] `shouldReturn` ExitFailure 2
     it "a malformed path file names its line" $ withSystemTempDirectory "vprof-select" $ \tmp -> do
       writeFile (tmp </> "p.txt") "# t x y z qx qy qz qw\n0 0.5 0 0.3 0 0 0 1\n1 0.5 0.1 zz 0 0 0 1\n"

@@ -102,12 +102,10 @@ robotsCommand = runPlot <$> optional (strArgument (metavar "NAME" <> help "show 
                         ++ (if deg then " deg)" else " rad/m)"))
               pure ExitSuccess
     renameQ e = if take 1 e == "q" then "--q" ++ drop 1 e else e
-    jointNumbers s = case mapM readD (words (map (\c -> if c == ',' then ' ' else c) s)) of
-      Just xs@(_ : _) -> Right xs
-      _ -> Left ("expected joint values as numbers, got " ++ show s)
-    readD w = case reads w of
-      [(d, "")] -> Just (d :: Double)
-      _ -> Nothing
+    jointNumbers s = case finiteWords "" s of
+      Right xs@(_ : _) -> Right xs
+      Right [] -> Left ("expected joint values, got " ++ show s)
+      Left e -> Left e
     run Nothing _ fmt = do
       let rows = [ (key, r) | (key, Right r) <- libraryRobots ]
           bad = [ (key, es) | (key, Left es) <- libraryRobots ]
@@ -142,6 +140,20 @@ robotJson key r = A.object
                   | j <- robotJoints r ] ]
 
 -- | JSON has no infinity: an unbounded (continuous) limit is null.
+-- | Numbers separated by spaces or commas, each a finite double as typed: one that is not a
+-- number, or beyond the range of a double (1e400 reads as infinity), is named with its place
+-- (after @what: @ unless @what@ is empty, as for an option, which optparse names itself).
+finiteWords :: String -> String -> Either String [Double]
+finiteWords what s = mapM one (zip [1 :: Int ..] (words (map (\c -> if c == ',' then ' ' else c) s)))
+  where
+    one (i, w) = case reads w of
+      [(d, "")] | not (isNaN d || isInfinite d) -> Right (d :: Double)
+                | otherwise -> Left (label ++ show w ++ (if n > 1 then " (number " ++ show i ++ ")" else "")
+                                     ++ " is not a finite number (a double reaches about 1.8e308)")
+      _ -> Left (label ++ show w ++ (if n > 1 then " (number " ++ show i ++ ")" else "") ++ " is not a number")
+    n = length (words (map (\c -> if c == ',' then ' ' else c) s))
+    label = if null what then "" else what ++ ": "
+
 finiteOrNull :: Double -> Maybe Double
 finiteOrNull x = if isInfinite x || isNaN x then Nothing else Just x
 
@@ -167,7 +179,7 @@ data FkOpts = FkOpts { fkRobot :: String, fkQ :: [Double], fkDeg :: Bool, fkTip 
 fkCommand :: Parser (IO ExitCode)
 fkCommand = runFk <$> (FkOpts
   <$> strArgument (metavar "ROBOT" <> help "a library name, a robot file (.yaml/.json) or a URDF (.urdf)")
-  <*> many (argument auto (metavar "Q..." <> help "joint values (rad or m; degrees with --deg)"))
+  <*> many (argument (eitherReader (\w -> head <$> finiteWords "Q" w)) (metavar "Q..." <> help "joint values (rad or m; degrees with --deg)"))
   <*> switch (long "deg" <> help "revolute joint values in degrees")
   <*> tipOption <*> formatOption)
 
@@ -245,9 +257,10 @@ ikCommand = runIk <$> (IkOpts
     bodyNumber str = case reads str :: [(Int, String)] of
       [(k, "")] | k >= 1 -> Right k
       _ -> Left ("--ignore-body " ++ show str ++ ": expected a body number >= 1 (1 = the first link)")
-    numbers k s = case mapM readD (words (map (\c -> if c == ',' then ' ' else c) s)) of
-      Just xs | k == 0 || length xs == k -> Right xs
-      _ -> Left ("expected " ++ (if k == 0 then "numbers" else show k ++ " numbers") ++ ", got " ++ show s)
+    numbers k s = case finiteWords "" s of
+      Right xs | k == 0 || length xs == k -> Right xs
+      Right _ -> Left ("expected " ++ (if k == 0 then "numbers" else show k ++ " numbers") ++ ", got " ++ show s)
+      Left e -> Left e
     readD w = case reads w of
       [(d, "")] -> Just (d :: Double)
       _ -> Nothing

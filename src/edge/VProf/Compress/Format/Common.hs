@@ -4,6 +4,7 @@ module VProf.Compress.Format.Common
   ( readDouble
   , dropBom
   , trackFromRows
+  , everyPose
   , dataLines
   , numberFields
   , poseFields
@@ -29,13 +30,18 @@ import VProf.Geometry.Vec
 -- value missing ('missingToken', read as NaN) is an error naming the format and the line;
 -- any other problem names the format and counts samples by data line.
 trackFromRows :: String -> [Sample] -> Either String Track
-trackFromRows format rows
-  | (Sample l _ _ _) : _ <- filter lacksPose rows =
-      Left (format ++ " line " ++ show l ++ ": a position or orientation value is missing (empty or nan); every pose of a path must be given")
-  | otherwise =
-      case recordingFromArrays (U.fromList (map smTime rows)) (pfromList (map smPos rows)) (pfromList (map smRot rows)) of
-        Left e -> Left (format ++ ": " ++ e ++ " (sample k is the k-th data line, counting from 0)")
-        Right (Recording tr) -> Right tr
+trackFromRows format rows = do
+  everyPose format rows
+  case recordingFromArrays (U.fromList (map smTime rows)) (pfromList (map smPos rows)) (pfromList (map smRot rows)) of
+    Left e -> Left (format ++ ": " ++ e ++ " (sample k is the k-th data line, counting from 0)")
+    Right (Recording tr) -> Right tr
+
+-- | An error naming the format and the line of the first sample with a missing pose value
+-- (read as NaN): a path or a list of targets, unlike a recording, needs every pose.
+everyPose :: String -> [Sample] -> Either String ()
+everyPose format rows = case filter lacksPose rows of
+  Sample l _ _ _ : _ -> Left (format ++ " line " ++ show l ++ ": a position or orientation value is missing (empty or nan); every pose of a path must be given")
+  [] -> Right ()
   where
     lacksPose (Sample _ _ (P3 x y z) (Q4 w a b c)) = any isNaN [x, y, z, w, a, b, c]
 

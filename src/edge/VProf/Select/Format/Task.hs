@@ -31,7 +31,7 @@ import System.Directory (doesFileExist)
 import System.Environment (lookupEnv)
 import System.FilePath (takeDirectory, takeExtension, (</>), isAbsolute)
 
-import VProf.Compress.Format.Common (dataLines, numberFields)
+import VProf.Compress.Format.Common (dataLines, everyPose, numberFields)
 import VProf.Compress.Format.Rapid (readRapid)
 import VProf.Compress.Format.Tum (readTum)
 import VProf.Compress.Clean (Sample (..))
@@ -187,7 +187,7 @@ readPathTargets frame f = do
       samples <- either (Left . ((f ++ ": ") ++)) Right $ case map toLower (takeExtension f) of
         ".mod" -> readRapid bs
         ".csv" -> readCsv bs
-        _ -> readTum bs
+        _ -> readTum bs >>= \ss -> ss <$ everyPose "TUM" ss
       case samples of
         [] -> Left (f ++ ": no waypoints")
         _ -> Right [ Target (f ++ " line " ++ show l) (frame `compose` fromQuat (V3 x y z) (normaliseQuat (Quat w a b c)))
@@ -230,7 +230,11 @@ optionalP :: String -> A.Object -> String -> P a -> (A.Value -> P a) -> P a
 optionalP _ = optional
 
 num :: String -> String -> A.Value -> P Double
-num _ _ (A.Number n) = Right (toRealFloat n)
+num p unit (A.Number n)
+  | isInfinite x = Left [p ++ " = " ++ show n ++ (if null unit then "" else " " ++ unit)
+                         ++ ": beyond the range of a number (a double reaches about 1.8e308)"]
+  | otherwise = Right x
+  where x = toRealFloat n
 num p unit v = Left [p ++ ": expected a number" ++ (if null unit then "" else " (" ++ unit ++ ")") ++ ", got " ++ shortValue v]
 
 int :: String -> A.Value -> P Int
@@ -264,7 +268,7 @@ vec3 p v = nums 3 p v >>= \case
 shortValue :: A.Value -> String
 shortValue = \case
   A.String s -> show (T.unpack (T.take 40 s))
-  A.Number n -> show (toRealFloat n :: Double)
+  A.Number n -> let x = toRealFloat n :: Double in if isInfinite x then show n else show x
   A.Bool b -> if b then "true" else "false"
   A.Null -> "null (nothing)"
   A.Array a -> "a list of " ++ show (V.length a)
