@@ -12,6 +12,7 @@ import Data.Colour.Names (blue, red, green, black, gray)
 import Data.Default.Class (def)
 import qualified Data.Vector.Unboxed as U
 import Graphics.Rendering.Chart
+import VProf.Plot.Decimate (decimate, plotRuns)
 import VProf.Plot.File (fileFormatOf)
 import Graphics.Rendering.Chart.Backend.Cairo (FileOptions (..), renderableToFile)
 import Graphics.Rendering.Chart.Grid (aboveN, gridToRenderable, tval, weights)
@@ -37,13 +38,12 @@ plotCompression file title pr pa = void (renderableToFile opts file (gridToRende
     rawO = map rotv (ptoList (rcQ pr))
     fitO = map rotv (ptoList (paQ pa))
     rawV = [ norm (pindex (rcV pr) i) | i <- [0 .. plength (rcV pr) - 1] ]
-    fitV = concat [ [(a, v), (b, v)] | j <- [0 .. U.length (paT pa) - 2]
-                  , let a = wt !! j; b = wt !! (j + 1)
-                        v = distance (pindex (paP pa) (j + 1)) (pindex (paP pa) j) / (b - a) ]
+    fitV = concat [ [(a, v), (b, v)] | (j, (a, b)) <- zip [0 ..] (zip wt (drop 1 wt))
+                  , let v = distance (pindex (paP pa) (j + 1)) (pindex (paP pa) j) / (b - a) ]
     colours = [red, green, blue]
     lineP name c w pts = toPlot (def & plot_lines_title .~ name
                                      & plot_lines_style .~ (solidLine w (opaque c))
-                                     & plot_lines_values .~ [pts])
+                                     & plot_lines_values .~ [decimate plotRuns pts])
     pointsP name c pts = toPlot (def & plot_points_title .~ name
                                      & plot_points_style .~ filledCircles 2.5 (opaque c)
                                      & plot_points_values .~ pts)

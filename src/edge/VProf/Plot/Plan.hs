@@ -12,6 +12,7 @@ import Data.Colour.Names
 import Data.Default.Class (def)
 import qualified Data.Vector.Unboxed as U
 import Graphics.Rendering.Chart
+import VProf.Plot.Decimate (decimate, plotRuns)
 import VProf.Plot.File (fileFormatOf)
 import Graphics.Rendering.Chart.Backend.Cairo (FileOptions (..), renderableToFile)
 import Graphics.Rendering.Chart.Grid (aboveN, gridToRenderable, tval, weights)
@@ -34,7 +35,7 @@ plotPlan file r p = void (renderableToFile opts file (gridToRenderable grid))
     speed = zip (map mm (U.toList (trS tr))) (map mm (U.toList (trV tr)))
     line name c w pts = toPlot (def & plot_lines_title .~ name
                                     & plot_lines_style .~ solidLine w (opaque c)
-                                    & plot_lines_values .~ [pts])
+                                    & plot_lines_values .~ [decimate plotRuns pts])
     tcpPanel = def & layout_title .~ ("TCP speed along the route (" ++ robotName r ++ ")")
                    & layout_x_axis . laxis_title .~ "s [mm]"
                    & layout_y_axis . laxis_title .~ "mm/s"

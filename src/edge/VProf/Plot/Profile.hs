@@ -13,6 +13,7 @@ import qualified Data.Vector.Unboxed as U
 import Graphics.Rendering.Chart
 import Graphics.Rendering.Chart.Backend.Cairo
 
+import VProf.Plot.Decimate (decimate, plotRuns)
 import VProf.Plot.File (fileFormatOf)
 import VProf.Profile.Sampled
 import VProf.Profile.Request (Problem (..))
@@ -31,11 +32,11 @@ plotProfile path title pb p = do
       line name colour ys = toPlot $ def
         & plot_lines_title .~ name
         & plot_lines_style .~ (solidLine 1.5 (opaque colour))
-        & plot_lines_values .~ [zip t ys]
+        & plot_lines_values .~ [decimate plotRuns (zip t ys)]
       stepLine name colour ys = toPlot $ def
         & plot_lines_title .~ name
         & plot_lines_style .~ (dashedLine 1.2 [5, 3] (opaque colour))
-        & plot_lines_values .~ [zip t ys]
+        & plot_lines_values .~ [decimate plotRuns (zip t ys)]
       layout ttl ylabel plots = def
         & layout_title .~ ttl
         & layout_y_axis . laxis_title .~ ylabel
