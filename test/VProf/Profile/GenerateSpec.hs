@@ -147,6 +147,27 @@ spec = do
                _ -> property Discard
 
   describe "infeasible requests" $ do
+    it "a long, weak braking into a low zone is not called infeasible (the brake oracle's step guard was shorter than the braking: 8.9 s of it at 0.291 m/s\178)" $ do
+      -- 3.829 m/s down to the 1.23 m/s zone at 24.69 m needs about 22.8 m of the 24.69
+      let rq = defaultRequest
+            { rqRouteLength = 60 *~ meter
+            , rqZones = [ SpeedZone (0 *~ meter) (4.174 *~ mps), SpeedZone (24.69 *~ meter) (1.23 *~ mps), SpeedZone (30 *~ meter) (5 *~ mps) ]
+            , rqMinAcceleration = (-0.291) *~ mps2, rqMaxAcceleration = 0.1554 *~ mps2
+            , rqMinJerk = (-3.102) *~ mps3, rqMaxJerk = 1.994 *~ mps3
+            , rqStartVelocity = 3.829 *~ mps, rqStartAcceleration = (-0.06853) *~ mps2
+            , rqTimeStep = Just (0.01 *~ second) }
+          r = generatePure rq
+      resOutcome r `shouldBe` Generated
+      sound rq r `shouldBe` True
+      -- the same braking over a range of weak decelerations and start speeds
+      forM_ [ (v0, am) | v0 <- [2, 3.829, 6], am <- [0.1, 0.291, 0.5] ] $ \(v0, am) ->
+        let need = (v0 * v0 - 1.23 * 1.23) / (2 * am) + v0 * 0.5   -- the S-curve's ramps at most half a second at v0
+            rq' = rq { rqZones = [ SpeedZone (0 *~ meter) ((v0 + 0.5) *~ mps), SpeedZone ((need + 1) *~ meter) (1.23 *~ mps)
+                                 , SpeedZone ((need + 6) *~ meter) (5 *~ mps) ]
+                     , rqRouteLength = (need + 40) *~ meter
+                     , rqStartVelocity = v0 *~ mps, rqMinAcceleration = negate am *~ mps2 }
+            r' = generatePure rq'
+        in (resOutcome r', sound rq' r') `shouldBe` (Generated, True)
     it "a start velocity that cannot brake before a lower zone is infeasible, says where, and is confirmed" $
       withMaxSuccess (max 100 (cases `div` 5)) $ property $
         forAll (choose (2, 10)) $ \v0 -> forAll (choose (0.1, 0.5)) $ \lowFrac -> forAll (choose (0.05, 0.6)) $ \zFrac ->
