@@ -48,7 +48,7 @@ spec = do
       showNumber 0.000000001 `shouldBe` "0.000000001"
       showNumber 123456.5 `shouldBe` "123456.5"
       showNumber 0 `shouldBe` "0.0"
-  describe "vprof (generate)" $
+  describe "vprof (generate)" $ do
     it "an output (-o, --plot) that is the request itself is refused (exit 2) and the request left as it was" $
       withSystemTempDirectory "vprof-gen" $ \dir -> do
         src <- B.readFile simple
@@ -58,6 +58,20 @@ spec = do
         run generateOptions [rq, "-o", dir </> ".." </> takeFileName dir </> "rq.json"] `shouldReturn` ExitFailure 2
         B.readFile rq `shouldReturn` src
         run generateOptions [rq, "-o", dir </> "profile.csv"] `shouldReturn` ExitSuccess
+    it "a request without a profile (invalid, infeasible) leaves an -o CSV or table file as it was (was emptied)" $
+      withSystemTempDirectory "vprof-gen" $ \dir -> do
+        let keep = dir </> "keep.csv"; bad = dir </> "bad.json"; slow = dir </> "slow.json"; tbl = dir </> "keep.txt"
+        writeFile keep "t,s,v,a,j\n0,0,0,0,0\n"
+        writeFile tbl "kept\n"
+        writeFile bad "{\"route_length\": 0, \"speed_limits\": [{\"start_distance\": 0, \"velocity\": 4}], \"min_acceleration\": -1, \"max_acceleration\": 1, \"min_jerk\": -2, \"max_jerk\": 2}"
+        writeFile slow "{\"route_length\": 10, \"speed_limits\": [{\"start_distance\": 0, \"velocity\": 4}, {\"start_distance\": 0.5, \"velocity\": 0.1}], \"min_acceleration\": -1, \"max_acceleration\": 1, \"min_jerk\": -2, \"max_jerk\": 2, \"start_velocity\": 4}"
+        run generateOptions [bad, "-o", keep] `shouldReturn` ExitFailure 2
+        run generateOptions [bad, "-o", tbl, "-f", "table"] `shouldReturn` ExitFailure 2
+        readFile keep `shouldReturn` "t,s,v,a,j\n0,0,0,0,0\n"
+        readFile tbl `shouldReturn` "kept\n"
+        -- infeasible: exit 1, no profile
+        run generateOptions [slow, "-o", keep] `shouldReturn` ExitFailure 1
+        readFile keep `shouldReturn` "t,s,v,a,j\n0,0,0,0,0\n"
   describe "vprof check" $ do
     it "reads a profile CSV by its header's names; a row with another count of columns is exit 2 (a 3-column row was read), CRLF and blank lines are fine" $
       withSystemTempDirectory "vprof-check" $ \dir -> do

@@ -94,6 +94,11 @@ runGenerate o = do
           writing = Out.writing "vprof"
       hPutStr summaryHandle (summary res)
       okOut <- case (fmt, resOutcome res) of
+        -- CSV and the table hold only a profile: with none, a file named by -o is left as it
+        -- was (an empty one took its place); protobuf and JSON carry the error instead
+        (Just f, _) | f `elem` [FCsv, FTable], Nothing <- resProfile res, Just out <- goOutput o -> do
+          hPutStrLn stderr ("vprof: no profile to write: " ++ out ++ " left as it was")
+          pure True
         (Just f, _) -> writing (maybe "the profile" id (goOutput o)) (writeProfile f (goOutput o) res)
         _ -> pure True
       okPlot <- case (goPlot o, resProfile res, validate rq) of
