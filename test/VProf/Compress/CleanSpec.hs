@@ -3,7 +3,7 @@
 -- is dropped silently, and the warnings count exactly what was injected.
 module VProf.Compress.CleanSpec (spec) where
 
-import Data.Either (isLeft)
+import Data.Either (isLeft, isRight)
 import Control.Monad (forM_)
 import Data.List (isInfixOf, nub, sort, zip4)
 import qualified Data.Vector.Unboxed as U
@@ -317,6 +317,19 @@ spec = describe "VProf.Compress.Clean" $ do
       -- a recording the tracker never saw: an error, not an empty path
       let Left [e] = clean defaultCleanOptions (renumber [s 0 (Q4 0 0 0 0), s 1 (Q4 (0 / 0) 0 0 0), s 2 (Q4 1 0 0 0)])
       renderFieldError e `shouldSatisfy` ("1 sample with distinct times after cleaning (of 3 read)" `isInfixOf`)
+    it "a quaternion of huge components is the rotation it points to (1e200 squared overflowed: the zero quaternion was written); one of norm below 1e-6 is no pose" $ do
+      let Right c = clean defaultCleanOptions (renumber [s 0 (Q4 1 0 0 0), s 1 (Q4 0 1e200 0 0), s 2 (Q4 0 1e-150 1e-150 0), s 3 (Q4 1e308 1e308 0 0)])
+          qs = ptoList (tRot (clTrack c))
+      map (\(Q4 w a b c') -> map (\x -> fromIntegral (round (x * 1e6) :: Integer) / 1e6) [w, a, b, c']) qs
+        `shouldBe` [[1, 0, 0, 0], [0, 1, 0, 0], [0.707107, 0.707107, 0, 0]]
+      [ n | MissingPoses n _ <- clWarnings c ] `shouldBe` [1]
+    it "refuses a position more than 1e9 m from the origin, naming the line (1e300 m gave infinite errors)" $ do
+      let Left [e] = clean defaultCleanOptions (renumber [s 0 (Q4 1 0 0 0), (s 1 (Q4 1 0 0 0)) { smPos = P3 0 (-2e9) 0 }, s 2 (Q4 1 0 0 0)])
+      renderFieldError e `shouldSatisfy` ("at line 2" `isInfixOf`)
+      isRight (clean defaultCleanOptions (renumber [s 0 (Q4 1 0 0 0), (s 1 (Q4 1 0 0 0)) { smPos = P3 6.4e6 5.3e6 0 }])) `shouldBe` True
+    it "a recording whose every pose is missing says so in its error" $ do
+      let Left [e] = clean defaultCleanOptions (renumber [s 0 (Q4 0 0 0 0), s 1 (Q4 0 0 0 0)])
+      renderFieldError e `shouldSatisfy` ("2 samples without a pose" `isInfixOf`)
     it "refuses an empty recording and one of fewer than 2 distinct times" $ do
       clean defaultCleanOptions [] `shouldSatisfy` isLeft
       clean defaultCleanOptions [s 0 (Q4 1 0 0 0)] `shouldSatisfy` isLeft

@@ -216,6 +216,21 @@ spec = do
     it "names the line of a short row" $ do
       let Left e = parseLog (B.pack "1, 2, 3\n")
       e `shouldSatisfy` ("line 1" `isInfixOf`)
+  describe "times closer than a microsecond" $
+    it "are written distinctly and read back as the same count of waypoints, in TUM, CSV and RAPID (6 decimals wrote them alike)" $
+      property $ forAll (choose (2, 20)) $ \n -> forAll (elements [1e-9, 3e-8, 4e-7, 2e-6]) $ \dt -> forAll (choose (0, 100)) $ \t0 ->
+        let tr = Track (U.fromList [ t0 + fromIntegral i * dt | i <- [0 .. n - 1] ])
+                       (pfromList [ P3 (fromIntegral i) 0 0 | i <- [0 .. n - 1] ]) (pfromList (replicate n (Q4 1 0 0 0)))
+            back f = either (const 0) trackLength f
+        in back (parseTum (BL.toStrict (renderTum tr))) === n .&&. back (parseCsv (BL.toStrict (renderCsv tr))) === n
+           .&&. back (parseRapid (B.pack (renderRapid defaultRapidOptions tr))) === n
+  describe "fields" $
+    it "a field of millions of digits is refused at once, and the message shows its start and its length" $ do
+      let big = replicate 2000000 '1'
+          Left e = readTum (B.pack ("0 0 0 0 0 0 0 1\n1 " ++ big ++ " 0 0 0 0 0 1\n"))
+      e `shouldSatisfy` ("line 2, column 2" `isInfixOf`)
+      e `shouldSatisfy` ("(2000000 characters)" `isInfixOf`)
+      length e `shouldSatisfy` (< 300)
   describe "RAPID" $ do
     it "round trips a path (robtargets in mm and \\T:= segment times)" $ property $ forAll genTrack $ \tr ->
       case parseRapid (B.pack (renderRapid defaultRapidOptions tr)) of

@@ -3,8 +3,8 @@
 -- parse (into 'Sample's with the line or index they came from) and every interface runs
 -- the same rules:
 --
--- * a time that is not a finite number, or an infinite position or quaternion component:
---   an error naming the sample;
+-- * a time that is not a finite number, an infinite position or quaternion component, or
+--   a position more than 'maxCoordinate' from the origin: an error naming the sample;
 -- * a sample without a pose (a position or quaternion component NaN, which the formats
 --   read from an empty or @nan@ field, or a quaternion of norm below 1e-6): what motion
 --   capture writes while the tracker has lost the body; dropped, with a warning that says
@@ -182,7 +182,8 @@ cleanSamples loc opts raw
         then Left [literalError (lcField loc "") ""
                      ("has " ++ show (length kept) ++ " sample" ++ (if length kept == 1 then "" else "s")
                       ++ " with distinct times" ++ (if length raw > length kept then " after cleaning (of " ++ show (length raw) ++ " read)" else "")
-                      ++ "; at least 2 are needed")]
+                      ++ "; at least 2 are needed"
+                      ++ concat [ ": " ++ renderCleanWarning loc w | w@(MissingPoses _ _) <- warnings ])]
         else Right (Cleaned (Track (U.fromList (map smTime kept)) (pfromList (map smPos kept)) (pfromList (map smRot kept)))
                             warnings (U.fromList (map smLoc kept)))
   where
@@ -197,6 +198,9 @@ cleanSamples loc opts raw
           [literalError (lcField loc "position") (show (x, y, z)) ("at " ++ lcAt loc l ++ ": must be finite numbers (m)")]
       | any isInfinite [w, a, b, c] =
           [literalError (lcField loc "orientation") (show (w, a, b, c)) ("at " ++ lcAt loc l ++ ": must be finite numbers (w, x, y, z)")]
+      | any ((> maxCoordinate) . abs) [x, y, z] =
+          [literalError (lcField loc "position") (show (x, y, z))
+             ("at " ++ lcAt loc l ++ ": more than " ++ showNumber maxCoordinate ++ " m from the origin, beyond any place a robot or a vehicle records (is the unit right?)")]
       | otherwise = []
     backwards = capped
       [ fieldError (lcField loc "time") (smTime s) "s"
@@ -208,7 +212,21 @@ cleanSamples loc opts raw
 -- of norm at least 1e-6 (a zero quaternion is what some trackers write when they lose the
 -- body). Infinite components are refused before this is asked.
 hasPose :: Sample -> Bool
-hasPose (Sample _ _ (P3 x y z) q@(Q4 w a b c)) = not (any isNaN [x, y, z, w, a, b, c]) && sqrt (qdot q q) >= 1e-6
+hasPose (Sample _ _ (P3 x y z) q@(Q4 w a b c)) = not (any isNaN [x, y, z, w, a, b, c]) && qnorm q >= 1e-6
+
+-- | The norm of a quaternion without overflow or underflow: scaled by its largest
+-- component first (1e200 squared is infinity, and a quaternion of such components is as
+-- good a rotation as any).
+qnorm :: Q4 -> Double
+qnorm (Q4 w a b c) =
+  let m = maximum (map abs [w, a, b, c])
+  in if m == 0 || isInfinite m then m else m * sqrt ((w / m) ^ (2 :: Int) + (a / m) ^ (2 :: Int) + (b / m) ^ (2 :: Int) + (c / m) ^ (2 :: Int))
+
+-- | The farthest a position may lie from the origin: a billion metres holds any work cell,
+-- a vehicle's UTM coordinates or a GPS track's, and keeps every square of the fit finite
+-- (coordinates of 1e150 m gave infinite errors and a NaN report).
+maxCoordinate :: Double
+maxCoordinate = 1e9
 
 -- | Normalise every quaternion; (where, norm) of those off unit length by more than
 -- 'unitTolerance'.
@@ -217,7 +235,7 @@ normalise ss = (map fst r, [ w | (_, Just w) <- r ])
   where
     r = map one ss
     one s = let q@(Q4 w a b c) = smRot s
-                n = sqrt (qdot q q)
+                n = qnorm q
             in ( s { smRot = Q4 (w / n) (a / n) (b / n) (c / n) }
                , if abs (n - 1) > unitTolerance then Just (smLoc s, n) else Nothing )
 

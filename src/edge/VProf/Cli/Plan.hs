@@ -174,8 +174,10 @@ readPath f = do
             ".mod" -> (readRapid src, parseRapid src)
             ".csv" -> (snd <$> readCsv src, parseCsv src)
             _ -> (readTum src, parseTum src)
+      -- the normalisation is said only of a path that is read (a quaternion too far from a
+      -- unit is refused, and "normalised" before the refusal contradicted it)
       mapM_ (\w -> hPutStrLn stderr ("vprof plan: warning: " ++ f ++ ": " ++ renderCleanWarning fileLocator w))
-            (either (const Nothing) nonUnitWarning samples)
+            (either (const Nothing) (const (either (const Nothing) nonUnitWarning samples)) track)
       pure (either (Left . ((f ++ ": ") ++)) Right track)
 
 -- | The core's field names in this command's terms.

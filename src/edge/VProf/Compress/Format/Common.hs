@@ -9,6 +9,7 @@ module VProf.Compress.Format.Common
   , numberFields
   , poseFields
   , missingToken
+  , shownField
   , renderPoseLines
   ) where
 
@@ -51,7 +52,11 @@ dropBom s = if B.pack "\xEF\xBB\xBF" `B.isPrefixOf` s then B.drop 3 s else s
 
 -- | A decimal number (optional sign, fraction, exponent) filling the whole string.
 readDouble :: B.ByteString -> Maybe Double
-readDouble s0 =
+readDouble s0
+  -- no number is written with more digits than this (and parsing millions of them took
+  -- minutes: the time grows with the square of the length)
+  | B.length s0 > maxNumberLength = Nothing
+  | otherwise =
   let s = B.strip s0
       s' = case B.uncons s of
         Just ('.', _) -> B.cons '0' s
@@ -60,6 +65,16 @@ readDouble s0 =
   in case TR.double (TE.decodeLatin1 s') of
        Right (d, rest) | rest == mempty, not (isNaN d || isInfinite d) -> Just d
        _ -> Nothing
+
+-- | The longest field read as a number, in characters.
+maxNumberLength :: Int
+maxNumberLength = 100
+
+-- | A field as an error message shows it: at most 40 characters, then how long it was.
+shownField :: B.ByteString -> String
+shownField w
+  | B.length w <= 40 = show (B.unpack w)
+  | otherwise = show (B.unpack (B.take 40 w)) ++ "... (" ++ show (B.length w) ++ " characters)"
 
 -- | The data lines of a file with their numbers (from 1): each line stripped and cut of
 -- the leading characters @skip@ accepts; blank lines and lines starting with @#@ left out.
@@ -73,7 +88,7 @@ numberFields format i = traverse field . zip [1 :: Int ..]
   where
     field (c, w) = case readDouble w of
       Just d -> Right d
-      Nothing -> Left (format ++ " line " ++ show i ++ ", column " ++ show c ++ ": not a number: " ++ show (B.unpack w))
+      Nothing -> Left (format ++ " line " ++ show i ++ ", column " ++ show c ++ ": not a number: " ++ shownField w)
 
 -- | Whether a field marks a value the tracker did not deliver: empty, or @nan@, @na@, @n/a@
 -- or @null@ in any case and with any sign (what motion-capture exports, numpy, R and
@@ -93,14 +108,23 @@ poseFields format i col0 = traverse field . zip [col0 ..]
       | missingToken w = Right (0 / 0)
       | otherwise = case readDouble w of
           Just d -> Right d
-          Nothing -> Left (format ++ " line " ++ show i ++ ", column " ++ show c ++ ": not a number: " ++ show (B.unpack w))
+          Nothing -> Left (format ++ " line " ++ show i ++ ", column " ++ show c ++ ": not a number: " ++ shownField w)
 
--- | One pose a line after a header line: the time (6 decimals), then the numbers @cols@
+-- | Decimals that write every time of a track distinctly: 6 (1 µs), or up to 12 when
+-- waypoints are closer than that (times printed alike were read back as duplicates).
+timeDecimals :: U.Vector Double -> Int
+timeDecimals ts = head ([ d | d <- [6 .. 12], distinct d ] ++ [12])
+  where
+    shown d = map (\t -> showFFloat (Just d) t "") (U.toList ts)
+    distinct d = let xs = shown d in and (zipWith (/=) xs (drop 1 xs))
+
+-- | One pose a line after a header line: the time (6 decimals, more where 'timeDecimals' needs them), then the numbers @cols@
 -- makes of the position and orientation (9 decimals), separated by @sep@.
 renderPoseLines :: String -> String -> (P3 -> Q4 -> [Double]) -> Track -> BL.ByteString
 renderPoseLines header sep cols (Track ts ps qs) = BB.toLazyByteString $
   BB.string7 header <> BB.char7 '\n' <>
   mconcat [ line t p q | (t, p, q) <- zip3 (U.toList ts) (ptoList ps) (ptoList qs) ]
   where
-    line t p q = BB.string7 (intercalate sep (showFFloat (Just 6) t "" : map num (cols p q))) <> BB.char7 '\n'
+    d = timeDecimals ts
+    line t p q = BB.string7 (intercalate sep (showFFloat (Just d) t "" : map num (cols p q))) <> BB.char7 '\n'
     num v = showFFloat (Just 9) v ""

@@ -177,6 +177,13 @@ numbersIn s = traverse num (wordsBy (\c -> c `elem` ",[]" || isSpace c) s)
       "" -> []
       str' -> let (w, rest) = break p str' in w : wordsBy p rest
 
+-- | Decimals of a segment time: 6 (1 µs), or as many as show three significant digits of a
+-- shorter one (0.000000 would be read back as no time at all).
+segmentDecimals :: Double -> Int
+segmentDecimals d
+  | d >= 1e-6 || d <= 0 = 6
+  | otherwise = min 20 (ceiling (negate (logBase 10 d)) + 2)
+
 -- | A module with one robtarget a waypoint (mm) and timed MoveL instructions.
 renderRapid :: RapidOptions -> Track -> String
 renderRapid o (Track ts ps qs) = unlines $
@@ -201,7 +208,7 @@ renderRapid o (Track ts ps qs) = unlines $
     k = U.length ts
     nm j = "p" ++ show j
     timing j | j == 0 = ""
-             | otherwise = "\\T:=" ++ fixed 6 (ts U.! j - ts U.! (j - 1))
+             | otherwise = "\\T:=" ++ fixed (segmentDecimals (ts U.! j - ts U.! (j - 1))) (ts U.! j - ts U.! (j - 1))
     commas = foldr1 (\a b -> a ++ "," ++ b)
     fixed d v = showFFloat (Just d) v ""
     _ = isAlphaNum
