@@ -25,6 +25,7 @@ import Numeric.Units.Dimensional.Prelude (metre, milli, (*~))
 import Prelude
 
 import qualified VProf.Cli.Output as Out
+import VProf.Format.IOError (ioReason)
 import VProf.Compress
 import VProf.Compress.Clean
 import VProf.Compress.Format.Common (dropBom)
@@ -182,7 +183,7 @@ runCompress o = do
     readAndRun = do
       src <- try (dropBom <$> B.readFile file)
       case src of
-        Left e -> failInput ("cannot read " ++ file ++ ": " ++ show (e :: IOException))
+        Left e -> failInput ("cannot read " ++ file ++ ": " ++ ioReason (e :: IOException))
         Right bytes -> do
           let fmt = maybe (guessIn file bytes) id (coInputFormat o)
           parsed <- case coTimes o of
@@ -233,7 +234,7 @@ runCompress o = do
         Just tf -> do
           tb <- try (dropBom <$> B.readFile tf)
           pure $ case tb of
-            Left e -> Left ("cannot read the times " ++ tf ++ ": " ++ show (e :: IOException))
+            Left e -> Left ("cannot read the times " ++ tf ++ ": " ++ ioReason (e :: IOException))
             Right times -> case readKitti b times of
               Left e -> Left (file ++ " with the times of " ++ tf ++ ": " ++ e)
               Right ss -> Right (["read as KITTI poses (3x4 [R | t] a line, m) with the times of " ++ tf], ss)

@@ -12,11 +12,13 @@ import Control.Monad (filterM)
 import System.Directory (canonicalizePath, doesFileExist)
 import System.IO (hFlush, hPutStrLn, stderr, stdout)
 
+import VProf.Format.IOError (ioWriteReason)
+
 -- | Run the writing action (and flush standard output, so that a full disk shows here):
 -- True when it worked, else False after a message "PREFIX: cannot write WHAT: why".
 writing :: String -> String -> IO () -> IO Bool
 writing prefix what act = try (act >> hFlush stdout) >>= \r -> case r of
-  Left (e :: IOException) -> hPutStrLn stderr (prefix ++ ": cannot write " ++ what ++ ": " ++ show e) >> pure False
+  Left (e :: IOException) -> hPutStrLn stderr (prefix ++ ": cannot write " ++ what ++ ": " ++ ioWriteReason e) >> pure False
   Right () -> pure True
 
 -- | The first output (option, file) that is an existing input file (what, file) under

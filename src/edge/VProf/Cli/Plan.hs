@@ -37,6 +37,7 @@ import System.Timeout (timeout)
 
 import VProf.Cli.Kinematics (loadRobot)
 import qualified VProf.Cli.Output as Out
+import VProf.Format.IOError (ioReason)
 import VProf.Compress.Clean (fileLocator, nonUnitWarning, renderCleanWarning)
 import VProf.Compress.Format.Common (dropBom)
 import VProf.Compress.Format.Csv (parseCsv, readCsv)
@@ -168,7 +169,7 @@ readPath :: FilePath -> IO (Either String Track)
 readPath f = do
   r <- try (dropBom <$> B.readFile f) :: IO (Either IOException B.ByteString)
   case r of
-    Left e -> pure (Left (f ++ ": " ++ show e))
+    Left e -> pure (Left (f ++ ": cannot read it: " ++ ioReason e))
     Right src -> do
       let (samples, track) = case map toLower (takeExtension f) of
             ".mod" -> (readRapid src, parseRapid src)

@@ -19,6 +19,7 @@ import Data.ProtocolBuffers (getField)
 import qualified Data.Vector.Unboxed as U
 import System.FilePath (takeExtension)
 
+import VProf.Format.IOError (ioReason)
 import VProf.Format.DuplicateKeys (duplicateJsonKeyErrors)
 import VProf.Profile.Format.Json
 import VProf.Profile.Request
@@ -31,7 +32,7 @@ readRequest :: FilePath -> IO (Either String Request)
 readRequest path = do
   r <- try (B.readFile path)
   pure $ case r of
-    Left (e :: IOException) -> Left (path ++ ": " ++ show e)
+    Left (e :: IOException) -> Left (path ++ ": " ++ ioReason e)
     Right bytes
       | map toLower (takeExtension path) == ".json" ->
           either (\e -> Left (path ++ ": not a valid JSON ProfileRequest: " ++ e)) Right (requestFromJson (BL.fromStrict bytes))
@@ -44,7 +45,7 @@ readProfile :: FilePath -> IO (Either String (Double, U.Vector Double))
 readProfile path = do
   r <- try (B.readFile path)
   pure $ case r of
-    Left (e :: IOException) -> Left (path ++ ": " ++ show e)
+    Left (e :: IOException) -> Left (path ++ ": " ++ ioReason e)
     Right bytes -> case map toLower (takeExtension path) of
       ".csv" -> fromColumns =<< parseCsv (BLC.unpack (BL.fromStrict bytes))
       ".json" -> case A.eitherDecodeStrict bytes of
