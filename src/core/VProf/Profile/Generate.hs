@@ -21,6 +21,7 @@ import GHC.Clock (getMonotonicTime)
 import System.Timeout (timeout)
 import Control.Exception (evaluate)
 import Data.IORef (IORef, newIORef, readIORef, writeIORef)
+import Data.List (sortOn)
 
 import VProf.Profile.Generate.RubberBand
 import VProf.Profile.Generate.Seed
@@ -267,15 +268,23 @@ viaThesis pb elapsed r0 = do
   let left = pbBudget pb - secs
       n0 = maybe maxBound sampleCount (resProfile r0)
       thPb = pb { pbAlgorithm = Thesis, pbMaxIter = max (pbMaxIter pb) (defaultMaxIterations Thesis) }
-      fixedPoint = case thesisStages thPb of
+      -- thesis mode's own velocity step is coarser than the default generator's, and its
+      -- pace (a step a sample a pass) sets how gently it brakes: with either step it can be
+      -- the faster (0.87 m, 200 zones: 39.875 s with its own, 40.375 s with the default's)
+      dvs = let own = thesisVelocityStep (pbDt pb) (pbAMin pb) (pbAMax pb) (pbJMin pb) (pbJMax pb)
+            in pbDv pb : [ own | own > pbDv pb ]
+      fixedPoint dv = case thesisStages thPb { pbDv = dv } of
         Left _ -> Nothing
         Right stages -> case last stages of
           st | stgDone st -> Just (stgVel st)
           _ -> Nothing
-      better v = let (prof, vs) = arrived pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
-                 in sampleCount prof < n0 && null vs
-      attempt = case fixedPoint of
-        Just v | better v ->
+      legalLength v = let (prof, vs) = arrived pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
+                      in if null vs then Just (sampleCount prof) else Nothing
+      shortest = case sortOn fst [ (m, v) | dv <- dvs, Just v <- [fixedPoint dv], Just m <- [legalLength v] ] of
+        (m, v) : _ | m < n0 -> Just v
+        _ -> Nothing
+      attempt = case shortest of
+        Just v ->
           let snaps = bandFrom pb v
               final = last (take (pbMaxIter pb + 1) snaps)
           in if snDone final

@@ -26,6 +26,7 @@ module VProf.Profile.Request
   , leastSamples
   , autoVelocityStep
   , largestVelocityStep
+  , thesisVelocityStep
   , isPowerOfTwo
   ) where
 
@@ -133,6 +134,11 @@ autoVelocityStep dt aMin aMax jMin jMax =
 
 -- | The largest velocity step with which a single sample can rise on a flat stretch:
 -- raising it alone changes one jerk by 2·dv/dt² and one acceleration by dv/dt.
+-- | Thesis mode's velocity step when none is given: the largest power of two that works
+-- (its band grows from rest one step a pass, and its pace sets how gently it brakes).
+thesisVelocityStep :: Double -> Double -> Double -> Double -> Double -> Double
+thesisVelocityStep dt aMin aMax jMin jMax = 2 ^^ (floor (logBase 2 (largestVelocityStep dt aMin aMax jMin jMax)) :: Int)
+
 largestVelocityStep :: Double -> Double -> Double -> Double -> Double -> Double
 largestVelocityStep dt aMin aMax jMin jMax =
   minimum [abs jMin * dt * dt / 2, jMax * dt * dt / 2, abs aMin * dt, aMax * dt]
@@ -160,7 +166,7 @@ validate rq =
     -- coarsest step that still works
     dvAuto = case rqAlgorithm rq of
       Band -> autoVelocityStep dt aMin aMax jMin jMax
-      Thesis -> 2 ^^ (floor (logBase 2 (largestVelocityStep dt aMin aMax jMin jMax)) :: Int)
+      Thesis -> thesisVelocityStep dt aMin aMax jMin jMax
     dv = maybe dvAuto id dvGiven
 
     num = showNumber
