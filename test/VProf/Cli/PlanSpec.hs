@@ -52,6 +52,10 @@ spec = do
             ls = BL.split 10 src
         BL.writeFile holed (BL.intercalate "\n" (take 2 ls ++ ["1,nan,-0.10,0.30,0,1,0,0"] ++ drop 3 ls))
         run [holed, "--robot", "ur5"] `shouldReturn` ExitFailure 2
+    it "--start outside a joint's limits is exit 2 (degrees typed without --deg were taken as radians, silently another branch); inside them exit 0" $ do
+      run ["examples/plan-square.csv", "--robot", "ur5", "--start", "0 -90 90 -90 -90 0"] `shouldReturn` ExitFailure 2
+      run ["examples/plan-square.csv", "--robot", "ur5", "--start", "100 0 0 0 0 0"] `shouldReturn` ExitFailure 2
+      run ["examples/plan-square.csv", "--robot", "ur5", "--start", "0 -90 90 -90 -90 0", "--deg"] `shouldReturn` ExitSuccess
     it "--start of the wrong length is exit 2, named as typed (was in radians with --deg)" $
       run ["examples/plan-square.csv", "--robot", "ur5", "--start", "0 -90 -90 -90 90", "--deg"] `shouldReturn` ExitFailure 2
   it "reads RAPID speed data vN as N mm/s and refuses anything else" $ do

@@ -254,14 +254,26 @@ validateRequest PlanRequest{..} = concat
   , positive "end_tolerance" (si prEndTolerance) "m"
   , case prStart of
       Nothing -> []
-      Just q -> ensure (U.length q == dof prRobot && U.all finite q)
-                  (literalError "start" (show (U.toList q))
-                     ("must be " ++ show (dof prRobot) ++ " finite joint values for " ++ robotName prRobot))
+      Just q | not (U.length q == dof prRobot && U.all finite q) ->
+                 [literalError "start" (show (U.toList q))
+                    ("must be " ++ show (dof prRobot) ++ " finite joint values for " ++ robotName prRobot)]
+             -- a start outside a joint's range is no configuration of the robot (and radians
+             -- given as degrees, 90 for 90°, would silently pick another branch)
+             | otherwise -> concat [ outside j x | (j, x) <- zip (robotJoints prRobot) (U.toList q) ]
   , ensure (dof prRobot > 0) (literalError "robot" (robotName prRobot) "has no joints")
   ]
   where
     dt = si prTimeStep
     positive f x u = ensureFinite f x u (ensure (x > 0) (fieldError f x u "must be > 0"))
+    outside j x =
+      let Limits lo hi = jointLimits j
+          slack = 1e-9 * max 1 (abs x)
+          rev = jointKind j == Revolute
+          deg v = showNumber (fromIntegral (round (v * 180 / pi * 1000) :: Integer) / 1000)
+          shown v = showNumber (fromIntegral (round (v * 1e6) :: Integer) / 1e6) ++ (if rev then " rad (" ++ deg v ++ "°)" else " m")
+      in ensure (x >= lo - slack && x <= hi + slack)
+           (literalError "start" (shown x)
+              ("joint " ++ jointName j ++ " is outside its limits " ++ shown lo ++ " to " ++ shown hi))
 
 planPath :: PlanRequest -> Either PlanFailure Plan
 planPath rq@PlanRequest{..} = do
