@@ -320,7 +320,7 @@ spec = describe "VProf.Compress.Clean" $ do
     it "a quaternion of huge components is the rotation it points to (1e200 squared overflowed: the zero quaternion was written); one of norm below 1e-6 is no pose" $ do
       let Right c = clean defaultCleanOptions (renumber [s 0 (Q4 1 0 0 0), s 1 (Q4 0 1e200 0 0), s 2 (Q4 0 1e-150 1e-150 0), s 3 (Q4 1e308 1e308 0 0)])
           qs = ptoList (tRot (clTrack c))
-      map (\(Q4 w a b c') -> map (\x -> fromIntegral (round (x * 1e6) :: Integer) / 1e6) [w, a, b, c']) qs
+      map (\(Q4 w a b c') -> map (\x -> fromIntegral (round (x * 1e6) :: Integer) / 1e6 :: Double) [w, a, b, c']) qs
         `shouldBe` [[1, 0, 0, 0], [0, 1, 0, 0], [0.707107, 0.707107, 0, 0]]
       [ n | MissingPoses n _ <- clWarnings c ] `shouldBe` [1]
     it "refuses a position more than 1e9 m from the origin, naming the line (1e300 m gave infinite errors)" $ do

@@ -83,6 +83,18 @@ spec = do
             eq = U.generate (m + 1) (\g -> (g * n) `div` m)
         in sse b <= sse eq * (1 + 1e-9) + 1e-12
 
+    it "on a coarser grid (a long recording's dynamic program: boundaries every r samples, then each moved within r): still m groups of at least 2 samples, never worse than equal groups" $
+      property $ forAll (choose (40, 400)) $ \n -> forAll (choose (1, n `div` 3)) $ \m -> forAll (choose (50, 5000)) $ \work ->
+        forAllBlind (genWalk n) $ \pr ->
+          let s = prefixSums (rcT pr) (rcP pr)
+              w = 4 * ((n + m - 1) `div` m)
+              b = linePartitionWith (fromIntegral (work :: Int)) (rcT pr) (rcP pr) m w
+              sizes = U.zipWith (-) (U.tail b) b
+              sse v = sum [ groupSse s (v U.! g) (v U.! (g + 1)) | g <- [0 .. U.length v - 2] ]
+              eq = U.generate (m + 1) (\g -> (g * n) `div` m)
+          in counterexample (show (U.toList b)) $
+               U.length b === m + 1 .&&. U.head b === 0 .&&. U.last b === n .&&. U.all (>= 2) sizes
+               .&&. property (sse b <= sse eq * (1 + 1e-9) + 1e-12)
   describe "refineAll (waypoint times with positions)" $
     it "never raises the position error of the least-squares positions at the start times; ends held, times increasing" $
       property $ forAll (choose (60, 400)) $ \n -> forAll (choose (3, n `div` 10)) $ \k -> forAllBlind (genWalk n) $ \pr ->

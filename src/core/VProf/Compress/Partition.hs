@@ -10,6 +10,7 @@
 -- A group's line-fit SSE is O(1) from prefix sums.
 module VProf.Compress.Partition
   ( linePartition
+  , linePartitionWith
   , groupSse
   , PrefixSums (..)
   , prefixSums
@@ -41,6 +42,11 @@ prefixSums ts ps = PrefixSums (sc tc) (sc (U.map (^ (2 :: Int)) tc)) (sc xs) (sc
     zs = U.generate n (\i -> let P3 _ _ z = pindex ps i in z - mz)
     sc = U.scanl' (+) 0
 
+-- | Group evaluations a dynamic program of the line partition may make before its
+-- boundaries go on a coarser grid (about a second on the machines of bench/).
+gridWork :: Double
+gridWork = 4e7
+
 -- | Residual SSE of the least-squares line in time (each coordinate) through samples a .. b−1.
 groupSse :: PrefixSums -> Int -> Int -> Double
 groupSse s a b
@@ -65,14 +71,26 @@ groupSse s a b
 -- groups: the search is a heuristic (a priced count and greedy repairs), so it keeps the
 -- equal split when that is better, or when the repairs cannot reach m groups.
 linePartition :: U.Vector Double -> V3s -> Int -> Int -> U.Vector Int
-linePartition ts ps m w0
+linePartition = linePartitionWith gridWork
+
+-- | 'linePartition' with another limit on the dynamic program's work (for tests of the grid).
+linePartitionWith :: Double -> U.Vector Double -> V3s -> Int -> Int -> U.Vector Int
+linePartitionWith work ts ps m w0
   | m <= 1 = U.fromList [0, n]
   | n < 2 * m = equal
   | groups found == m && sse found <= sse equal = found
   | otherwise = equal
   where
     equal = U.generate (m + 1) (\g -> (g * n) `div` m)
-    found = adjust (bracket lam0 (dp lam0) (12 :: Int))
+    found = refine (adjust (bracket lam0 (dp lam0) (12 :: Int)))
+    -- The dynamic program costs about n·w group evaluations per λ. Beyond 'gridWork' of
+    -- them (long recordings at few points: 60,000 samples at 20 points is 7.6e8, and the
+    -- start took minutes) its boundaries lie on a grid of r samples, which divides the cost
+    -- by r²; 'refine' then moves each boundary to its best sample within r of it. Below the
+    -- limit (every recording of bench/COMPRESSION.md) r = 1: the search is unchanged.
+    r = max 1 (ceiling (sqrt (fromIntegral n * fromIntegral w / work :: Double)))
+    pos g = min n (g * r)
+    nGrid = (n + r - 1) `div` r
     sse v = sum [ groupSse s (v U.! g) (v U.! (g + 1)) | g <- [0 .. U.length v - 2] ]
     n = U.length ts
     w = max w0 ((n + m - 1) `div` m + 1)
@@ -82,29 +100,47 @@ linePartition ts ps m w0
     -- minimise Σ SSE + λ·groups; ties to fewer groups. Boundaries of the optimum.
     dp :: Double -> U.Vector Int
     dp lam = runST $ do
-      f <- MU.replicate (n + 1) (1 / 0 :: Double)
-      cnt <- MU.replicate (n + 1) (0 :: Int)
-      arg <- MU.replicate (n + 1) (0 :: Int)
+      f <- MU.replicate (nGrid + 1) (1 / 0 :: Double)
+      cnt <- MU.replicate (nGrid + 1) (0 :: Int)
+      arg <- MU.replicate (nGrid + 1) (0 :: Int)
       MU.write f 0 0
-      forM_ [2 .. n] $ \bb -> do
-        let lo = max 0 (bb - w)
-            go !a !bestF !bestC !bestA
-              | a > bb - 2 = pure (bestF, bestC, bestA)
+      forM_ [1 .. nGrid] $ \gb -> do
+        let bb = pos gb
+            lo = max 0 ((bb - w + r - 1) `div` r)
+            go !ga !bestF !bestC !bestA
+              | ga >= gb || pos ga > bb - 2 = pure (bestF, bestC, bestA)
               | otherwise = do
-                  fa <- MU.unsafeRead f a
-                  ca <- MU.unsafeRead cnt a
-                  let v = fa + groupSse s a bb + lam
+                  fa <- MU.unsafeRead f ga
+                  ca <- MU.unsafeRead cnt ga
+                  let v = fa + groupSse s (pos ga) bb + lam
                   if v < bestF || (v == bestF && ca + 1 < bestC)
-                    then go (a + 1) v (ca + 1) a
-                    else go (a + 1) bestF bestC bestA
+                    then go (ga + 1) v (ca + 1) ga
+                    else go (ga + 1) bestF bestC bestA
         (bf, bc, ba) <- go lo (1 / 0) maxBound 0
-        MU.unsafeWrite f bb bf
-        MU.unsafeWrite cnt bb bc
-        MU.unsafeWrite arg bb ba
+        -- an end no group reaches (one sample in) keeps F = ∞
+        if isInfinite bf then pure () else do
+          MU.unsafeWrite f gb bf
+          MU.unsafeWrite cnt gb bc
+          MU.unsafeWrite arg gb ba
       args <- U.unsafeFreeze arg
-      let back b acc | b == 0 = 0 : acc
-                     | otherwise = back (args U.! b) (b : acc)
-      pure (U.fromList (back n []))
+      let back g acc | g == 0 = 0 : acc
+                     | otherwise = back (args U.! g) (pos g : acc)
+      pure (U.fromList (back nGrid []))
+    -- each interior boundary moved to the sample within r of it (groups of at least two
+    -- samples) where its two groups' SSE is least, pass after pass from the first until
+    -- none moves (at most 5); nothing to do on the full grid (r = 1)
+    refine v0
+      | r == 1 = v0
+      | otherwise = passes (5 :: Int) v0
+      where
+        passes 0 v = v
+        passes k v = let v' = U.fromList (go (U.toList v)) in if v' == v then v else passes (k - 1) v'
+        go (a : b : c : rest) =
+          let cands = [ b' | b' <- [max (a + 2) (b - r) .. min (c - 2) (b + r)] ]
+              cost b' = groupSse s a b' + groupSse s b' c
+              best = if null cands then b else snd (minimum [ (cost b', b') | b' <- cands ])
+          in a : go (best : c : rest)
+        go xs = xs
     groups v = U.length v - 1
     close v = abs (groups v - m) <= max 1 (m `div` 50)
     -- find λ with too few groups and one with too many (steps of ×30 from the guess), then
