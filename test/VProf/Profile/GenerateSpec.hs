@@ -173,6 +173,15 @@ spec = do
                _ -> property Discard
 
   describe "infeasible requests" $ do
+    it "a landing that ends outside half the end tolerance but inside it is kept (a 32.741 m route at a 1 s step was missed by 5.0 mm of 10 and answered NOT_CONVERGED)" $ do
+      let rq = defaultRequest
+            { rqRouteLength = 32.741 *~ meter, rqZones = [SpeedZone (0 *~ meter) (0.372 *~ mps)]
+            , rqMinAcceleration = (-1.657) *~ mps2, rqMaxAcceleration = 3.576 *~ mps2
+            , rqMinJerk = (-24.919) *~ mps3, rqMaxJerk = 12.754 *~ mps3
+            , rqTimeStep = Just (1 *~ second) }
+          r = generatePure rq
+      resOutcome r `shouldBe` Generated
+      sound rq r `shouldBe` True
     it "a long, weak braking into a low zone is not called infeasible (the brake oracle's step guard was shorter than the braking: 8.9 s of it at 0.291 m/s\178)" $ do
       -- 3.829 m/s down to the 1.23 m/s zone at 24.69 m needs about 22.8 m of the 24.69
       let rq = defaultRequest
