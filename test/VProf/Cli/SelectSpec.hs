@@ -77,18 +77,13 @@ spec = do
       es <- errorsOf f
       es `shouldSatisfy` any (\e -> "environment[0].file" `isInfixOf` e && "no-cell.obj" `isInfixOf` e)
       run [f, "--robots", "ur5"] `shouldReturn` ExitFailure 2
-    it "a path file with a missing pose value names its line" $ withSystemTempDirectory "vprof-select" $ \tmp -> do
-      writeFile (tmp </> "p.txt") "# t x y z qx qy qz qw\n0 0.5 0 0.3 0 0 0 1\n1 0.5 0.1 nan 0 0 0 1\n"
-      f <- writeTask tmp cell "payload: 1\nclearance: 0.01\npath: {file: p.txt}\n"
-      es <- errorsOf f
-      es `shouldSatisfy` any (\e -> "line 3" `isInfixOf` e)
-      run [f, "--robots", "ur5"] `shouldReturn` ExitFailure 2
-    it "a malformed path file names its line" $ withSystemTempDirectory "vprof-select" $ \tmp -> do
-      writeFile (tmp </> "p.txt") "# t x y z qx qy qz qw\n0 0.5 0 0.3 0 0 0 1\n1 0.5 0.1 zz 0 0 0 1\n"
-      f <- writeTask tmp cell "payload: 1\nclearance: 0.01\npath: {file: p.txt}\n"
-      es <- errorsOf f
-      es `shouldSatisfy` any (\e -> "line 3" `isInfixOf` e)
-      run [f, "--robots", "ur5"] `shouldReturn` ExitFailure 2
+    it "a malformed path file, or one with a missing pose value, names its line" $
+      mapM_ (\bad -> withSystemTempDirectory "vprof-select" $ \tmp -> do
+               writeFile (tmp </> "p.txt") ("# t x y z qx qy qz qw\n0 0.5 0 0.3 0 0 0 1\n1 0.5 0.1 " ++ bad ++ " 0 0 0 1\n")
+               f <- writeTask tmp cell "payload: 1\nclearance: 0.01\npath: {file: p.txt}\n"
+               es <- errorsOf f
+               es `shouldSatisfy` any (\e -> "line 3" `isInfixOf` e)
+               run [f, "--robots", "ur5"] `shouldReturn` ExitFailure 2) ["zz", "nan"]
   describe "path files as targets" $ do
     it "TUM and vprof compress's CSV: one target a waypoint, in the path's frame, every field read" $
       withSystemTempDirectory "vprof-select" $ \tmp -> do

@@ -136,7 +136,7 @@ linePartitionWith work ts ps m w0
         passes 0 v = v
         passes k v = let v' = U.fromList (go (U.toList v)) in if v' == v then v else passes (k - 1) v'
         go (a : b : c : rest) =
-          let cands = [ b' | b' <- [max (a + 2) (b - r) .. min (c - 2) (b + r)] ]
+          let cands = [max (a + 2) (b - r) .. min (c - 2) (b + r)]
               cost b' = groupSse s a b' + groupSse s b' c
               best = if null cands then b else snd (minimum [ (cost b', b') | b' <- cands ])
           in a : go (best : c : rest)
