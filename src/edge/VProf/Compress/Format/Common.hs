@@ -6,6 +6,7 @@ module VProf.Compress.Format.Common
   , trackFromRows
   , everyPose
   , dataLines
+  , numberField
   , numberFields
   , poseFields
   , missingToken
@@ -82,13 +83,15 @@ dataLines :: (Char -> Bool) -> B.ByteString -> [(Int, B.ByteString)]
 dataLines skip src = [ (i, s) | (i, l) <- zip [1 ..] (B.lines src)
                               , let s = B.dropWhile skip (B.strip l), not (B.null s), B.head s /= '#' ]
 
--- | The fields of data line i as numbers; an error names the format, line and column.
+-- | Field c of data line i as a number; an error names the format, line and column.
+numberField :: String -> Int -> Int -> B.ByteString -> Either String Double
+numberField format i c w = case readDouble w of
+  Just d -> Right d
+  Nothing -> Left (format ++ " line " ++ show i ++ ", column " ++ show c ++ ": not a number: " ++ shownField w)
+
+-- | The fields of data line i as numbers ('numberField', columns from 1).
 numberFields :: String -> Int -> [B.ByteString] -> Either String [Double]
-numberFields format i = traverse field . zip [1 :: Int ..]
-  where
-    field (c, w) = case readDouble w of
-      Just d -> Right d
-      Nothing -> Left (format ++ " line " ++ show i ++ ", column " ++ show c ++ ": not a number: " ++ shownField w)
+numberFields format i = traverse (uncurry (numberField format i)) . zip [1 :: Int ..]
 
 -- | Whether a field marks a value the tracker did not deliver: empty, or @nan@, @na@, @n/a@
 -- or @null@ in any case and with any sign (what motion-capture exports, numpy, R and
@@ -106,9 +109,7 @@ poseFields format i col0 = traverse field . zip [col0 ..]
   where
     field (c, w)
       | missingToken w = Right (0 / 0)
-      | otherwise = case readDouble w of
-          Just d -> Right d
-          Nothing -> Left (format ++ " line " ++ show i ++ ", column " ++ show c ++ ": not a number: " ++ shownField w)
+      | otherwise = numberField format i c w
 
 -- | Decimals that write every time of a track distinctly: 6 (1 µs), or up to 12 when
 -- waypoints are closer than that (times printed alike were read back as duplicates).

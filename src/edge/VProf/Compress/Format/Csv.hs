@@ -21,7 +21,7 @@ import Data.List (elemIndex, intercalate, sort)
 import Data.Maybe (isJust, isNothing)
 
 import VProf.Compress.Clean (Sample (..))
-import VProf.Compress.Format.Common (missingToken, numberFields, poseFields, readDouble, renderPoseLines, shownField, trackFromRows)
+import VProf.Compress.Format.Common (missingToken, numberField, poseFields, readDouble, renderPoseLines, trackFromRows)
 import VProf.Compress.Types
 import VProf.Geometry.Vec
 
@@ -118,9 +118,7 @@ readCsv src = do
   pure (lay, [ Sample i (t * ts) (P3 (px * sp) (py * sp) (pz * sp)) q | (i, t, P3 px py pz, q) <- rows ])
   where
     numbered = zip [1 ..] (B.lines src)
-    field i cols c = case numberFields "CSV" i [cols !! (c - 1)] of
-      Right [d] -> Right d
-      _ -> Left ("CSV line " ++ show i ++ ", column " ++ show c ++ ": not a number: " ++ shownField (cols !! (c - 1)))
+    field i cols c = numberField "CSV" i c (cols !! (c - 1))
     poseField i cols c = head <$> poseFields "CSV" i c [cols !! (c - 1)]
 
 -- | What a header names: the time, a position axis (0–2) or a quaternion part (w x y z: 0–3).
