@@ -16,12 +16,21 @@ module VProf.Validation
   , finite
   , ensureFinite
   , validated
+  , maxCoordinate
     -- * Speaking the user's language
   , UserField (..)
   , inUserTerms
   ) where
 
 import Numeric (showEFloat, showFFloat)
+
+-- | The farthest a coordinate may lie from the origin (m; an OBJ scene's file units): a
+-- billion metres holds any work cell, a vehicle's UTM coordinates or a GPS track's, and keeps
+-- every square of a fit or a distance finite (coordinates of 1e150 m gave infinite errors, a
+-- NaN report, and a target "Infinity mm too far"). Beyond it a value is taken for a wrong unit
+-- or a corrupt file.
+maxCoordinate :: Double
+maxCoordinate = 1e9
 
 -- | A value as the user gave it: a number (rendered in full precision) or any text.
 data FieldValue

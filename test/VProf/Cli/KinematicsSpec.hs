@@ -14,7 +14,9 @@ import Test.Hspec
 import Support.Cli (runCommand)
 
 import Support.Arbitrary (shared)
-import VProf.Cli.Kinematics (fkCommand, ikCommand, loadRobot, robotsCommand)
+import VProf.Cli.Kinematics (fkCommand, ikCommand, loadRobot, outsideLimits, robotsCommand)
+import Data.List (isInfixOf)
+import qualified Data.Vector.Unboxed as U
 import VProf.Kinematics
 import VProf.Kinematics.Library (lookupRobot)
 import VProf.Plot.Robot (armPoints)
@@ -48,6 +50,16 @@ spec = describe "vprof robots / fk / ik" $ do
     run ikCommand ["ur5", "--pose", "3 0 0 1 0 0 0"] `shouldReturn` ExitFailure 1
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 1 1 0 0"] `shouldReturn` ExitFailure 2
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3"] `shouldReturn` ExitFailure 99
+    -- beyond 1e9 m is a wrong unit (its distance overflowed: "Infinity mm too far")
+    mapM_ (\p -> run ikCommand ["ur5", "--pose", p] `shouldReturn` ExitFailure 2) ["1e300 0 0 1 0 0 0", "0 -2e9 0 1 0 0 0"]
+  it "forward kinematics outside a joint's limits: computed, with a warning per joint in the units typed (degrees typed without --deg hinted)" $ do
+    let Right ur5 = lookupRobot "ur5"
+    run fkCommand ["ur5", "90", "0", "0", "0", "0", "0"] `shouldReturn` ExitSuccess
+    outsideLimits False ur5 (U.fromList [90, 0, 0, 0, 0, 1e308]) `shouldSatisfy`
+      (\ws -> length ws == 2 && all ("degrees need --deg" `isInfixOf`) ws && "90.0000 rad" `isInfixOf` head ws && "1.000e308 rad" `isInfixOf` last ws)
+    outsideLimits True ur5 (U.fromList (map (* (pi / 180)) [400, 0, 0, 0, 0, 0])) `shouldSatisfy`
+      (\ws -> length ws == 1 && "400.0000°" `isInfixOf` head ws && "360.0000°" `isInfixOf` head ws && not ("--deg" `isInfixOf` head ws))
+    outsideLimits False ur5 (U.fromList [6.28, -6.28, 3, 0, 0, 0]) `shouldBe` []
   it "--branch on a robot without a six-axis closed form is a usage error (exit 2); a branch with no solution is exit 1" $ do
     run ikCommand ["franka-panda", "--pose", "0.4 0.1 0.3 0 1 0 0", "--branch", "RUN"] `shouldReturn` ExitFailure 2
     run ikCommand ["abb-irb140", "--pose", "0.515 0 0.712 0.7071068 0 0.7071068 0", "--branch", "RUF", "--format", "json"] `shouldReturn` ExitFailure 1

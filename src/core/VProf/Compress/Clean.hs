@@ -222,12 +222,6 @@ qnorm (Q4 w a b c) =
   let m = maximum (map abs [w, a, b, c])
   in if m == 0 || isInfinite m then m else m * sqrt ((w / m) ^ (2 :: Int) + (a / m) ^ (2 :: Int) + (b / m) ^ (2 :: Int) + (c / m) ^ (2 :: Int))
 
--- | The farthest a position may lie from the origin: a billion metres holds any work cell,
--- a vehicle's UTM coordinates or a GPS track's, and keeps every square of the fit finite
--- (coordinates of 1e150 m gave infinite errors and a NaN report).
-maxCoordinate :: Double
-maxCoordinate = 1e9
-
 -- | Normalise every quaternion; (where, norm) of those off unit length by more than
 -- 'unitTolerance'.
 normalise :: [Sample] -> ([Sample], [(Int, Double)])

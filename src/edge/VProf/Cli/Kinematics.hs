@@ -14,6 +14,7 @@ module VProf.Cli.Kinematics
   , fkCommand
   , ikCommand
   , loadRobot
+  , outsideLimits
   ) where
 
 import qualified Data.Aeson as A
@@ -37,6 +38,7 @@ import VProf.Geometry.Bvh (buildBvh)
 import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
 import VProf.Kinematics.Collision (Clearance (..), CollisionOptions (..), collisionModel, defaultCollisionOptions, unknownBody)
 import VProf.Select.Ik
+import VProf.Validation (maxCoordinate, showNumber)
 import VProf.Plot.Robot (plotRobot)
 
 data Format = Table | Json deriving (Eq)
@@ -201,6 +203,9 @@ runFk o = do
       case checkJointVector False r q of
         es@(_ : _) -> failWith (intercalate "; " (map renderFieldError es))
         [] -> do
+          -- a configuration the robot cannot take still has a pose (as in every kinematics
+          -- library), but the user hears of it: 90 typed without --deg is 90 rad
+          mapM_ (hPutStrLn stderr . ("vprof fk: warning: " ++)) (outsideLimits (fkDeg o) r q)
           let ch = compile r
               Pose (V3 x y z) (Quat w qx' qy' qz') = forwardPose ch q
               (_, jac) = jacobian ch q
@@ -219,6 +224,22 @@ runFk o = do
               , "manipulability:  " ++ showFFloat (Just 6) manip ""
               , "condition:       " ++ (if isInfinite cond then "inf (singular)" else num 2 cond) ]
           pure ExitSuccess
+
+-- | A line for each joint value outside its joint's limits, in the units typed.
+outsideLimits :: Bool -> Robot -> U.Vector Double -> [String]
+outsideLimits deg r q =
+  [ "joint " ++ jointName j ++ " = " ++ shown j x ++ " is outside its limits " ++ shown j lo ++ " to " ++ shown j hi
+    ++ "; the pose is computed all the same" ++ (if jointKind j == Revolute && not deg && abs x > 2 * pi + 1e-9 then " (degrees need --deg)" else "")
+  | (j, x) <- zip (robotJoints r) (U.toList q)
+  , let Limits lo hi = jointLimits j
+        slack = 1e-9 * max 1 (abs x)
+  , x < lo - slack || x > hi + slack ]
+  where
+    shown j v
+      | jointKind j == Revolute && deg = short (v * 180 / pi) ++ "°"
+      | jointKind j == Revolute = short v ++ " rad"
+      | otherwise = short v ++ " m"
+    short v = if abs v < 1e6 then num 4 v else showEFloat (Just 3) v ""
 
 ------------------------------------------------------------------------------ ik
 
@@ -278,6 +299,9 @@ runIk o = do
       _ | e : _ <- [ e | b <- ikIgnoreBodies o, Just e <- [unknownBody r False b] ] ->
             failWith ("--ignore-body: " ++ e)
       [x, y, z, w, qx', qy', qz']
+        | any ((> maxCoordinate) . abs) [x, y, z] ->
+            failWith ("--pose: the position (" ++ unwords (map show [x, y, z]) ++ ") m is more than "
+                      ++ showNumber maxCoordinate ++ " m from the robot's base, beyond any reach (is the unit right?)")
         | abs (sqrt (w * w + qx' * qx' + qy' * qy' + qz' * qz') - 1) > 1e-6 ->
             failWith ("--pose: the quaternion (" ++ unwords (map show [w, qx', qy', qz']) ++ ") is not a unit quaternion")
         | otherwise -> do

@@ -12,7 +12,6 @@
 module VProf.Geometry.Format.Obj
   ( parseObj
   , readObj
-  , maxCoordinate
   , readDouble
   ) where
 
@@ -29,11 +28,6 @@ import Control.Monad (forM_, when)
 
 import VProf.Geometry.Mesh (Mesh (..))
 import VProf.Validation
-
--- | The largest coordinate magnitude accepted (file units): 1e9, far beyond any work cell in m or
--- mm; larger values are taken as a corrupt file.
-maxCoordinate :: Double
-maxCoordinate = 1e9
 
 -- | Reads and parses an OBJ file; errors are prefixed with the path.
 readObj :: FilePath -> IO (Either String Mesh)

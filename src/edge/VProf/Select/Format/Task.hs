@@ -15,6 +15,7 @@ module VProf.Select.Format.Task
   ) where
 
 import Control.Exception (SomeException, try)
+import Control.Monad (when)
 import qualified Data.Aeson as A
 import qualified Data.Aeson.Key as K
 import qualified Data.Aeson.KeyMap as KM
@@ -40,7 +41,7 @@ import VProf.Kinematics.Model (Capsule (..))
 import VProf.Kinematics.Transform
 import VProf.Format.DuplicateKeys (duplicateKeyErrors)
 import VProf.Select.Task
-import VProf.Validation (renderFieldError, showNumber)
+import VProf.Validation (maxCoordinate, renderFieldError, showNumber)
 
 type P a = Either [String] a
 
@@ -157,6 +158,10 @@ pose p v = do
     [] -> Right ()
     ks -> Left [p ++ "." ++ k ++ ": unknown field (a pose has position, and quaternion or rpy_deg)" | k <- ks]
   pos <- optionalP p o "position" (Right (V3 0 0 0)) (vec3 (p ++ ".position"))
+  let V3 px py pz = pos
+  when (any ((> maxCoordinate) . abs) [px, py, pz]) $
+    Left [p ++ ".position: " ++ show [px, py, pz] ++ " is more than " ++ showNumber maxCoordinate
+          ++ " m from the origin, beyond any work cell (is the unit right?)"]
   case (KM.lookup "quaternion" o, KM.lookup "rpy_deg" o) of
     (Just _, Just _) -> Left [p ++ ": give quaternion or rpy_deg, not both"]
     (Just q, Nothing) -> do
