@@ -10,6 +10,7 @@ import VProf.Geometry.Polyline
 import VProf.Geometry.Quaternion
 import VProf.Compress.Objective
 import VProf.Geometry.Vec
+import Numeric.Units.Dimensional.Prelude (metre, (*~))
 
 -- | A random path: K waypoints, segment durations 1–2.5 s, positions in a 1 m cube,
 -- orientations turning up to 0.8 rad per segment.
@@ -84,6 +85,7 @@ spec = describe "recovery of a known K-waypoint path" $ do
     mapM_ raiseOne [("position", \x -> thesisWeights x 1 1, mPositionRmse)
                    , ("orientation", \x -> thesisWeights 1 x 1, mOrientationRmse)
                    , ("velocity", \x -> thesisWeights 1 1 x, mVelocityRmse)]
+  toleranceMet
   it "raising a weight lowers that error (orientation weight 0 -> 30 at K points with noise)" $
     property $ forAll genTruth $ \tr -> forAllBlind (sampleTruth tr (Just (1e-3, 0.2 * pi / 180))) $ \rec ->
       let k = length (trT tr)
@@ -92,6 +94,24 @@ spec = describe "recovery of a known K-waypoint path" $ do
           o30 = e (thesisWeights 1 30 1)
       in counterexample (show (map mOrientationRmse [o0, o30])) $
            mOrientationRmse o30 < mOrientationRmse o0
+
+-- | Any tolerance, from far below the noise to above the motion: the fit says it is met
+-- exactly when the largest time-synchronous error, measured here from the path and the
+-- samples, is within it (and then has no more points than samples).
+toleranceMet :: Spec
+toleranceMet =
+  it "a tolerance (1e-7 m to 0.3 m, log-uniform; noise up to 5 mm) is reported met exactly when the largest error at the samples, measured independently, is within it" $
+    checkCoverage $ forAll genTruth $ \tr -> forAll (choose (0, 5e-3)) $ \amp -> forAllBlind (sampleTruth tr (Just (amp, 0.2 * pi / 180))) $ \rec ->
+      forAll (choose (-7, log 0.3 / log 10)) $ \e ->
+        let tol = 10 ** e :: Double
+            Recording raw = rec
+            o = either (error . show) id (compress defaultSettings { sTolerance = Just (tol *~ metre) } rec)
+            Track pt pp pq = pathTrack (oPath o)
+            worst = maximum [ distance (fst (polylineAt pt pp pq t)) p | (t, p) <- zip (U.toList (tTime raw)) (ptoList (tPos raw)) ]
+        in cover 10 (oToleranceMet o) "met" $ cover 10 (not (oToleranceMet o)) "not met" $
+           counterexample (show (tol, worst, oToleranceMet o, trackLength (pathTrack (oPath o)), trackLength raw)) $
+             if oToleranceMet o then worst <= tol * (1 + 1e-9) .&&. trackLength (pathTrack (oPath o)) <= trackLength raw
+             else property (worst > tol * (1 - 1e-9)) .&&. abs (mPositionMax (oMetrics o) - worst) <= 1e-9 * max 1 worst
 
 -- | Raising weight c from 1 to 10 to 100 never raises error c by more than 'raiseTolerance'.
 raiseOne :: (String, Double -> Weights, Metrics -> Double) -> Spec
