@@ -245,6 +245,15 @@ spec = describe "VProf.Compress.Clean" $ do
                Left e -> counterexample (show e) False
                Right c -> counterexample (show (clWarnings c)) $
                  U.toList (clLocs c) === [ smLoc s | (i, s) <- zip [0 ..] ss, i `notElem` idx ]
+    it "with rejection, a recording of 2 to 6 samples is kept whole, spiked or not, and a warning says none was judged; from 7 samples on, no such warning (was silent)" $
+      property $ forAll genBase $ \ss0 -> forAll (choose (2, 12)) $ \n -> forAll (choose (0, n - 1)) $ \i ->
+        forAll (P3 <$> choose (1, 2) <*> choose (-1, 1) <*> choose (-1, 1)) $ \d ->
+          let ss = [ if j == i then s { smPos = smPos s ^+^ d } else s | (j, s) <- zip [0 :: Int ..] (take n ss0) ]
+          in case clean defaultCleanOptions { cleanRejectOutliers = Just defaultOutlierFactor } ss of
+               Left e -> counterexample (show e) False
+               Right c -> counterexample (show (clWarnings c)) $
+                 if n < 7 then trackLength (clTrack c) === n .&&. [ m | OutliersNotJudged m <- clWarnings c ] === [n]
+                 else [ m | OutliersNotJudged m <- clWarnings c ] === []
     it "with rejection, a clean recording loses nothing" $
       property $ forAll genBase $ \ss ->
         case clean defaultCleanOptions { cleanRejectOutliers = Just defaultOutlierFactor } ss of

@@ -19,7 +19,8 @@
 -- * q and −q are the same orientation: the cleaned track is sign-aligned so that
 --   consecutive quaternions have a non-negative dot product (a note counts the flips);
 -- * optionally ('cleanRejectOutliers'), position spikes are removed: see
---   'rejectOutliers'; a warning says how many and where;
+--   'rejectOutliers'; a warning says how many and where, or that a recording too short for
+--   the robust line was not judged;
 -- * fewer than 2 samples left: an error;
 -- * a time step more than 'cleanGapFactor' times the median step: accepted, with a warning
 --   (how many, the largest and where).
@@ -95,6 +96,9 @@ data CleanWarning
     -- (consecutive samples with a negative dot product); where they are, first few
   | OutliersRejected !Double !Int [(Double, Int)]
     -- ^ factor k; samples removed; (time, where) of the first few
+  | OutliersNotJudged !Int
+    -- ^ rejection asked for, but the recording has fewer samples than the robust line needs
+    -- ('outlierWindow'): how many it has
   | Gaps !Double !Double !Int (Double, Double, Int) [(Double, Int)]
     -- ^ factor, median step (s), how many, (largest step, time after it, where), (step,
     -- where) of the first few
@@ -138,6 +142,7 @@ warningCount = \case
   DuplicateTimes _ n _ _ -> n
   SignFlips n _ _ -> n
   OutliersRejected _ n _ -> n
+  OutliersNotJudged n -> n
   Gaps _ _ n _ _ -> n
   LongMedianStep _ n -> n
 
@@ -172,6 +177,7 @@ cleanSamples loc opts raw
             , case cleanRejectOutliers opts of
                 Just k | not (null outliers) ->
                   [OutliersRejected k (length outliers) (take firstFew [ (smTime s, smLoc s) | s <- outliers ])]
+                Just _ | length aligned < outlierWindow -> [OutliersNotJudged (length aligned)]
                 _ -> []
             , gapWarning (cleanGapFactor opts) kept
             , [ LongMedianStep m (length kept) | length kept >= 2
@@ -286,6 +292,11 @@ alignSigns (s0 : rest) = go (smRot s0) rest [s0] []
 -- through the neighbours that an earlier rule used rejected a two-sample spike's good
 -- neighbours instead of it, and never judged the ends.) A recording of fewer than 7 samples
 -- is left alone. Passes repeat (at most 10) until none is rejected.
+-- | The samples the robust line of 'rejectOutliers' is fitted through (i−3 … i+3): a
+-- recording with fewer is not judged.
+outlierWindow :: Int
+outlierWindow = 7
+
 rejectOutliers :: Double -> [Sample] -> ([Sample], [Sample])
 rejectOutliers k ss0 = go (10 :: Int) ss0 []
   where
@@ -296,7 +307,7 @@ rejectOutliers k ss0 = go (10 :: Int) ss0 []
       in if null bad then (ss, sortOn smTime out)
          else go (m - 1) [ s | (i, s) <- zip [0 ..] ss, i `notElem` bad ] (map (v V.!) bad ++ out)
     spikes v
-      | n < 7 = []
+      | n < outlierWindow = []
       | otherwise = [ i | i <- [0 .. n - 1], r U.! i > k * max sigma medStep ]
       where
         n = V.length v
@@ -357,6 +368,9 @@ renderCleanWarning loc = \case
   OutliersRejected k n xs ->
     show n ++ " outlier" ++ plural n ++ " rejected (position spike above " ++ showNumber k ++ " times the local step) ("
     ++ list [ "t = " ++ showNumber t ++ " s at " ++ lcAt loc l | (t, l) <- xs ] n ++ ")"
+  OutliersNotJudged n ->
+    "no outlier judged: the rejection fits a line through " ++ show outlierWindow ++ " samples around each one, and the recording has "
+    ++ show n ++ " sample" ++ plural n ++ "; every one kept"
   Gaps f med n (d, t, l) xs ->
     show n ++ " gap" ++ plural n ++ " (time step above " ++ showNumber f ++ " times the median " ++ showNumber med
     ++ " s) accepted; the largest " ++ showNumber d ++ " s before t = " ++ showNumber t ++ " s at " ++ lcAt loc l

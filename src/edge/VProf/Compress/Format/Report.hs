@@ -96,6 +96,7 @@ warningsJson loc ws = toJSONList
       DuplicateTimes {} -> "duplicate_times"
       SignFlips {} -> "sign_flips"
       OutliersRejected {} -> "outliers_rejected"
+      OutliersNotJudged {} -> "outliers_not_judged"
       Gaps {} -> "gaps"
       LongMedianStep {} -> "long_median_step"
     toJSONList = toJSON
