@@ -276,6 +276,11 @@ alignSigns (s0 : rest) = go (smRot s0) rest [s0] []
       | qdot prev (smRot s) < 0 = let s' = s { smRot = qneg (smRot s) } in go (smRot s') ss (s' : acc) (smLoc s : fl)
       | otherwise = go (smRot s) ss (s : acc) fl
 
+-- | The samples the robust line of 'rejectOutliers' is fitted through (i−3 … i+3): a
+-- recording with fewer is not judged.
+outlierWindow :: Int
+outlierWindow = 7
+
 -- | Position spikes, removed. Each sample i is compared with a robust line in time through
 -- the seven samples around it (i−3 … i+3, shifted inward at the ends of the recording so that
 -- it stays seven wide): per coordinate the repeated-median line (Siegel 1982: the slope the
@@ -292,11 +297,6 @@ alignSigns (s0 : rest) = go (smRot s0) rest [s0] []
 -- through the neighbours that an earlier rule used rejected a two-sample spike's good
 -- neighbours instead of it, and never judged the ends.) A recording of fewer than 7 samples
 -- is left alone. Passes repeat (at most 10) until none is rejected.
--- | The samples the robust line of 'rejectOutliers' is fitted through (i−3 … i+3): a
--- recording with fewer is not judged.
-outlierWindow :: Int
-outlierWindow = 7
-
 rejectOutliers :: Double -> [Sample] -> ([Sample], [Sample])
 rejectOutliers k ss0 = go (10 :: Int) ss0 []
   where

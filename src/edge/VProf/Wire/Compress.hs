@@ -146,7 +146,7 @@ outcomeToMsg rid secs warns o = CompressedPathMsg
                                 ("tolerance not met: largest position error "
                                  ++ show (mPositionMax (oMetrics o)) ++ " m with " ++ show (mPoints (oMetrics o))
                                  ++ " points, the most the thesis method reaches (about 15 % of the samples);"
-                                 ++ " the path is that one. More points (points) or a larger tolerance"))
+                                 ++ " the path is that one. For a finer one ask for more points (the points field) or a larger tolerance"))
 
 mkError :: ErrorCodeEnum -> String -> String -> ErrorMsg
 mkError code field msg = ErrorMsg
