@@ -11,6 +11,7 @@ module Support.Wide
   , genWide
   , wideTimeSteps
   , lowered
+  , logUniform
   ) where
 
 import Data.List (nub, sort)

@@ -13,6 +13,7 @@ import Test.QuickCheck hiding (generate, Result)
 
 import Support.Arbitrary
 import Support.Proofs
+import Support.Wide (logUniform)
 import VProf.Profile.Generate
 import VProf.Profile.Generate.RubberBand
 import VProf.Profile.Generate.Exact (proofCertificates)
@@ -347,18 +348,35 @@ spec = do
       -- the first step is the fast one: past the zone's end, at no more than its limit
       fmap (\p -> (distances p U.! 1 > 0.016, prVelocities p U.! 1 <= 0.243)) (resProfile r) `shouldBe` Just (True, True)
 
-  describe "degenerate routes" $
-    it "a route shorter than the end tolerance gives a one-sample profile that encodes and checks" $ do
+  describe "short routes" $ do
+    it "a route shorter than 1 cm is driven, not stood on: its default end tolerance is a tenth of it (a 4 mm route was a one-sample profile)" $ do
       let rq = defaultRequest { rqRouteLength = 0.004 *~ meter }
           r = generatePure rq
           pb = problemOf rq
+      pbTol pb `shouldBe` 0.0004
       case resProfile r of
         Just p -> do
-          sampleCount p `shouldBe` 1
-          jerks p `shouldBe` U.empty
+          sampleCount p `shouldSatisfy` (> 1)
+          abs (U.last (distances p) - 0.004) `shouldSatisfy` (<= 0.0004)
           check pb p `shouldBe` []
           resOutcome r `shouldBe` Generated
         Nothing -> expectationFailure (show (resOutcome r))
+    it "an end_tolerance not below route_length is refused, naming end_tolerance" $
+      forM_ [0.004, 0.01] $ \tol ->
+        case validate defaultRequest { rqRouteLength = 0.004 *~ meter, rqEndTolerance = Just (tol *~ meter) } of
+          Left es -> map feField es `shouldBe` ["end_tolerance"]
+          Right _ -> expectationFailure ("end_tolerance " ++ show tol ++ " m accepted for a 4 mm route")
+    it "routes from 0.1 mm to 10 cm under random limits end within a tenth of their length, legal by the checker" $
+      property $ forAll ((,,,) <$> logUniform 1e-4 0.1 <*> logUniform 0.05 5 <*> logUniform 0.1 10 <*> logUniform 0.1 50) $ \(len, v, a, j) ->
+        let rq = defaultRequest { rqRouteLength = len *~ meter, rqZones = [SpeedZone (0 *~ meter) (v *~ mps)]
+                                , rqMinAcceleration = negate a *~ mps2, rqMaxAcceleration = a *~ mps2
+                                , rqMinJerk = negate j *~ mps3, rqMaxJerk = j *~ mps3 }
+            r = generatePure rq
+        in counterexample (show (resOutcome r)) $ case resProfile r of
+             Just p -> let sEnd = U.last (distances p)
+                       in counterexample ("ends at " ++ show sEnd ++ " m of " ++ show len)
+                            (abs (sEnd - len) <= len / 10 * (1 + 1e-9) .&&. check (problemOf rq) p === [] .&&. sEnd >= 0.9 * len)
+             Nothing -> property False
 
   describe "no crawl" $
     it "a short fast route ends at rest in seconds, not after a creep of days (examples/creep-29m.json)" $ do

@@ -96,6 +96,7 @@ defaultTimeStep = 0.125
 defaultTimeBudget :: Double
 defaultTimeBudget = 1.0
 
+-- | 1 cm; a route shorter than 10 cm gets a tenth of its length.
 defaultEndTolerance :: Double
 defaultEndTolerance = 0.01
 
@@ -159,7 +160,9 @@ validate rq =
     vE = si (rqEndVelocity rq); aE = si (rqEndAcceleration rq)
     dt = maybe defaultTimeStep si (rqTimeStep rq)
     budget = maybe defaultTimeBudget si (rqTimeBudget rq)
-    tol = maybe defaultEndTolerance si (rqEndTolerance rq)
+    -- a route no longer than its tolerance would be "reached" by standing still: the
+    -- default is a tenth of a route shorter than ten times it, and a given one must be shorter
+    tol = maybe (if finite len && len > 0 then min defaultEndTolerance (len / 10) else defaultEndTolerance) si (rqEndTolerance rq)
     maxIt = maybe (defaultMaxIterations (rqAlgorithm rq)) id (rqMaxIterations rq)
     dvGiven = fmap si (rqVelocityStep rq)
     -- the thesis mode grows its profile from rest one step per pass, so it takes the
@@ -218,7 +221,11 @@ validate rq =
                 else [] ]
       , check (maxIt > 0) "max_iterations" (fromIntegral maxIt :: Double) "" "must be > 0"
       , checkFinite "time_budget" budget "s" $ check (budget > 0) "time_budget" budget "s" "must be > 0"
-      , checkFinite "end_tolerance" tol "m" $ check (tol > 0) "end_tolerance" tol "m" "must be > 0"
+      , checkFinite "end_tolerance" tol "m" $ concat
+          [ check (tol > 0) "end_tolerance" tol "m" "must be > 0"
+          , check (not (finite len && len > 0) || tol < len) "end_tolerance" tol "m"
+              ("must be smaller than route_length, " ++ num len ++ " m: a profile that stands still would reach the end within it")
+          ]
       , sizeErrors
       ]
 
