@@ -43,6 +43,7 @@ import VProf.Plan.Limits
 import VProf.Plan.Route
 import VProf.Plan.Track
 import VProf.Profile (Request (..), Result (..), SpeedZone (..), Outcome (..), defaultRequest, generatePure, resultLegal, renderFailure)
+import VProf.Profile.Request (maxSamples)
 import VProf.Profile.Sampled (Columns (..), columns, duration)
 import VProf.Units
 import VProf.Validation
@@ -282,6 +283,18 @@ planPath rq@PlanRequest{..} = do
   case validateRequest rq of
     [] -> Right ()
     es -> Left (InvalidPlan es)
+  -- each stretch between stops is one profile, which holds at most maxSamples samples: at the
+  -- speed asked for, the longest one must fit (else the generator's refusal would name its own
+  -- route_length and time_step, not the plan's speed)
+  let stops = 0 : rtStops route ++ [rtLength route]
+      longest = maximum (zipWith (-) (drop 1 stops) stops)
+      least = longest / si prSpeed / si prTimeStep
+  if least > fromIntegral maxSamples
+    then Left (InvalidPlan [fieldError "speed" (si prSpeed) "m/s"
+                 ("is too slow for this path: its longest stretch between stops, " ++ showNumber longest ++ " m, would take at least "
+                  ++ (if least < 1e15 then show (ceiling least :: Integer) else showNumber least) ++ " samples at dt " ++ showNumber (si prTimeStep)
+                  ++ " s, above the cap of " ++ show maxSamples ++ " samples of one profile; raise the speed or dt")])
+    else Right ()
   tracked <- either (Left . Stopped) Right (trackRoute prTrack (kinematicsFor prRobot) route prStart)
   let lo = limitOptionsFor rq
       ch = compile prRobot
@@ -302,7 +315,7 @@ planPath rq@PlanRequest{..} = do
         let st = stepLimitsAt lo route pb ac a b in timed (a, b) va vb (sym acc) st (limitZones top st a b)
       -- the profile of a part at the acceleration range (braking, speeding up) under the zones zs
       -- (of its steps st)
-      timed (a, b) va vb acc st zs = ((a, b), acc, st, zs, generatePure (profileRequest (si prEndTolerance) a b acc zs va vb))
+      timed (a, b) va vb acc st zs = ((a, b), acc, st, zs, generatePure (profileRequest (min (si prEndTolerance) ((b - a) / 10)) a b acc zs va vb))
       timeOf (_, _, _, _, r) = if resultLegal r then maybe (1 / 0) duration (resProfile r) else 1 / 0
       samplesOf ((a, b), _, _, _, r) = maybe U.empty (stretchedS a b . columns) (resProfile r)
       -- a candidate's duration when its sampled joint motion keeps the limits ('jointsKeepLimits'),
@@ -621,6 +634,8 @@ planPath rq@PlanRequest{..} = do
     -- (a jump to the end would be a joint acceleration spike). f ≤ 1 + tolerance / (b − a), so
     -- the request asks for speeds, acceleration and jerk lowered by that factor: once stretched,
     -- the profile keeps the zones, acceleration and jerk of the plan.
+    -- (A part shorter than ten tolerances gets a tenth of its length: the generator refuses a
+    -- tolerance that the part's length does not exceed.)
     margin tol a b = 1 / (1 + tol / (b - a))
     profileRequest tol a b (brake, speedUp) zs va vb = defaultRequest
       { rqRouteLength = (b - a) *~ meter
