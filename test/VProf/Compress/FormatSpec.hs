@@ -282,6 +282,26 @@ spec = do
         case parseRapid (B.pack src) of
           Left e -> e `shouldSatisfy` (\m -> "line 2" `isInfixOf` m && what `isInfixOf` m)
           Right _ -> expectationFailure ("accepted: " ++ val)
+    it "takes names in any case, as RAPID does, and refuses a robtarget declared twice (the last one won), naming both lines" $ do
+      let target n x = "  CONST robtarget " ++ n ++ " := [[" ++ show (x :: Int) ++ ",0,300],[0,1,0,0],[0,0,0,0],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];"
+          modl ts = unlines (["MODULE m"] ++ ts ++ ["  PROC main()", "    MoveL P0, v500, z10, tool0;", "    MoveL p1, v500\\T:=1, fine, tool0;", "  ENDPROC", "ENDMODULE"])
+      fmap (map (\(P3 x _ _) -> x) . ptoList . tPos) (parseRapid (B.pack (modl [target "p0" 400, target "P1" 500]))) `shouldBe` Right [0.4, 0.5]
+      case parseRapid (B.pack (modl [target "p0" 400, target "p1" 500, target "P1" 600])) of
+        Left e -> e `shouldSatisfy` (\m -> "lines 3 and 4" `isInfixOf` m && "declared 2 times" `isInfixOf` m)
+        Right _ -> expectationFailure "a robtarget declared twice was accepted"
+    it "refuses loops, branches and jumps, and moves in two procedures, naming them (a FOR loop was read once, a PROC never called was appended)" $ do
+      let targets = [ "  CONST robtarget p" ++ show i ++ " := [[" ++ show (400 + 100 * i) ++ ",0,300],[0,1,0,0],[0,0,0,0],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];" | i <- [0, 1 :: Int] ]
+          modl body = unlines (["MODULE m"] ++ targets ++ body ++ ["ENDMODULE"])
+          moves = ["    MoveL p0, v500, z10, tool0;", "    MoveL p1, v500\\T:=1, fine, tool0;"]
+      forM_ [ (["  PROC main()", "    FOR i FROM 1 TO 3 DO"] ++ moves ++ ["    ENDFOR", "  ENDPROC"], "line 5", "FOR")
+            , (["  PROC main()", "    WHILE TRUE DO"] ++ moves ++ ["    ENDWHILE", "  ENDPROC"], "line 5", "WHILE")
+            , (["  PROC main()", "    IF di1 = 1 THEN"] ++ moves ++ ["    ENDIF", "  ENDPROC"], "line 5", "IF")
+            , (["  PROC main()"] ++ moves ++ ["  ENDPROC", "  PROC spare()", "    MoveL p0, v500\\T:=1, fine, tool0;", "  ENDPROC"], "main from line 5", "spare from line 9") ] $ \(body, where_, what) ->
+        case parseRapid (B.pack (modl body)) of
+          Left e -> e `shouldSatisfy` (\m -> where_ `isInfixOf` m && what `isInfixOf` m)
+          Right _ -> expectationFailure ("accepted: " ++ unlines body)
+      -- moves in one procedure that main calls are fine
+      fmap trackLength (parseRapid (B.pack (modl (["  PROC main()", "    path1;", "  ENDPROC", "  PROC path1()"] ++ moves ++ ["  ENDPROC"])))) `shouldBe` Right 2
     it "names the line of a move to an undeclared target" $ do
       let Left e = parseRapid (B.pack "MODULE m\nPROC main()\n  MoveL nowhere, v500, z10, tool0;\nENDPROC\nENDMODULE\n")
       e `shouldSatisfy` ("line 3" `isInfixOf`)

@@ -4,7 +4,9 @@
 -- [q1 q2 q3 q4] = [w x y z]) and, in order, the @MoveL@ / @PaintL@ / @MoveJ@ instructions
 -- that use them; the @\\T:=@ of a move is the time it takes, so the waypoint times are the
 -- running sum (the first move starts at 0, or at the time in a @! vprof start time:@
--- comment). Writing: one @CONST robtarget@ a waypoint and a @MoveL@ with @\\T:=@ for every
+-- comment). Names ignore case, as in RAPID; a robtarget declared twice, moves in more than
+-- one procedure, and loops, branches or jumps (FOR, WHILE, IF, TEST, GOTO) are refused with
+-- their lines, since the written order would not be the order the moves run in. Writing: one @CONST robtarget@ a waypoint and a @MoveL@ with @\\T:=@ for every
 -- segment, so that the recorded timing is kept.
 module VProf.Compress.Format.Rapid
   ( RapidOptions (..)
@@ -12,11 +14,13 @@ module VProf.Compress.Format.Rapid
   , parseRapid
   , readRapid
   , renderRapid
+  , rapidReserved
   ) where
 
 import qualified Data.ByteString.Char8 as B
 import Data.Char (isAlphaNum, isSpace, toLower)
-import Data.List (isPrefixOf)
+import Data.List (isPrefixOf, sortBy)
+import Data.Ord (comparing)
 import qualified Data.Map.Strict as M
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
@@ -58,6 +62,7 @@ statements src = go (zip [1 ..] (lines src)) Nothing "" Nothing []
       in split i rest start' (cur' ++ " ") code st' acc'
     keywords = [ "module", "endmodule", "proc", "endproc", "func", "endfunc", "trap", "endtrap"
                , "local", "const", "pers", "var", "movel", "movej", "paintl", "moveabsj", "movec" ]
+               ++ controlWords ++ [ "end" ++ w | w <- ["for", "while", "if", "test"] ]
     split i rest start cur code st acc =
       case break (== ';') code of
         (a, ';' : b) ->
@@ -74,6 +79,22 @@ statements src = go (zip [1 ..] (lines src)) Nothing "" Nothing []
       in if key `isPrefixOf` map toLower c'
            then readDouble (B.pack (drop (length key) c'))
            else Nothing
+
+-- | RAPID's control statements: a module using them does not run its moves in the order
+-- they are written, which is how vprof reads them.
+controlWords :: [String]
+controlWords = ["for", "while", "if", "test", "goto"]
+
+-- | RAPID's reserved words (Technical reference manual, RAPID kernel), in lower case: no
+-- name may be one.
+rapidReserved :: [String]
+rapidReserved = map lower
+  [ "ALIAS", "AND", "BACKWARD", "CASE", "CONNECT", "CONST", "DEFAULT", "DIV", "DO", "ELSE", "ELSEIF"
+  , "ENDFOR", "ENDFUNC", "ENDIF", "ENDMODULE", "ENDPROC", "ENDRECORD", "ENDTEST", "ENDTRAP", "ENDWHILE"
+  , "ERROR", "EXIT", "FALSE", "FOR", "FROM", "FUNC", "GOTO", "IF", "INOUT", "LOCAL", "MOD", "MODULE"
+  , "NOSTEPIN", "NOT", "NOVIEW", "OR", "PERS", "PROC", "RAISE", "READONLY", "RECORD", "RETRY", "RETURN"
+  , "STEP", "SYSMODULE", "TEST", "THEN", "TO", "TRAP", "TRUE", "TRYNEXT", "UNDO", "VAR", "VIEWONLY"
+  , "WHILE", "WITH", "XOR" ]
 
 trim :: String -> String
 trim = f . f where f = reverse . dropWhile isSpace
@@ -93,13 +114,34 @@ parseRapid bs = do
 readRapid :: B.ByteString -> Either String [Sample]
 readRapid bs = do
   let (stmts, startT) = statements (B.unpack bs)
-  targets <- M.fromList <$> traverse robtarget [ s | s@(_, x) <- stmts, "robtarget" `elem` words (lower (map sep x)) ]
+  declared <- traverse robtarget [ s | s@(_, x) <- stmts, "robtarget" `elem` words (lower (map sep x)) ]
+  -- RAPID names are case-insensitive; a name declared twice is ambiguous
+  targets <- M.traverseWithKey (\name -> \case
+                 [(_, pose)] -> Right pose
+                 lns -> Left ("RAPID lines " ++ joinLines (reverse (map fst lns)) ++ ": robtarget " ++ name
+                              ++ " is declared " ++ show (length lns) ++ " times (RAPID names ignore case); which one is meant?"))
+               (M.fromListWith (++) [ (lower name, [(ln, pose)]) | (ln, name, pose) <- declared ])
   let moves = [ s | s@(_, x) <- stmts, isMove x ]
+      -- the procedure each statement belongs to (the last PROC before it)
+      procs = [ (ln, takeWhile (\c -> isAlphaNum c || c == '_') n) | (ln, x) <- stmts, ("proc" : n : _) <- [dropLocal (words (lower x))] ]
+      procOf ln = case [ n | (l, n) <- procs, l <= ln ] of
+        [] -> "(outside any PROC)"
+        ns -> last ns
+      moveProcs = M.toList (M.fromListWith min [ (procOf ln, ln) | (ln, _) <- moves ])
+      control = [ (ln, w) | (ln, x) <- stmts, (w : _) <- [words x], lower w `elem` controlWords ]
       -- a move vprof cannot turn into straight timed moves changes the path: refuse it
       -- (MoveAbsJ, a move in joint space, is left out as documented)
       unsupported = [ (ln, w) | (ln, x) <- stmts, (w : _) <- [words x], let lw = lower w
                               , any (`isPrefixOf` lw) ["move", "paint", "search", "trigg"]
                               , lw `notElem` ["movel", "paintl", "movej", "moveabsj"] ]
+  case control of
+    (ln, w) : _ -> Left ("RAPID line " ++ show ln ++ ": " ++ w ++ " is not followed: vprof reads the moves in the order they are"
+                         ++ " written, so a module with loops, branches or jumps would give another path; write its moves out in order")
+    [] -> Right ()
+  case moveProcs of
+    _ : _ : _ -> Left ("RAPID: moves in more than one procedure (" ++ commaList [ n ++ " from line " ++ show l | (n, l) <- sortOnSnd moveProcs ]
+                       ++ "): vprof reads the moves of one procedure in the order written and cannot tell the order the procedures run in")
+    _ -> Right ()
   case unsupported of
     (ln, w) : _ -> Left ("RAPID line " ++ show ln ++ ": " ++ w ++ " is not supported (vprof reads MoveL, PaintL and MoveJ"
                          ++ " with \\T:= times; a circular or searching move would change the path)")
@@ -123,7 +165,7 @@ readRapid bs = do
           shape = "needs [[x,y,z],[q1,q2,q3,q4],...]"
       case map numbersIn (take 2 groups) of
         [Right [x1, y1, z1], Right [q1, q2, q3, q4]] ->
-          Right (name, (P3 (x1 * 1e-3) (y1 * 1e-3) (z1 * 1e-3), Q4 q1 q2 q3 q4))
+          Right (ln, name, (P3 (x1 * 1e-3) (y1 * 1e-3) (z1 * 1e-3), Q4 q1 q2 q3 q4))
         [Left bad, _] -> Left ("RAPID line " ++ show ln ++ ": robtarget " ++ name ++ ": not a number: " ++ show bad)
         [_, Left bad] -> Left ("RAPID line " ++ show ln ++ ": robtarget " ++ name ++ ": not a number: " ++ show bad)
         [Right ps, Right qs] -> Left ("RAPID line " ++ show ln ++ ": robtarget " ++ name ++ " " ++ shape ++ ", found "
@@ -133,7 +175,7 @@ readRapid bs = do
       let afterInstr = dropWhile isSpace (dropWhile (not . isSpace) x)
           name = trim (takeWhile (/= ',') afterInstr)
       pose <- maybe (Left ("RAPID line " ++ show ln ++ ": move to " ++ show name ++ ", which is not a declared robtarget")) Right
-                    (M.lookup name targets)
+                    (M.lookup (lower name) targets)
       dt <- case breakOn "\\t:=" (lower x) of
         (_, "") | k == 0 -> Right 0
                 | otherwise -> Left ("RAPID line " ++ show ln ++ ": move to " ++ name
@@ -146,6 +188,21 @@ readRapid bs = do
                _ -> Left ("RAPID line " ++ show ln ++ ": move to " ++ name ++ ": \\T:= " ++ show numTxt
                           ++ " is not a positive time")
       Right (dt, pose)
+
+joinLines :: [Int] -> String
+joinLines = commaList . map show
+
+commaList :: [String] -> String
+commaList [] = ""
+commaList [a] = a
+commaList xs = foldr1 (\a b -> a ++ ", " ++ b) (init xs) ++ " and " ++ last xs
+
+sortOnSnd :: Ord b => [(a, b)] -> [(a, b)]
+sortOnSnd = sortBy (comparing snd)
+
+dropLocal :: [String] -> [String]
+dropLocal ("local" : r) = r
+dropLocal r = r
 
 breakOn :: String -> String -> (String, String)
 breakOn pat = go ""
