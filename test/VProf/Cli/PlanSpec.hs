@@ -5,6 +5,7 @@
 module VProf.Cli.PlanSpec (spec) where
 
 import qualified Data.ByteString.Lazy as BL
+import Data.List (isPrefixOf)
 import qualified Data.Vector.Unboxed as U
 import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
@@ -52,6 +53,20 @@ spec = do
             ls = BL.split 10 src
         BL.writeFile holed (BL.intercalate "\n" (take 2 ls ++ ["1,nan,-0.10,0.30,0,1,0,0"] ++ drop 3 ls))
         run [holed, "--robot", "ur5"] `shouldReturn` ExitFailure 2
+    it "an -o onto a file the task names (its path file) is refused (exit 2) and the file left as it was" $
+      withSystemTempDirectory "vprof-plan" $ \tmp -> do
+        task <- readFile "examples/freiburg-task.yaml"
+        path <- BL.readFile "examples/freiburg-40.csv"
+        let t = tmp </> "task.yaml"; p = tmp </> "freiburg-40.csv"
+        -- the cell by its place from the temporary directory: left out, the path file is what matters
+        writeFile t (unlines [ l | l <- lines task, not (any (`isPrefixOf` l) ["environment:", "  - file:", "    scale:", "    pose:", "ignore_bodies:"]) ])
+        BL.writeFile p path
+        run [t, "--robot", "ur10", "-o", p] `shouldReturn` ExitFailure 2
+        BL.readFile p `shouldReturn` path
+        run [t, "--robot", "ur10", "--format", "csv", "-o", tmp </> "traj.svg", "--plot", tmp </> "traj.svg"] `shouldReturn` ExitFailure 2
+    it "a zone between 0 and 0.1 mm is refused (z0.0001 planned for 12 s, z1e-9 ran out of time); a speed too slow for the sample cap names --speed (exit 2)" $ do
+      mapM_ (\z -> run ["examples/plan-square.csv", "--robot", "ur5", "--zone", z] `shouldReturn` parserRefused) ["z0.0001", "z1e-9", "z0.09"]
+      run ["examples/plan-square.csv", "--robot", "ur5", "--speed", "v0.001"] `shouldReturn` ExitFailure 2
     it "--start outside a joint's limits is exit 2 (degrees typed without --deg were taken as radians, silently another branch); inside them exit 0" $ do
       run ["examples/plan-square.csv", "--robot", "ur5", "--start", "0 -90 90 -90 -90 0"] `shouldReturn` ExitFailure 2
       run ["examples/plan-square.csv", "--robot", "ur5", "--start", "100 0 0 0 0 0"] `shouldReturn` ExitFailure 2

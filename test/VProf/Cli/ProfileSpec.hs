@@ -2,7 +2,9 @@
 -- exit codes and messages the README promises for bad input.
 module VProf.Cli.ProfileSpec (spec) where
 
+import Control.Monad (forM_)
 import qualified Data.ByteString as B
+import Data.ProtocolBuffers (getField)
 import Data.List (intercalate, isInfixOf)
 import Options.Applicative
 import System.Exit (ExitCode (..))
@@ -13,7 +15,8 @@ import Test.Hspec
 import Support.Cli (parserRefused, runCommand)
 
 import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
-import VProf.Profile.Format.File (readRequest)
+import VProf.Profile.Format.File (readRequest, readRequestWithId)
+import VProf.Wire.Messages (ProfileResponseMsg (..), decodeBare)
 import VProf.Profile.Format.Text (table)
 import VProf.Profile.Request
 import VProf.Profile.Sampled (Profile (..))
@@ -72,6 +75,35 @@ spec = do
         -- infeasible: exit 1, no profile
         run generateOptions [slow, "-o", keep] `shouldReturn` ExitFailure 1
         readFile keep `shouldReturn` "t,s,v,a,j\n0,0,0,0,0\n"
+    it "-o and --plot on one file are refused (exit 2), as are an -o in a directory that does not exist and an empty -o, before any work" $
+      withSystemTempDirectory "vprof-gen" $ \dir -> do
+        let p = dir </> "p.svg"
+        run generateOptions [simple, "-o", p, "-f", "csv", "--plot", p] `shouldReturn` ExitFailure 2
+        run generateOptions [simple, "-o", dir </> "no" </> "p.csv"] `shouldReturn` ExitFailure 2
+        run generateOptions [simple, "-o", ""] `shouldReturn` ExitFailure 2
+        run generateOptions [simple, "-o", dir] `shouldReturn` ExitFailure 2
+        run generateOptions [simple, "-o", dir </> "p.csv", "--plot", p] `shouldReturn` ExitSuccess
+    it "echoes the request's request_id in a binary and a JSON profile; a request_id that is no uint64 is refused, naming it" $
+      withSystemTempDirectory "vprof-gen" $ \dir -> do
+        src <- readFile simple
+        let rq = dir </> "rq.json"; pbOut = dir </> "p.pb"; jsOut = dir </> "p.json"
+            withId v = "{\"request_id\": " ++ v ++ ", " ++ drop 1 (dropWhile (/= '{') src)
+        writeFile rq (withId "\"18446744073709551615\"")
+        run generateOptions [rq, "-o", pbOut] `shouldReturn` ExitSuccess
+        Right m <- decodeBare <$> B.readFile pbOut
+        getField (prsRequestId m) `shouldBe` Just 18446744073709551615
+        run generateOptions [rq, "-o", jsOut] `shouldReturn` ExitSuccess
+        js <- readFile jsOut
+        js `shouldSatisfy` ("\"request_id\":\"18446744073709551615\"" `isInfixOf`)
+        -- encode keeps the request's own id unless --request-id says otherwise
+        run encodeCommand [rq, dir </> "rq.pb"] `shouldReturn` ExitSuccess
+        fmap fst <$> readRequestWithId (dir </> "rq.pb") `shouldReturn` Right 18446744073709551615
+        run encodeCommand [rq, dir </> "rq.pb", "--request-id", "7"] `shouldReturn` ExitSuccess
+        fmap fst <$> readRequestWithId (dir </> "rq.pb") `shouldReturn` Right 7
+        forM_ ["1.5", "-1", "{\"a\": 1}", "\"18446744073709551616\"", "1e400", "true"] $ \bad -> do
+          writeFile rq (withId bad)
+          readRequest rq >>= either (`shouldSatisfy` ("request_id" `isInfixOf`)) (const (expectationFailure ("request_id " ++ bad ++ " accepted")))
+          run generateOptions [rq] `shouldReturn` ExitFailure 2
   describe "vprof check" $ do
     it "reads a profile CSV by its header's names; a row with another count of columns is exit 2 (a 3-column row was read), CRLF and blank lines are fine" $
       withSystemTempDirectory "vprof-check" $ \dir -> do
@@ -130,3 +162,11 @@ spec = do
         run encodeCommand [ok, out, "--request-id", "18446744073709551616"] `shouldReturn` ExitFailure 99
         run encodeCommand [ok, out, "--request-id", "18446744073709551615"] `shouldReturn` ExitSuccess
         run encodeCommand [ok, dir </> "no" </> "x.pb"] `shouldReturn` ExitFailure 2
+    it "refuses to write the binary over its own JSON input (exit 2, the input unchanged)" $
+      withSystemTempDirectory "vprof-enc" $ \dir -> do
+        src <- B.readFile simple
+        let rq = dir </> "rq.json"
+        B.writeFile rq src
+        run encodeCommand [rq, rq] `shouldReturn` ExitFailure 2
+        run encodeCommand [rq, dir </> "." </> "rq.json"] `shouldReturn` ExitFailure 2
+        B.readFile rq `shouldReturn` src

@@ -110,6 +110,48 @@ spec = describe "vprof compress" $ do
       code `shouldBe` ExitFailure 2
       err `shouldSatisfy` ("only KITTI poses take a times file" `isInfixOf`)
       runCli [f, "--points", "10", "-o", dir </> "out.txt"] `shouldReturn` ExitSuccess
+  it "refuses -o and --plot on one file, -o onto a KITTI recording's times file found beside it, and an -o in no directory (exit 2, before the fit)" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      rec <- dataFile "freiburg1_xyz-groundtruth.txt"
+      src <- B.readFile rec
+      let f = dir </> "rec.txt"
+      B.writeFile f (B.unlines (take 300 (B.lines src)))
+      runCli [f, "--points", "10", "-o", dir </> "p.svg", "--output-format", "tum", "--plot", dir </> "p.svg"] `shouldReturn` ExitFailure 2
+      runCli [f, "--points", "10", "-o", dir </> "nodir" </> "p.txt"] `shouldReturn` ExitFailure 2
+      runCli [f, "--points", "10", "--plot", dir </> "nodir" </> "p.svg"] `shouldReturn` ExitFailure 2
+      pf <- dataFile "KITTI_00_gt.txt"
+      tf <- dataFile "KITTI_00_gt_times.txt"
+      poses <- B.readFile pf
+      times <- B.readFile tf
+      let k = dir </> "k.txt"; kt = dir </> "k_times.txt"
+          kTimes = B.unlines (take 200 (B.lines times))
+      B.writeFile k (B.unlines (take 200 (B.lines poses)))
+      B.writeFile kt kTimes
+      (code, err) <- captureStderr (dir </> "err") (runCli [k, "--points", "10", "-o", kt])
+      code `shouldBe` ExitFailure 2
+      err `shouldSatisfy` ("the times file itself" `isInfixOf`)
+      B.readFile kt `shouldReturn` kTimes
+      -- a times line out of order is named with the times file
+      B.writeFile kt (B.unlines [ if i == (5 :: Int) then B.pack "0.01" else l | (i, l) <- zip [1 ..] (B.lines kTimes) ])
+      (code', err') <- captureStderr (dir </> "err2") (runCli [k, "--points", "10", "-o", dir </> "out.txt"])
+      code' `shouldBe` ExitFailure 2
+      err' `shouldSatisfy` (("with the times of " ++ kt) `isInfixOf`)
+      err' `shouldSatisfy` ("line 5" `isInfixOf`)
+  it "says how a CSV without a header is read (a Polhemus log: ms and mm), and names tabs in a tab-separated header" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      let f = dir </> "nohdr.csv"; t = dir </> "tabs.csv"
+      writeFile f (unlines [ intercalate "," (map show [10 * i, i, 0, 0, 1, 0, 0, 0 :: Double]) | i <- [0 .. 20] ])
+      (code, err) <- captureStderr (dir </> "err") (runCli [f, "--points", "3", "-o", dir </> "out.txt"])
+      code `shouldBe` ExitSuccess
+      err `shouldSatisfy` ("no header: read as a Polhemus-style log (time in ms, position in mm" `isInfixOf`)
+      writeFile t "time\tx\ty\tz\tqw\tqx\tqy\tqz\n0\t0\t0\t0\t1\t0\t0\t0\n1\t1\t0\t0\t1\t0\t0\t0\n"
+      (code', err') <- captureStderr (dir </> "err2") (runCli [t])
+      code' `shouldBe` ExitFailure 2
+      err' `shouldSatisfy` ("separated by tabs" `isInfixOf`)
+  it "refuses an --outlier-factor below 1 (it rejected 995 of 997 samples at 1e-9) and --weights beyond 10^6 (the report overflowed)" $ do
+    rec <- dataFile "freiburg1_xyz-groundtruth.txt"
+    mapM_ (\k -> runCli [rec, "--outlier-factor", k] `shouldReturn` ExitFailure 99) ["0.5", "1e-9", "0", "2e6"]
+    mapM_ (\w -> runCli [rec, "--weights", w] `shouldReturn` ExitFailure 99) ["1e308,1,1", "1,1e7,1", "1,1,Infinity"]
   it "writes a RAPID module with the requested number of moves and exits 0" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       rec <- dataFile "freiburg1_xyz-groundtruth.txt"

@@ -97,7 +97,7 @@ compressOptions' = CompressOptions
     cleanP = CleanOptions
       <$> option (eitherReader dups) (long "duplicates" <> metavar "merge|drop" <> value MergeDuplicates
             <> help "samples sharing a time: merge them into one (positions averaged, quaternions sign-aligned and averaged; default) or keep the first only; either way a warning says how many and where")
-      <*> optional (option (eitherReader posD) (long "outlier-factor" <> metavar "K"
+      <*> optional (option (eitherReader factorD) (long "outlier-factor" <> metavar "K"
             <> help "reject isolated position spikes more than K times the local step (and the robust noise spread) away from their neighbours' line; --reject-outliers is K = 5; default: keep every sample"))
       <*> option (eitherReader posD) (long "gap-factor" <> metavar "F" <> value (cleanGapFactor defaultCleanOptions) <> showDefault
             <> help "warn about time steps longer than F times the median step")
@@ -108,6 +108,10 @@ compressOptions' = CompressOptions
     posD s = case readD s of
       Just d | finite d && d > 0 -> Right d
       _ -> Left (s ++ ": expected a finite number > 0")
+    -- below 1 a sample one ordinary step off its neighbours' line would be a spike
+    factorD s = case readD s of
+      Just d | finite d && d >= 1 && d <= 1e6 -> Right d
+      _ -> Left ("--outlier-factor " ++ s ++ ": expected a number from 1 to 10^6 (times the local step; 5 is --reject-outliers)")
     stopP = (StopPoints <$> option (eitherReader posInt) (long "points" <> metavar "K" <> help "waypoints wanted (default: 3 % of the samples)"))
         <|> (StopMargin <$> option auto (long "margin" <> metavar "M" <> help "stop removing points when the error passes M times the grown path's error"))
         <|> (StopTolerance <$> option auto (long "tolerance" <> metavar "MM" <> help "largest position error allowed, mm"))
@@ -119,6 +123,7 @@ compressOptions' = CompressOptions
       <*> option (eitherReader (rapidName "--rapid-wobj")) (long "rapid-wobj" <> metavar "WOBJ" <> value (roWobj defaultRapidOptions) <> showDefault <> help "RAPID work object")
     -- a RAPID identifier: a letter, then letters, digits or underscores, 32 characters at most
     rapidName what s
+      | map toLower s `elem` rapidReserved = Left (what ++ " " ++ show s ++ ": a RAPID reserved word cannot be a name")
       | (c : cs) <- s, isAsciiLetter c, all (\x -> isAsciiLetter x || isDigit x || x == '_') cs, length s <= 32 = Right s
       | otherwise = Left (what ++ " " ++ show s ++ ": expected a RAPID identifier (a letter, then letters, digits or _; at most 32 characters)")
     isAsciiLetter x = (x >= 'a' && x <= 'z') || (x >= 'A' && x <= 'Z')
@@ -152,8 +157,8 @@ compressOptions' = CompressOptions
       [(k, "")] | k >= (2 :: Integer) && k <= 1000000000 -> Right (fromInteger k)
       _ -> Left ("--points " ++ s ++ ": expected a whole number from 2 to 10^9")
     weights s = case mapM readD (splitOn ',' s) of
-      Just [p, o, v] | all (\x -> finite x && x >= 0) [p, o, v] && (p > 0 || v > 0) -> Right (p, o, v)
-      _ -> Left ("--weights " ++ s ++ ": expected three finite numbers >= 0, P,O,V, with P or V > 0")
+      Just [p, o, v] | all (\x -> finite x && x >= 0 && x <= 1e6) [p, o, v] && (p > 0 || v > 0) -> Right (p, o, v)
+      _ -> Left ("--weights " ++ s ++ ": expected three numbers from 0 to 10^6, P,O,V, with P or V > 0 (only their ratios matter)")
     readD x = case reads x of
       [(d, "")] -> Just (d :: Double)
       _ -> Nothing
@@ -169,6 +174,11 @@ optionName = \case
   f | "weights" `isPrefixOf` f -> Just (UserField "--weights" "" 1)
   _ -> Nothing
 
+-- | Where a KITTI recording's times are looked for without --times: its name with _times
+-- before the extension (poses.txt, poses_times.txt).
+kittiTimesSibling :: FilePath -> FilePath
+kittiTimesSibling file = dropExtension file ++ "_times" ++ takeExtension file
+
 splitOn :: Char -> String -> [String]
 splitOn c s = case break (== c) s of
   (a, _ : b) -> a : splitOn c b
@@ -176,10 +186,15 @@ splitOn c s = case break (== c) s of
 
 runCompress :: CompressOptions -> IO ExitCode
 runCompress o = do
-  clash <- Out.overwritesInput (("the recording", file) : [ ("the times file", f) | Just f <- [coTimes o] ])
-                               ([ ("-o", f) | Just f <- [coOutput o] ] ++ [ ("--plot", f) | Just f <- [coPlot o] ])
+  clash <- Out.overwritesInput (("the recording", file) : [ ("the times file", f) | Just f <- [coTimes o] ]) outputs
   maybe readAndRun failInput clash
   where
+    -- a KITTI recording's times: --times, else the file beside it if there is one
+    timesFile = case coTimes o of
+      Just f -> pure (Just f)
+      Nothing -> let sibling = kittiTimesSibling file
+                 in doesFileExist sibling >>= \ok -> pure (if ok then Just sibling else Nothing)
+    outputs = [ ("-o", f) | Just f <- [coOutput o] ] ++ [ ("--plot", f) | Just f <- [coPlot o] ]
     readAndRun = do
       src <- try (dropBom <$> B.readFile file)
       case src of
@@ -194,7 +209,11 @@ runCompress o = do
           case parsed of
             Left e -> failInput e
             Right (notes, samples) -> case cleanSamples fileLocator (coClean o) samples of
-              Left errs -> failInput (file ++ ": " ++ intercalate "; " (map renderFieldError errs))
+              Left errs -> do
+                -- a KITTI recording's times (and so their order) come from its times file, line for line
+                tf <- if fmt == InKitti then timesFile else pure Nothing
+                failInput (maybe file (\t -> file ++ " with the times of " ++ t ++ " (the same line numbers)") tf
+                           ++ ": " ++ intercalate "; " (map renderFieldError errs))
               Right cl -> do
                 mapM_ (\n -> hPutStrLn stderr ("vprof compress: note: " ++ file ++ ": " ++ n)) notes
                 mapM_ (\w -> hPutStrLn stderr ("vprof compress: " ++ label w ++ ": " ++ file ++ ": " ++ renderCleanWarning fileLocator w))
@@ -222,18 +241,26 @@ runCompress o = do
     answered notes = pure . either (Left . ((file ++ ": ") ++)) (Right . notes)
     plain = answered ((,) [])
     parseWith InTum b = plain (readTum b)
-    parseWith InLog b = plain (readLog b)
+    parseWith InLog b
+      -- a CSV of numbers only is taken for a Polhemus log: say so, since its units are not SI
+      | coInputFormat o == Nothing && map toLower (takeExtension file) == ".csv" =
+          answered ((,) ["no header: read as a Polhemus-style log (time in ms, position in mm, then qw,qx,qy,qz);"
+                         ++ " for seconds and metres give the header time,x,y,z,qw,qx,qy,qz"]) (readLog b)
+      | otherwise = plain (readLog b)
     parseWith InMod b = plain (readRapid b)
     parseWith InCsv b = answered (\(l, ss) -> ([describeLayout l], ss)) (readCsv b)
     parseWith InKitti b = do
-      let sibling = dropExtension file ++ "_times" ++ takeExtension file
-      given <- maybe (doesFileExist sibling >>= \ok -> pure (if ok then Just sibling else Nothing)) (pure . Just) (coTimes o)
+      let sibling = kittiTimesSibling file
+      given <- timesFile
       case given of
         Nothing -> pure (Left (file ++ ": KITTI poses (12 numbers a line) carry no times: give --times FILE (one time in s a line, KITTI's times.txt); "
                                ++ sibling ++ " does not exist"))
         Just tf -> do
-          tb <- try (dropBom <$> B.readFile tf)
+          -- the times file found beside the recording is an input too
+          clash <- Out.overwritesInput [("the times file", tf)] outputs
+          tb <- maybe (try (dropBom <$> B.readFile tf)) (\_ -> pure (Right B.empty)) clash
           pure $ case tb of
+            _ | Just msg <- clash -> Left msg
             Left e -> Left ("cannot read the times " ++ tf ++ ": " ++ ioReason (e :: IOException))
             Right times -> case readKitti b times of
               Left e -> Left (file ++ " with the times of " ++ tf ++ ": " ++ e)

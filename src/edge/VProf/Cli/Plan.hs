@@ -53,7 +53,7 @@ import VProf.Kinematics.Transform (Quat (..), Tf, V3 (..), compose, fromRpy, ide
 import VProf.Plan
 import VProf.Plot.Plan (plotPlan)
 import VProf.Profile.Result (resultLegal)
-import VProf.Select.Format.Task (readTaskFile)
+import VProf.Select.Format.Task (readTaskFile, taskFileInputs)
 import VProf.Select.Task (MeshPlacement (..), Target (..), Task (..))
 import VProf.Units
 import VProf.Validation
@@ -78,8 +78,15 @@ parseSpeedData s = case map toLower s of
 parseZoneData :: String -> Either String Zone
 parseZoneData s = case map toLower s of
   "fine" -> Right Fine
+  'z' : num | Just z <- readD num, finite z, z > 0 && z < minZoneMm ->
+    Left ("--zone " ++ show s ++ ": a zone below " ++ show minZoneMm ++ " mm would be driven no faster than a stop"
+          ++ " (the corner's speed goes with its radius) and costs a long plan; use fine (or z0) for a stop")
   'z' : num | Just z <- readD num, finite z, z >= 0 -> Right (if z == 0 then Fine else Blend ((z / 1000) *~ meter))
   _ -> Left ("--zone " ++ show s ++ ": expected RAPID zone data zN, N the zone radius in mm >= 0 (e.g. z10), or fine")
+
+-- | The smallest zone radius taken, mm (RAPID's smallest predefined zone, z0, is 0.3 mm).
+minZoneMm :: Double
+minZoneMm = 0.1
 
 readD :: String -> Maybe Double
 readD w = case reads w of
@@ -213,7 +220,8 @@ readPathInput f
 
 runPlan :: PlanOpts -> IO ExitCode
 runPlan o = do
-  clash <- Out.overwritesInput ([("the path", poPath o), ("the robot file", poRobot o)] ++ [ ("the environment", f) | Just f <- [poEnv o] ])
+  named <- if isTaskFile (poPath o) then taskFileInputs (poPath o) else pure []
+  clash <- Out.overwritesInput ([("the path", poPath o), ("the robot file", poRobot o)] ++ [ ("the environment", f) | Just f <- [poEnv o] ] ++ named)
                                ([ ("-o", f) | Just f <- [poOutput o] ] ++ [ ("--plot", f) | Just f <- [poPlot o] ])
   er <- loadRobot (poTip o) (poRobot o)
   ep <- readPathInput (poPath o)

@@ -17,6 +17,7 @@ import qualified Data.ByteString as B
 import qualified Data.ByteString.Lazy as BL
 import qualified Data.ByteString.Lazy.Char8 as BLC
 import Data.Char (toLower)
+import Data.Word (Word64)
 import Options.Applicative
 import VProf.Plot.File (plotPath)
 import System.Exit
@@ -77,10 +78,10 @@ runGenerate :: GenOpts -> IO ExitCode
 runGenerate o = do
   clash <- Out.overwritesInput [("the request", goRequest o)]
                                ([ ("-o", f) | Just f <- [goOutput o] ] ++ [ ("--plot", f) | Just f <- [goPlot o] ])
-  er <- maybe (readRequest (goRequest o)) (pure . Left) clash
+  er <- maybe (readRequestWithId (goRequest o)) (pure . Left) clash
   case er of
     Left e -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
-    Right rq0 -> do
+    Right (rid, rq0) -> do
       let rq = rq0 { rqAlgorithm = maybe (rqAlgorithm rq0) id (goAlgorithm o)
                    , rqTimeBudget = maybe (rqTimeBudget rq0) (Just . (*~ second)) (goBudget o) }
       res <- generate rq
@@ -99,7 +100,7 @@ runGenerate o = do
         (Just f, _) | f `elem` [FCsv, FTable], Nothing <- resProfile res, Just out <- goOutput o -> do
           hPutStrLn stderr ("vprof: no profile to write: " ++ out ++ " left as it was")
           pure True
-        (Just f, _) -> writing (maybe "the profile" id (goOutput o)) (writeProfile f (goOutput o) res)
+        (Just f, _) -> writing (maybe "the profile" id (goOutput o)) (writeProfile rid f (goOutput o) res)
         _ -> pure True
       okPlot <- case (goPlot o, resProfile res, validate rq) of
         (Just plotPath, Just p, Right pb) ->
@@ -119,10 +120,12 @@ formatFromExt path = case map toLower (takeExtension path) of
   ".bin" -> FPb
   _ -> FTable
 
-writeProfile :: Format -> Maybe FilePath -> Result -> IO ()
-writeProfile f out res = case f of
-  FPb -> let bytes = encodeBare (resultToMsg 0 res) in maybe (B.hPut stdout bytes) (`B.writeFile` bytes) out
-  FJson -> let bytes = profileJson res in maybe (BLC.putStrLn bytes) (`BL.writeFile` bytes) out
+-- | The profile in the format, answering the request with this request_id (echoed in the
+-- binary and JSON forms).
+writeProfile :: Word64 -> Format -> Maybe FilePath -> Result -> IO ()
+writeProfile rid f out res = case f of
+  FPb -> let bytes = encodeBare (resultToMsg rid res) in maybe (B.hPut stdout bytes) (`B.writeFile` bytes) out
+  FJson -> let bytes = profileJsonFor rid res in maybe (BLC.putStrLn bytes) (`BL.writeFile` bytes) out
   FCsv -> let bytes = maybe BL.empty csv (resProfile res) in maybe (BL.hPut stdout bytes) (`BL.writeFile` bytes) out
   FTable -> text (maybe "" table (resProfile res))
   where text s = maybe (putStr s) (`writeFile` s) out
@@ -159,15 +162,16 @@ encodeCommand :: Parser (IO ExitCode)
 encodeCommand = run
   <$> strArgument (metavar "REQUEST" <> help "a ProfileRequest in JSON (or binary)")
   <*> strArgument (metavar "OUT.pb" <> help "where to write the binary ProfileRequest")
-  <*> option (eitherReader uint64) (long "request-id" <> value 0 <> metavar "N" <> help "request_id to set (0 to 2^64 - 1)")
+  <*> optional (option (eitherReader uint64) (long "request-id" <> metavar "N" <> help "request_id to set (0 to 2^64 - 1; default: the request's own)"))
   where
     uint64 str = case reads str :: [(Integer, String)] of
       [(k, "")] | k >= 0 && k <= 18446744073709551615 -> Right (fromIntegral k)
       _ -> Left ("--request-id " ++ str ++ ": expected a whole number from 0 to 18446744073709551615 (a uint64)")
     run inp out rid = do
-      er <- readRequest inp
+      clash <- Out.overwritesInput [("the request", inp)] [("OUT.pb", out)]
+      er <- maybe (readRequestWithId inp) (pure . Left) clash
       case er of
         Left e -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
-        Right rq -> do
-          ok <- Out.writing "vprof" out (B.writeFile out (encodeBare (requestToMsg rid rq)))
+        Right (own, rq) -> do
+          ok <- Out.writing "vprof" out (B.writeFile out (encodeBare (requestToMsg (maybe own id rid) rq)))
           pure (if ok then ExitSuccess else ExitFailure 2)

@@ -16,6 +16,7 @@ module VProf.Cli.Select
 import qualified Data.Aeson as A
 import qualified Data.ByteString.Lazy.Char8 as BLC
 import Data.Char (toLower)
+import Data.Containers.ListUtils (nubOrdOn)
 import Data.List (intercalate)
 import qualified Data.Vector.Unboxed as U
 import GHC.Conc (getNumCapabilities)
@@ -23,7 +24,7 @@ import Numeric (showFFloat)
 import Options.Applicative
 import VProf.Plot.File (plotPath)
 import System.Exit
-import System.FilePath (takeExtension)
+import System.FilePath (hasExtension, takeExtension)
 import System.IO
 
 import VProf.Cli.Kinematics (loadRobot)
@@ -116,7 +117,8 @@ loadRobots tip spec
            | otherwise -> Right [r | Right r <- rs]
         es -> Left ("--robots: " ++ intercalate "; " es)
   where
-    names = filter (not . null) (splitComma spec)
+    -- a robot named twice is evaluated and ranked once (library names ignore case)
+    names = nubOrdOn (\n -> if hasExtension n then n else map toLower n) (filter (not . null) (splitComma spec))
     isUrdf n = map toLower (takeExtension n) == ".urdf"
 
 num :: Int -> Double -> String

@@ -5,6 +5,7 @@
 -- the line, for CSV).
 module VProf.Profile.Format.File
   ( readRequest
+  , readRequestWithId
   , readProfile
   ) where
 
@@ -16,6 +17,7 @@ import qualified Data.ByteString.Lazy.Char8 as BLC
 import Data.Char (isSpace, toLower)
 import Data.List (elemIndex, intercalate)
 import Data.ProtocolBuffers (getField)
+import Data.Word (Word64)
 import qualified Data.Vector.Unboxed as U
 import System.FilePath (takeExtension)
 
@@ -29,16 +31,22 @@ import VProf.Wire.Validate (MsgType (..), validateWire)
 
 -- | Read a request file; Left is a message for the user.
 readRequest :: FilePath -> IO (Either String Request)
-readRequest path = do
+readRequest path = fmap snd <$> readRequestWithId path
+
+-- | 'readRequest' with the request's @request_id@ (0 when it has none), which the answer echoes.
+readRequestWithId :: FilePath -> IO (Either String (Word64, Request))
+readRequestWithId path = do
   r <- try (B.readFile path)
   pure $ case r of
     Left (e :: IOException) -> Left (path ++ ": " ++ ioReason e)
     Right bytes
       | map toLower (takeExtension path) == ".json" ->
-          either (\e -> Left (path ++ ": not a valid JSON ProfileRequest: " ++ e)) Right (requestFromJson (BL.fromStrict bytes))
+          let lazy = BL.fromStrict bytes
+          in either (\e -> Left (path ++ ": not a valid JSON ProfileRequest: " ++ e)) Right
+                    ((,) <$> requestIdFromJson lazy <*> requestFromJson lazy)
       | otherwise -> case validateWire TProfileRequest bytes >> decodeBare bytes of
           Left e -> Left (path ++ ": not a valid binary ProfileRequest: " ++ e)
-          Right m -> Right (requestFromMsg m)
+          Right m -> Right (maybe 0 id (getField (prqRequestId m)), requestFromMsg m)
 
 -- | A profile file: the time step and the velocities.
 readProfile :: FilePath -> IO (Either String (Double, U.Vector Double))

@@ -7,8 +7,10 @@
 module VProf.Profile.Format.Json
   ( requestFromJson
   , requestFromValue
+  , requestIdFromJson
   , profileToJson
   , profileJson
+  , profileJsonFor
   ) where
 
 import Data.Aeson hiding (Result)
@@ -20,7 +22,8 @@ import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Lazy as BL
 import Data.Char (toUpper)
 import Data.List (intercalate)
-import Data.Scientific (toRealFloat)
+import Data.Scientific (floatingOrInteger, toRealFloat)
+import Data.Word (Word64)
 import qualified Data.Text as T
 import qualified Data.Vector.Unboxed as U
 
@@ -40,6 +43,14 @@ requestFromJson bs = case duplicateJsonKeyErrors (BL.toStrict bs) of
 
 requestFromValue :: Value -> Either String Request
 requestFromValue = parseEither parseRequest
+
+-- | The request's @request_id@ (0 when absent), which a response echoes; an id that is not
+-- a uint64 is an error naming it.
+requestIdFromJson :: BL.ByteString -> Either String Word64
+requestIdFromJson bs = eitherDecode bs >>= parseEither (withObject "ProfileRequest" requestId)
+
+requestId :: Object -> Parser Word64
+requestId o = fieldWith protoUInt64 o "request_id" 0
 
 -- | Look a field up by its snake_case name or its lowerCamelCase form.
 field :: FromJSON a => Object -> String -> a -> Parser a
@@ -67,7 +78,6 @@ protoDouble = \case
       '+' : r -> r
       r -> r
 
--- | An integer as proto3 JSON writes it: a number or a string holding one.
 -- | A uint32 field: an integer from 0 to 2^32 - 1 (a larger one would wrap on the wire).
 protoUInt32 :: Value -> Parser Int
 protoUInt32 v = do
@@ -75,12 +85,32 @@ protoUInt32 v = do
   if k < 0 || k > 4294967295
     then fail (show k ++ " is outside the range of a uint32, 0 to 4294967295")
     else pure (fromIntegral k)
+
+-- | A uint64 field (proto3 JSON writes it as a string): an integer from 0 to 2^64 - 1.
+protoUInt64 :: Value -> Parser Word64
+protoUInt64 v = do
+  k <- protoInteger v
+  if k < 0 || k > 18446744073709551615
+    then fail (show k ++ " is outside the range of a uint64, 0 to 18446744073709551615")
+    else pure (fromIntegral k)
+
+-- | An integer as proto3 JSON writes it: a whole number, or a string holding one.
+protoInteger :: Value -> Parser Integer
+protoInteger = \case
+  String t -> case reads (T.unpack (T.strip t)) of
+    [(n, "")] -> pure n
+    _ -> fail ("expected an integer, got the string " ++ show t)
+  Number n | abs n >= 1e30 -> fail (show n ++ " is far outside the range of an integer field")
+           | Right k <- (floatingOrInteger n :: Either Double Integer) -> pure k
+  x -> fail ("expected an integer, got " ++ showValue x)
   where
-    protoInteger = \case
-      String t -> case reads (T.unpack (T.strip t)) of
-        [(n, "")] -> pure (n :: Integer)
-        _ -> fail ("expected an integer, got the string " ++ show t)
-      x -> parseJSON x
+    showValue = \case
+      Number n -> show (toRealFloat n :: Double)
+      Object _ -> "an object"
+      Array _ -> "an array"
+      Bool b -> if b then "true" else "false"
+      String t -> show t
+      Null -> "null"
 
 dbl :: Object -> String -> Parser Double
 dbl o name = fieldWith protoDouble o name 0
@@ -103,6 +133,7 @@ fieldWith parse o name def = case KM.lookup (K.fromString name) o of
 
 parseRequest :: Value -> Parser Request
 parseRequest = withObject "ProfileRequest" $ \o -> do
+  _ <- requestId o  -- checked here; 'requestIdFromJson' reads it for the response
   len <- dbl o "route_length"
   zonesV <- field o "speed_limits" []
   zones <- mapM parseZone zonesV
@@ -195,8 +226,14 @@ sampleColumns p =
 -- million of them per column, and aeson's own double printing takes some 20 µs a number).
 -- A non-finite number, which a profile never holds, would be @null@.
 profileJson :: Result -> BL.ByteString
-profileJson r = E.encodingToLazyByteString $
-  E.pairs (mconcat [ k .= v | (k, v) <- summaryPairs r ]
+profileJson = profileJsonFor 0
+
+-- | 'profileJson' answering the request with this @request_id@ (written, as proto3 JSON
+-- writes a uint64, as a string; left out when 0).
+profileJsonFor :: Word64 -> Result -> BL.ByteString
+profileJsonFor rid r = E.encodingToLazyByteString $
+  E.pairs ((if rid == 0 then mempty else "request_id" .= show rid)
+           <> mconcat [ k .= v | (k, v) <- summaryPairs r ]
            <> mconcat [ E.pair k (doubles xs) | Just p <- [resProfile r], (k, xs) <- sampleColumns p ])
   where
     -- a column straight into the builder: '[', the numbers with commas, ']'; rendered

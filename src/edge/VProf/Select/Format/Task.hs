@@ -12,6 +12,7 @@ module VProf.Select.Format.Task
   , parseTask
   , readPathTargets
   , resolvePath
+  , taskFileInputs
   ) where
 
 import Control.Exception (SomeException, try)
@@ -79,6 +80,26 @@ readTaskFile path = do
                    [] -> Right task'
                    es -> Left (map ((path ++ ": ") ++) (map renderFieldError es))
             (a, b) -> Left (either id (const []) a ++ either id (const []) b)
+
+-- | The files a task file names, resolved as 'readTaskFile' resolves them, with what each is
+-- ("the task's environment[0].file", "the task's path.file"), so that a command can refuse to
+-- write over one; nothing for a file that cannot be read or parsed (its reader says why).
+taskFileInputs :: FilePath -> IO [(String, FilePath)]
+taskFileInputs path = do
+  r <- try (BS.readFile path)
+  case r of
+    Left (_ :: SomeException) -> pure []
+    Right bs -> case Y.decodeEither' bs of
+      Left _ -> pure []
+      Right v -> mapM (\(w, f) -> (,) ("the task's " ++ w) <$> resolvePath (takeDirectory path) f) (named v)
+  where
+    named :: A.Value -> [(String, FilePath)]
+    named (A.Object o) =
+      [ ("environment[" ++ show i ++ "].file", T.unpack f)
+      | Just (A.Array es) <- [KM.lookup "environment" o], (i, A.Object e) <- zip [0 :: Int ..] (V.toList es)
+      , Just (A.String f) <- [KM.lookup "file" e] ]
+      ++ [ ("path.file", T.unpack f) | Just (A.Object p) <- [KM.lookup "path" o], Just (A.String f) <- [KM.lookup "file" p] ]
+    named _ = []
 
 -- | A file name from the task file, made usable from the current directory.
 resolvePath :: FilePath -> FilePath -> IO FilePath
