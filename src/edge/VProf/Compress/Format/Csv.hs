@@ -91,9 +91,15 @@ headerFields l0 =
 -- body was lost) is read as NaN, for the cleaning to drop. Errors name the line and column, or the columns the header lacks.
 readCsv :: B.ByteString -> Either String (CsvLayout, [Sample])
 readCsv src = do
+  let -- a header whose names are separated by tabs or semicolons is one field to this reader
+      firstLine = take 1 [ l | (_, l) <- numbered ]
+      separatorHint = case firstLine of
+        [l] | B.elem '\t' l && not (B.elem ',' l) -> "; the first line is separated by tabs: vprof's CSV is comma-separated (a whitespace-separated file reads as TUM under another extension, e.g. .txt)"
+            | B.elem ';' l && not (B.elem ',' l) -> "; the first line is separated by semicolons: vprof's CSV is comma-separated, with a point for the decimals"
+        _ -> ""
   (hi, names) <- case [ (i, fs) | (i, l) <- numbered, Just fs <- [headerFields l] ] of
     h : _ -> Right h
-    [] -> Left "CSV: no header line naming the columns (e.g. time,x,y,z,qw,qx,qy,qz)"
+    [] -> Left ("CSV: no header line naming the columns (e.g. time,x,y,z,qw,qx,qy,qz)" ++ separatorHint)
   lay0 <- layoutOf hi names
   let body = [ (i, s) | (i, l) <- numbered, i > hi, let s = B.strip l, not (B.null s), B.head s /= '#' ]
       (a, b, c) = clPos lay0

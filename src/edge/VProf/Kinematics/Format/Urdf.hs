@@ -27,7 +27,8 @@ import Text.XML.Cursor (Cursor, attribute, element, fromDocument, node, ($/))
 
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform
-import VProf.Validation (finite)
+import Data.Char (isDigit)
+import VProf.Validation (FieldError (..), finite)
 import VProf.Kinematics.Validate (renderFieldError, validateRobot)
 
 data UrdfOptions = UrdfOptions
@@ -68,7 +69,27 @@ readUrdf opts bs = case X.parseLBS X.def bs of
     r <- fromDoc opts doc
     case validateRobot r of
       [] -> Right r
-      es -> Left (map renderFieldError es)
+      es -> Left (map (renderFieldError . inUrdfTerms r) es)
+
+-- | A model error in the URDF's words: joints[1].limits.max is the joint's name and its
+-- <limit upper>.
+inUrdfTerms :: Robot -> FieldError -> FieldError
+inUrdfTerms r fe = case stripPrefix "joints[" (feField fe) of
+  Just rest | (ds, ']' : '.' : key) <- span isDigit rest, not (null ds)
+            , [j] <- take 1 (drop (read ds) (robotJoints r)) ->
+      fe { feField = "joint " ++ show (jointName j) ++ " " ++ urdfKey key, feRule = limitWords (feRule fe) }
+  _ -> fe
+  where
+    urdfKey = \case
+      "limits.max" -> "<limit upper>"
+      "limits.min" -> "<limit lower>"
+      k -> k
+    limitWords m = case breakOn' "limits.min" m of
+      (a, Just b) -> a ++ "<limit lower>" ++ b
+      (a, Nothing) -> a
+    breakOn' pat str = case [ i | i <- [0 .. length str - length pat], pat `isPrefixOf` drop i str ] of
+      i : _ -> (take i str, Just (drop (i + length pat) str))
+      [] -> (str, Nothing)
 
 -- | The XML parser's message in a person's words: its Haskell records (@Name {nameLocalName =
 -- "link", …}@, @ParseError {errorContexts = …}@) become @<link>@ and "line 2, column 66: …".
@@ -139,7 +160,9 @@ fromDoc UrdfOptions{..} doc
     -- the leaves of the joints' trees (a link no joint touches is none)
     pickLeaf = case [l | l <- allLinks, l `notElem` parents, l `elem` children] of
       [l] -> Right l
-      [] -> Left ["cannot choose the tip link: no joint has a child link"]
+      [] | null joints -> Left ["no <joint>: a robot's links must be joined by joints"]
+         | otherwise -> Left ["cannot choose the tip link: every child link is also a parent, so the joints ("
+                              ++ unwords (map (show . ujName) joints) ++ ") form a loop; a URDF is a tree"]
       ls -> Left ["cannot choose the tip link: " ++ show (length ls) ++ " leaf links (" ++ unwords ls ++ "); choose one with --tip LINK"]
     pathTo base tip = walk tip [] (0 :: Int)
       where
