@@ -24,6 +24,7 @@ import VProf.Kinematics.Transform
 import VProf.Select.CycleTime
 import VProf.Select.Selection
 import VProf.Select.Task
+import VProf.Select.Format.Task (readTaskFile)
 
 library :: [(String, Robot)]
 library = [(k, r) | (k, Right r) <- libraryRobots]
@@ -164,6 +165,17 @@ spec = do
                       robotClearanceAtLeast cm bvh q 0.01 `shouldBe` True
                     Nothing -> expectationFailure (trLabel t)
                 | (t, p) <- zip (rrTargets res) poses ]
+    it "a coarse path step reaches what the 5 mm step reaches (at 0.2 m and 0.5 m every move was a 'change of branch')" $ do
+      Right task <- readTaskFile "examples/freiburg-task.yaml"
+      let robots = [ (k, either error id (lookupRobot k)) | k <- ["ur10", "franka-panda", "abb-irb140"] ]
+          reached st = [ rrReached (evaluateRobot defaultSelectOptions task {taskPathStep = st} bvh k r) | (k, r) <- robots ]
+          fine = reached defaultPathStep
+      head fine `shouldBe` 40
+      mapM_ (\st -> reached st `shouldBe` fine) [0.1, 0.2, 0.5]
+      -- where a segment does stop, the distance named is along the segment (was the sample count times the step)
+      let short = task {taskPathStep = 0.5}
+      sequence_ [ sgFailure sg `shouldSatisfy` maybe True (not . ("about 0.5 m along" `isInfixOf`))
+                | (k, r) <- robots, sg <- rrSegments (evaluateRobot defaultSelectOptions short bvh k r) ]
     it "stops a segment that dives through the table top at the table, saying where" $ do
       let poses = [down 0.5 (-0.3) 0.3, down 1.2 (-0.3) (-0.2)]
           res = evaluateRobot defaultSelectOptions (pathTask poses) bvh "ur5" ur5

@@ -28,6 +28,7 @@ import Data.List (find, minimumBy, sortBy, sortOn)
 import Data.Maybe (catMaybes, isJust, isNothing, mapMaybe)
 import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
+import Numeric (showFFloat)
 
 import VProf.Geometry.Bvh (Bvh)
 import VProf.Kinematics.Collision
@@ -235,28 +236,43 @@ evaluateRobot opts task bvh key robot0
     failed t kind why = TargetResult (tgLabel t) Nothing Nothing Nothing Nothing Nothing (Just why) (Just kind)
 
     -- IK continuation along the straight segment: each sample's solution nearest the previous
-    -- one, no joint stepping more than maxJointStep, clear of the cell and of itself
-    walk q0 p0 p1 = go' (0 :: Int) q0 (segmentSamples (taskPathStep task) p0 p1)
+    -- one, clear of the cell and of itself, no joint stepping more than maxJointStep. A larger
+    -- step (a coarse path_step) is walked again from the previous sample in sub-steps of an
+    -- eighth of it, at most the default 5 mm: only a jump that stays a jump at that finer
+    -- sampling is a change of branch.
+    walk q0 p0 p1 = go' (0 :: Int) q0 p0 samples
       where
-        go' k q [] = Right (k, q)
-        go' k q (p : ps) =
-          let at = showM (fromIntegral (k + 1) * taskPathStep task)
-          in case solveIk (soIk opts) { ikAllSolutions = False, ikMaxRestarts = 0 } kin p (Just q) of
-               Left f -> Left (k + 1, "at sample " ++ show (k + 1) ++ " (about " ++ at ++ " along): " ++ describeFailure f)
-               Right [] -> Left (k + 1, "at sample " ++ show (k + 1) ++ ": no IK solution")
-               Right sols ->
-                 let s = minimumBy (comparing (stepOf q . solJoints)) sols
-                     q' = solJoints s
-                 in if stepOf q q' > maxJointStep
-                      then Left (k + 1, "at sample " ++ show (k + 1) ++ " (about " ++ at ++ " along): the nearest solution jumps "
-                                        ++ show (roundTo 3 (stepOf q q')) ++ " rad in one step (a change of branch)")
-                      else if not (robotClearanceAtLeast cm bvh q' d)
-                        then Left (k + 1, "at sample " ++ show (k + 1) ++ " (about " ++ at ++ " along): clearance "
-                                          ++ maybe "?" (\c -> showM (clrDistance c) ++ " at " ++ clrBodyName c) (robotClearance cm bvh q')
-                                          ++ ", below " ++ showM d)
-                      else if selfCollides cm (soSelfMargin opts) q'
-                        then Left (k + 1, "at sample " ++ show (k + 1) ++ " (about " ++ at ++ " along): self-collision")
-                      else go' (k + 1) q' ps
+        samples = segmentSamples (taskPathStep task) p0 p1
+        n = length samples
+        segLen = v3Norm (v3Sub (translation p1) (translation p0))
+        go' k q _ [] = Right (k, q)
+        go' k q prev (p : ps) =
+          let at = showM (fromIntegral (k + 1) / fromIntegral n * segLen)
+              nearest from pose = case solveIk (soIk opts) { ikAllSolutions = False, ikMaxRestarts = 0 } kin pose (Just from) of
+                Left f -> Left (Just f)
+                Right [] -> Left Nothing
+                Right sols -> Right (solJoints (minimumBy (comparing (stepOf from . solJoints)) sols))
+              -- the sub-steps from the previous sample: each within maxJointStep
+              finer = foldl (\acc pose -> acc >>= \from -> case nearest from pose of
+                                Right q'' | stepOf from q'' <= maxJointStep -> Right q''
+                                _ -> Left ())
+                            (Right q) (segmentSamples (min (taskPathStep task / 8) defaultPathStep) prev p)
+          in case nearest q p of
+               Left (Just f) -> Left (k + 1, "at sample " ++ show (k + 1) ++ " (about " ++ at ++ " along): " ++ describeFailure f)
+               Left Nothing -> Left (k + 1, "at sample " ++ show (k + 1) ++ ": no IK solution")
+               Right q1 ->
+                 let q' = if stepOf q q1 > maxJointStep then either (const Nothing) Just finer else Just q1
+                 in case q' of
+                      Nothing -> Left (k + 1, "at sample " ++ show (k + 1) ++ " (about " ++ at ++ " along): the nearest solution jumps "
+                                              ++ show (roundTo 3 (stepOf q q1)) ++ " rad in one step (a change of branch)")
+                      Just q2
+                        | not (robotClearanceAtLeast cm bvh q2 d) ->
+                            Left (k + 1, "at sample " ++ show (k + 1) ++ " (about " ++ at ++ " along): clearance "
+                                         ++ maybe "?" (\c -> showM (clrDistance c) ++ " at " ++ clrBodyName c) (robotClearance cm bvh q2)
+                                         ++ ", below " ++ showM d)
+                        | selfCollides cm (soSelfMargin opts) q2 ->
+                            Left (k + 1, "at sample " ++ show (k + 1) ++ " (about " ++ at ++ " along): self-collision")
+                        | otherwise -> go' (k + 1) q2 p ps
     stepOf a b = U.maximum (U.map abs (U.zipWith (-) a b))
 
 -- | The score (docs/select.md) and the ranking, best first. With N targets, a robot reaching n
@@ -295,7 +311,7 @@ showKg :: Double -> String
 showKg x = show (roundTo 3 x) ++ " kg"
 
 showM :: Double -> String
-showM x = show (roundTo 4 x) ++ " m"
+showM x = let r = roundTo 4 x in if abs r >= 0.1 || r == 0 then show r ++ " m" else showFFloat Nothing r " m"
 
 roundTo :: Int -> Double -> Double
 roundTo k x = fromIntegral (round (x * 10 ^ k) :: Integer) / 10 ^ k
