@@ -130,9 +130,9 @@ spec = do
     it "lower above upper" $
       errs (wrap "<joint name=\"j\" type=\"prismatic\"><parent link=\"a\"/><child link=\"c\"/><limit lower=\"2\" upper=\"1\"/></joint>")
         `shouldSatisfy` any ("above upper" `isInfixOf`)
-    it "equal lower and upper limits fail validation, naming the field" $
+    it "equal lower and upper limits fail validation, naming the joint and its <limit> as the URDF does (was the robot file's joints[0].limits.max)" $
       errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><limit lower=\"1\" upper=\"1\"/></joint>")
-        `shouldSatisfy` any ("joints[0].limits.max" `isInfixOf`)
+        `shouldSatisfy` any (\e -> "joint \"j\" <limit upper>" `isInfixOf` e && "<limit lower>" `isInfixOf` e)
     it "an unsupported joint type in the chain" $
       errs (wrap "<joint name=\"j\" type=\"floating\"><parent link=\"a\"/><child link=\"c\"/></joint>")
         `shouldSatisfy` any ("not supported" `isInfixOf`)
@@ -153,6 +153,11 @@ spec = do
         `shouldSatisfy` any (\e -> "child link \"ghost\"" `isInfixOf` e)
       errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"b\"/><child link=\"b\"/><limit lower=\"0\" upper=\"1\"/></joint>")
         `shouldSatisfy` any ("the same link" `isInfixOf`)
+    it "joints that form a loop say so (was 'no joint has a child link')" $
+      either id (const []) (readUrdf defaultUrdfOptions
+          (wrap ("<joint name=\"j1\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/><limit lower=\"-1\" upper=\"1\"/></joint>"
+                 ++ "<joint name=\"j2\" type=\"revolute\"><parent link=\"b\"/><child link=\"a\"/><limit lower=\"-1\" upper=\"1\"/></joint>")))
+        `shouldSatisfy` any ("form a loop" `isInfixOf`)
     it "a mimic of an unknown joint" $
       errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><limit lower=\"0\" upper=\"1\"/><mimic joint=\"ghost\"/></joint>")
         `shouldSatisfy` any ("ghost" `isInfixOf`)
@@ -165,7 +170,7 @@ spec = do
       either id (const []) (readUrdf defaultUrdfOptions (wrap (arm ++ other)))
         `shouldSatisfy` any (\e -> "2 leaf links (c e)" `isInfixOf` e && "--tip" `isInfixOf` e)
       either id (const []) (readUrdf defaultUrdfOptions (wrap ""))
-        `shouldSatisfy` any ("no joint has a child link" `isInfixOf`)
+        `shouldSatisfy` any ("no <joint>" `isInfixOf`)
     it "a missing file" $ do
       r <- readUrdfFile defaultUrdfOptions "/nonexistent/robot.urdf"
       either id (const []) r `shouldSatisfy` any ("cannot read" `isInfixOf`)
