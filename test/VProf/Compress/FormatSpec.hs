@@ -84,6 +84,20 @@ spec = do
       case parseCsv (BL.toStrict (renderCsv tr)) of
         Left e -> counterexample e False
         Right tr' -> closeTo (1e-6, 1e-8, 1e-8) tr tr'
+    it "reads a spreadsheet's quoted header and fields; refuses two columns for one part of the pose and a quaternion with a unit, naming the columns" $ do
+      let rows = ["0,0.1,0.2,0.3,1,0,0,0", "0.01,0.11,0.2,0.3,1,0,0,0"]
+          quoted = B.pack (unlines ("\"time\",\"x\",\"y\",\"z\",\"qw\",\"qx\",\"qy\",\"qz\"" : [ intercalate "," [ "\"" ++ f ++ "\"" | f <- splitC r ] | r <- rows ]))
+          splitC r = case break (== ',') r of (a, _ : b) -> a : splitC b; (a, []) -> [a]
+      fmap (map smPos . snd) (readCsv quoted) `shouldBe` Right [P3 0.1 0.2 0.3, P3 0.11 0.2 0.3]
+      case readCsv (B.pack (unlines ("time,x,y,z,qw,qx,qy,qz,x" : map (++ ",5") rows))) of
+        Left e -> e `shouldSatisfy` (\m -> "columns 2 \"x\" and 9 \"x\" both name x" `isInfixOf` m)
+        Right _ -> expectationFailure "two x columns were taken"
+      case readCsv (B.pack (unlines ("time,time,x,y,z,qw,qx,qy,qz" : map ("0," ++) rows))) of
+        Left e -> e `shouldSatisfy` ("both name time" `isInfixOf`)
+        Right _ -> expectationFailure "two time columns were taken"
+      case readCsv (B.pack (unlines ("time,x,y,z,qw [deg],qx [deg],qy [deg],qz [deg]" : rows))) of
+        Left e -> e `shouldSatisfy` (\m -> "column 5" `isInfixOf` m && "has no unit" `isInfixOf` m)
+        Right _ -> expectationFailure "a quaternion in degrees was taken"
     it "finds the columns by name in any order, with units in brackets, and ignores other columns" $
       property $ forAll genTrack $ \tr -> forAll (shuffle [0 .. 8 :: Int]) $ \perm ->
         forAll (elements [("s", 1), ("ms", 1e3), ("us", 1e6)]) $ \(tu, tk) ->

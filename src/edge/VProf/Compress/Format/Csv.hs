@@ -81,9 +81,15 @@ hasCsvHeader src = go (filter (not . B.all isSpace) (B.lines src))
 headerFields :: B.ByteString -> Maybe [String]
 headerFields l0 =
   let l = B.dropWhile (== '#') (B.strip l0)
-      fs = map (B.unpack . B.strip) (B.split ',' l)
+      fs = map (B.unpack . unquote . B.strip) (B.split ',' l)
   in if length fs >= 4 && any (\f -> isNothing (readDouble (B.pack f)) && not (missingToken (B.pack f))) fs
        then Just fs else Nothing
+
+-- | A field without the double quotes a spreadsheet's export puts around it.
+unquote :: B.ByteString -> B.ByteString
+unquote f
+  | B.length f >= 2, B.head f == '"', B.last f == '"' = B.strip (B.init (B.tail f))
+  | otherwise = f
 
 -- | The samples of a headed CSV (SI units), each with its line number (from 1), and the
 -- layout found. Lines before the header, blank lines and later lines starting with @#@
@@ -107,7 +113,7 @@ readCsv src = do
       used = [fst (clTime lay0), a, b, c, w, x, y, z]
       need = maximum used
       row (i, l) =
-        let cols = map B.strip (B.split ',' l)
+        let cols = map (unquote . B.strip) (B.split ',' l)
         in if length cols < need
              then Left ("CSV line " ++ show i ++ ": expected at least " ++ show need
                         ++ " comma-separated fields (the header's columns up to the quaternion), got "
@@ -168,6 +174,21 @@ layoutOf hi names = do
               ++ [ (nm, pick (RPos k)) | (k, nm) <- zip [0 ..] ["x", "y", "z"] ]
               ++ [ (nm, pick (RQuat k)) | (k, nm) <- zip [0 ..] ["qw", "qx", "qy", "qz"] ]
       missing = [ nm | (nm, Nothing) <- slots ]
+      -- two columns for one part of the pose: which one is meant cannot be guessed
+      twice = [ (nm, cs) | (nm, cs) <- ("time", timeTies) : [ (nm, firstOf r) | (nm, r) <- poseRoles ], length cs > 1 ]
+      timeTies = let ts = firstOf RTime
+                     stamps = [ t | t@(_, n, _) <- ts, "stamp" `elem` words (map (\ch -> if ch `elem` "._-/ " then ' ' else toLower ch) n) ]
+                 in if null stamps then ts else stamps
+      poseRoles = zip ["x", "y", "z"] (map RPos [0 ..]) ++ zip ["qw", "qx", "qy", "qz"] (map RQuat [0 ..])
+      quatUnits = [ (c, n, u) | (_, r) <- drop 3 poseRoles, (c, n, u) : _ <- [firstOf r], not (null u) ]
+  case twice of
+    (nm, cs) : _ -> Left ("CSV header (line " ++ show hi ++ "): columns " ++ intercalate " and " [ show c ++ " " ++ show n | (c, n, _) <- cs ]
+                          ++ " both name " ++ nm ++ "; which one is meant? (rename or remove one)")
+    [] -> Right ()
+  case quatUnits of
+    (c, n, u) : _ -> Left ("CSV header (line " ++ show hi ++ "), column " ++ show c ++ " " ++ show n ++ ": a quaternion part has no unit, got ["
+                           ++ u ++ "] (orientation in degrees would be Euler angles, which vprof does not read)")
+    [] -> Right ()
   if not (null missing)
     then Left ("CSV header (line " ++ show hi ++ ") names no column for " ++ intercalate ", " missing
                ++ "; its columns: " ++ intercalate ", " (map show names)
