@@ -17,6 +17,7 @@ module VProf.Validation
   , ensureFinite
   , validated
   , maxCoordinate
+  , maxAngleDeg
     -- * Speaking the user's language
   , UserField (..)
   , inUserTerms
@@ -31,6 +32,11 @@ import Numeric (showEFloat, showFFloat)
 -- or a corrupt file.
 maxCoordinate :: Double
 maxCoordinate = 1e9
+
+-- | The largest angle taken in degrees (a pose's roll, pitch or yaw): a million degrees is
+-- some 2,800 turns; beyond, the angle is taken for a wrong unit (the sine of 1e300 is noise).
+maxAngleDeg :: Double
+maxAngleDeg = 1e6
 
 -- | A value as the user gave it: a number (rendered in full precision) or any text.
 data FieldValue

@@ -39,7 +39,9 @@ spec = describe "vprof robots / fk / ik" $ do
     run fkCommand ["ur5", "0", "1"] `shouldReturn` ExitFailure 2
     run fkCommand ["no-such-robot", "0"] `shouldReturn` ExitFailure 2
     -- (99: the option parser refused it; the vprof executable exits 2)
-    mapM_ (\v -> run fkCommand ["ur5", "0", "0", "0", "0", "0", v] `shouldReturn` ExitFailure 99) ["NaN", "1e400", "-1e400", "x"]
+    mapM_ (\v -> run fkCommand ["ur5", "0", "0", "0", "0", "0", v] `shouldReturn` ExitFailure 99) ["NaN", "1e400", "-1e400", "x", "0x10", "1_0"]
+    -- decimals as the recordings' readers take them (.5 and +1 were refused, Haskell's 0x10 taken)
+    mapM_ (\v -> run fkCommand ["ur5", "0", "0", "0", "0", "0", v] `shouldReturn` ExitSuccess) [".5", "+1", "-.5", "1e-3"]
     mapM_ (\p -> run ikCommand ["ur5", "--pose", p] `shouldReturn` ExitFailure 99) ["0.4 0.1 1e400 0 1 0 0", "0.4 0.1 0.3 0 1 0 NaN"]
   it "inverse kinematics: 0 for a reachable pose, 1 beyond reach or tilted, 2 for a quaternion that is not a unit" $ do
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0"] `shouldReturn` ExitSuccess

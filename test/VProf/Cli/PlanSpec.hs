@@ -67,6 +67,9 @@ spec = do
     it "a zone between 0 and 0.1 mm is refused (z0.0001 planned for 12 s, z1e-9 ran out of time); a speed too slow for the sample cap names --speed (exit 2)" $ do
       mapM_ (\z -> run ["examples/plan-square.csv", "--robot", "ur5", "--zone", z] `shouldReturn` parserRefused) ["z0.0001", "z1e-9", "z0.09"]
       run ["examples/plan-square.csv", "--robot", "ur5", "--speed", "v0.001"] `shouldReturn` ExitFailure 2
+    it "--base and --tool beyond 1e9 m or a million degrees are refused (1e300 degrees was taken)" $
+      mapM_ (\(o, v) -> run ["examples/plan-square.csv", "--robot", "ur5", o, v] `shouldReturn` parserRefused)
+            [("--base", "0 0 0 1e300 0 0"), ("--tool", "0 0 2e9"), ("--base", "0 0 0 0 -1e7 0")]
     it "--start outside a joint's limits is exit 2 (degrees typed without --deg were taken as radians, silently another branch); inside them exit 0" $ do
       run ["examples/plan-square.csv", "--robot", "ur5", "--start", "0 -90 90 -90 -90 0"] `shouldReturn` ExitFailure 2
       run ["examples/plan-square.csv", "--robot", "ur5", "--start", "100 0 0 0 0 0"] `shouldReturn` ExitFailure 2

@@ -67,6 +67,7 @@ spec = do
           , ("a number beyond a double (read as infinity)", "payload: 1\nclearance: 0.01\ntargets:\n  - {position: [0.5, 0, 1e400]}\n", ["targets[0].position[2]", "1.0e400"])
           , ("a position beyond 1e9 m (the reach message overflowed to Infinity mm)", "payload: 1\nclearance: 0.01\ntargets:\n  - {position: [1e300, 0, 0.3]}\n", ["targets[0].position", "1.0e300", "from the origin"])
           , ("a robot base beyond 1e9 m", "payload: 1\nclearance: 0.01\nbase: {position: [0, -2e9, 0]}\ntargets:\n  - {position: [0.5, 0, 0.3]}\n", ["base.position", "from the origin"])
+          , ("a roll angle beyond a million degrees (1e300 was taken: its sine is noise)", "payload: 1\nclearance: 0.01\ntargets:\n  - {position: [0.5, 0, 0.3], rpy_deg: [1e300, 0, 0]}\n", ["targets[0].rpy_deg", "degrees"])
           , ("a missing path file", "payload: 1\nclearance: 0.01\npath: {file: nowhere.mod}\n", ["path.file", "nowhere.mod"])
           ]
     mapM_ (\(what, body, needles) -> it what $ withSystemTempDirectory "vprof-select" $ \tmp -> do

@@ -18,6 +18,7 @@ module VProf.Cli.Kinematics
   ) where
 
 import qualified Data.Aeson as A
+import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy.Char8 as BLC
 import Data.Char (toLower)
 import Data.Containers.ListUtils (nubOrd)
@@ -34,6 +35,7 @@ import VProf.Kinematics
 import VProf.Kinematics.Format.RobotFile (readRobotFile)
 import VProf.Kinematics.Format.Urdf (UrdfOptions (..), defaultUrdfOptions, readUrdfFile)
 import VProf.Kinematics.Library (libraryRobots, lookupRobot)
+import VProf.Compress.Format.Common (readDouble)
 import VProf.Geometry.Bvh (buildBvh)
 import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
 import VProf.Kinematics.Collision (Clearance (..), CollisionOptions (..), collisionModel, defaultCollisionOptions, unknownBody)
@@ -100,7 +102,7 @@ robotsCommand = runPlot <$> optional (strArgument (metavar "NAME" <> help "show 
             es@(_ : _) -> failWith (intercalate "; " (map (renameQ . renderFieldError) es))
             [] -> do
               plotRobot file (robotName r) ch q
-              putStrLn ("wrote " ++ file ++ " (" ++ robotName r ++ " at q = " ++ unwords (map (num 4) (jointsTo deg r q))
+              putStrLn ("wrote " ++ file ++ " (" ++ robotName r ++ " at q = " ++ unwords (map (\x -> if abs x < 1e9 then num 4 x else showNumber x) (jointsTo deg r q))
                         ++ (if deg then " deg)" else " rad/m)"))
               pure ExitSuccess
     renameQ e = if take 1 e == "q" then "--q" ++ drop 1 e else e
@@ -148,9 +150,10 @@ robotJson key r = A.object
 finiteWords :: String -> String -> Either String [Double]
 finiteWords what s = mapM one (zip [1 :: Int ..] (words (map (\c -> if c == ',' then ' ' else c) s)))
   where
-    one (i, w) = case reads w of
-      [(d, "")] | not (isNaN d || isInfinite d) -> Right (d :: Double)
-                | otherwise -> Left (label ++ show w ++ (if n > 1 then " (number " ++ show i ++ ")" else "")
+    -- a decimal number as the recordings' readers take it (.5, +1, 1e-3; not Haskell's 0x10)
+    one (i, w) = case (readDouble (B.pack w), reads w :: [(Double, String)]) of
+      (Just d, _) -> Right d
+      (Nothing, [(d, "")]) | isNaN d || isInfinite d -> Left (label ++ show w ++ (if n > 1 then " (number " ++ show i ++ ")" else "")
                                      ++ " is not a finite number (a double reaches about 1.8e308)")
       _ -> Left (label ++ show w ++ (if n > 1 then " (number " ++ show i ++ ")" else "") ++ " is not a number")
     n = length (words (map (\c -> if c == ',' then ' ' else c) s))

@@ -136,7 +136,11 @@ planCommand = runPlan <$> (PlanOpts
       Just xs | k == 0 || length xs == k, all finite xs -> Right xs
       _ -> Left (what ++ " " ++ show s ++ ": expected " ++ (if k == 0 then "numbers" else show k ++ " numbers"))
     pose what s = case numbers what 0 s of
-      Right xs | length xs `elem` [3, 6] -> Right xs
+      Right xs | any ((> maxCoordinate) . abs) (take 3 xs) ->
+                   Left (what ++ " " ++ show s ++ ": a position more than " ++ showNumber maxCoordinate ++ " m from the origin (is the unit right?)")
+               | any ((> maxAngleDeg) . abs) (drop 3 xs) ->
+                   Left (what ++ " " ++ show s ++ ": an angle beyond " ++ showNumber maxAngleDeg ++ " degrees (is the unit right?)")
+               | length xs `elem` [3, 6] -> Right xs
       Right _ -> Left (what ++ " " ++ show s ++ ": expected 3 numbers X Y Z (m) or 6, X Y Z (m) RX RY RZ (degrees)")
       Left e -> Left e
     positive what s = case readD s of

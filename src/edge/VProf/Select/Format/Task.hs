@@ -42,7 +42,7 @@ import VProf.Kinematics.Model (Capsule (..))
 import VProf.Kinematics.Transform
 import VProf.Format.DuplicateKeys (duplicateKeyErrors)
 import VProf.Select.Task
-import VProf.Validation (maxCoordinate, renderFieldError, showNumber)
+import VProf.Validation (maxAngleDeg, maxCoordinate, renderFieldError, showNumber)
 
 type P a = Either [String] a
 
@@ -196,7 +196,9 @@ pose p v = do
     (Nothing, Just r) -> do
       xs <- nums 3 (p ++ ".rpy_deg") r
       case xs of
-        [a, b, c] -> Right (fromRpy pos (V3 (rad a) (rad b) (rad c)))
+        [a, b, c] | any ((> maxAngleDeg) . abs) xs ->
+                      Left [p ++ ".rpy_deg: " ++ show xs ++ " holds an angle beyond " ++ showNumber maxAngleDeg ++ " degrees (is the unit right?)"]
+                  | otherwise -> Right (fromRpy pos (V3 (rad a) (rad b) (rad c)))
         _ -> Left [p ++ ".rpy_deg: expected 3 numbers"]
     (Nothing, Nothing) -> Right (fromQuat pos (Quat 1 0 0 0))
   where
