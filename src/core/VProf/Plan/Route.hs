@@ -24,6 +24,7 @@ module VProf.Plan.Route
   , pieceAngle
   , routeGrid
   , minWaypointGap
+  , minZone
   , reversalAngle
   ) where
 
@@ -95,6 +96,12 @@ routeLength = rtLength
 minWaypointGap :: Double
 minWaypointGap = 1e-4
 
+-- | The smallest blend radius (m; RAPID's smallest predefined zone, z0, is 0.3 mm): a corner
+-- blended within less is driven no faster than a stop, and its tiny pieces cost a long plan
+-- (a 0.1 µm zone took 12 s, 1 nm ran out of time). A zone is 0 (a stop) or at least this.
+minZone :: Double
+minZone = 1e-4
+
 -- | A corner turning by more than this (rad) is a reversal: the motion stops there even with
 -- a zone (the blend's radius would vanish).
 reversalAngle :: Double
@@ -125,6 +132,9 @@ mkRoute zones wps = validated [errors] route
                | (i, p', p) <- zip3 [1 :: Int ..] pts (drop 1 pts), let d = v3Norm (v3Sub p p') ]
       , take 1 [ fieldError "zone" (z * 1000) "mm" "must be a finite number >= 0"
                | Blend zq <- zs, let z = zq /~ metre, not (finite z && z >= 0) ]
+      , take 1 [ fieldError "zone" (z * 1000) "mm"
+                   ("must be 0 (a stop) or at least " ++ showNumber (minZone * 1000) ++ " mm: a corner blended within less is driven no faster than a stop")
+               | Blend zq <- zs, let z = zq /~ metre, finite z, z > 0, z < minZone ]
       ]
     route = buildRoute (U.fromList (map zoneRadius zs))
                        (V.fromList pts) (V.fromList (map norm4 qs))

@@ -84,9 +84,9 @@ parseZoneData s = case map toLower s of
   'z' : num | Just z <- readD num, finite z, z >= 0 -> Right (if z == 0 then Fine else Blend ((z / 1000) *~ meter))
   _ -> Left ("--zone " ++ show s ++ ": expected RAPID zone data zN, N the zone radius in mm >= 0 (e.g. z10), or fine")
 
--- | The smallest zone radius taken, mm (RAPID's smallest predefined zone, z0, is 0.3 mm).
+-- | The smallest zone radius taken, mm ('minZone').
 minZoneMm :: Double
-minZoneMm = 0.1
+minZoneMm = minZone * 1000
 
 readD :: String -> Maybe Double
 readD w = case reads w of
