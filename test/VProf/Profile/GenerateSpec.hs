@@ -361,6 +361,15 @@ spec = do
           check pb p `shouldBe` []
           resOutcome r `shouldBe` Generated
         Nothing -> expectationFailure (show (resOutcome r))
+    it "the thesis mode on a route shorter than one of its velocity steps covers says so and names the way out (was a one-sample 'legal' profile)" $ do
+      let rq = defaultRequest { rqRouteLength = 0.001 *~ meter, rqAlgorithm = Thesis, rqZones = [SpeedZone (0 *~ meter) (1 *~ mps)]
+                              , rqMinAcceleration = (-1) *~ mps2, rqMaxAcceleration = 1 *~ mps2, rqMinJerk = (-2) *~ mps3, rqMaxJerk = 2 *~ mps3 }
+          r = generatePure rq
+      case resOutcome r of
+        Failed (NotConverged m) -> m `shouldSatisfy` (\x -> "route_end" `isInfixOf` x && "the band algorithm, or a smaller time_step" `isInfixOf` x)
+        o -> expectationFailure (show o)
+      -- and the band algorithm drives it
+      resOutcome (generatePure rq { rqAlgorithm = Band }) `shouldBe` Generated
     it "an end_tolerance not below route_length is refused, naming end_tolerance" $
       forM_ [0.004, 0.01] $ \tol ->
         case validate defaultRequest { rqRouteLength = 0.004 *~ meter, rqEndTolerance = Just (tol *~ meter) } of

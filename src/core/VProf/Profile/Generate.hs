@@ -100,10 +100,17 @@ finishWithin pb secs iters done stopReason prof vs =
                                           ++ "; the best profile so far is legal"))
         | otherwise = Failed (NotConverged (maybe "the fixed point of the iteration breaks limits: "
                                                   (++ "; the best profile breaks limits: ") stopReason
-                                           ++ summarise vs))
+                                           ++ summarise vs ++ standingHint))
   in Result outcome (Just prof) vs iters done (pbAlgorithm pb) (pbDt pb) (pbDv pb) secs
   where
     summarise vs = show (length vs) ++ " violation(s), first " ++ renderViolation (head vs)
+    -- the thesis mode raises whole velocity steps: on a route shorter than one step covers, its
+    -- profile never leaves the start
+    standingHint
+      | pbAlgorithm pb == Thesis, sampleCount prof <= 2, any (\v -> vRule v == RouteEnd) vs =
+          " (the thesis mode moves in velocity steps of " ++ show (pbDv pb) ++ " m/s per time_step of " ++ show (pbDt pb)
+          ++ " s, more than this route takes: the band algorithm, or a smaller time_step, reaches it)"
+      | otherwise = ""
 
 -- | The profile ends at the first sample at which it has arrived (the checker's @crawl@
 -- rule): whatever follows, creeping or standing at the end, is cut off. With the checker's
