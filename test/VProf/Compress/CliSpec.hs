@@ -34,6 +34,14 @@ captureHandle hd f act = do
   txt <- B.unpack <$> B.readFile f
   pure (r, txt)
 
+-- | The first 300 lines of freiburg1_xyz as rec.txt in dir.
+shortRecording :: FilePath -> IO FilePath
+shortRecording dir = do
+  src <- B.readFile =<< dataFile "freiburg1_xyz-groundtruth.txt"
+  let f = dir </> "rec.txt"
+  B.writeFile f (B.unlines (take 300 (B.lines src)))
+  pure f
+
 -- | The data lines of a TUM file with their line numbers (from 1).
 numbered :: B.ByteString -> [(Int, B.ByteString)]
 numbered src = [ (i, l) | (i, l) <- zip [1 ..] (B.lines src), not (B.null l), B.head l /= '#' ]
@@ -98,10 +106,7 @@ spec = describe "vprof compress" $ do
       err `shouldSatisfy` (("at line " ++ show (head lines')) `isInfixOf`)
   it "refuses an output (-o, --plot) that is the recording itself, by any name (exit 2, the recording untouched), and --times beside a recording with times" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
-      rec <- dataFile "freiburg1_xyz-groundtruth.txt"
-      src <- B.readFile rec
-      let f = dir </> "rec.txt"
-      B.writeFile f (B.unlines (take 300 (B.lines src)))
+      f <- shortRecording dir
       before <- B.readFile f
       runCli [f, "--points", "10", "-o", f] `shouldReturn` ExitFailure 2
       runCli [f, "--points", "10", "-o", dir </> "." </> "rec.txt"] `shouldReturn` ExitFailure 2
@@ -112,10 +117,7 @@ spec = describe "vprof compress" $ do
       runCli [f, "--points", "10", "-o", dir </> "out.txt"] `shouldReturn` ExitSuccess
   it "refuses -o and --plot on one file, -o onto a KITTI recording's times file found beside it, and an -o in no directory (exit 2, before the fit)" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
-      rec <- dataFile "freiburg1_xyz-groundtruth.txt"
-      src <- B.readFile rec
-      let f = dir </> "rec.txt"
-      B.writeFile f (B.unlines (take 300 (B.lines src)))
+      f <- shortRecording dir
       runCli [f, "--points", "10", "-o", dir </> "p.svg", "--output-format", "tum", "--plot", dir </> "p.svg"] `shouldReturn` ExitFailure 2
       runCli [f, "--points", "10", "-o", dir </> "nodir" </> "p.txt"] `shouldReturn` ExitFailure 2
       runCli [f, "--points", "10", "--plot", dir </> "nodir" </> "p.svg"] `shouldReturn` ExitFailure 2

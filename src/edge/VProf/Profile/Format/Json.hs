@@ -80,19 +80,19 @@ protoDouble = \case
 
 -- | A uint32 field: an integer from 0 to 2^32 - 1 (a larger one would wrap on the wire).
 protoUInt32 :: Value -> Parser Int
-protoUInt32 v = do
-  k <- protoInteger v
-  if k < 0 || k > 4294967295
-    then fail (show k ++ " is outside the range of a uint32, 0 to 4294967295")
-    else pure (fromIntegral k)
+protoUInt32 = fmap fromIntegral . protoUnsigned "uint32" 4294967295
 
 -- | A uint64 field (proto3 JSON writes it as a string): an integer from 0 to 2^64 - 1.
 protoUInt64 :: Value -> Parser Word64
-protoUInt64 v = do
+protoUInt64 = fmap fromIntegral . protoUnsigned "uint64" 18446744073709551615
+
+-- | An integer from 0 to the type's largest value, else the range in the message.
+protoUnsigned :: String -> Integer -> Value -> Parser Integer
+protoUnsigned ty top v = do
   k <- protoInteger v
-  if k < 0 || k > 18446744073709551615
-    then fail (show k ++ " is outside the range of a uint64, 0 to 18446744073709551615")
-    else pure (fromIntegral k)
+  if k < 0 || k > top
+    then fail (show k ++ " is outside the range of a " ++ ty ++ ", 0 to " ++ show top)
+    else pure k
 
 -- | An integer as proto3 JSON writes it: a whole number, or a string holding one.
 protoInteger :: Value -> Parser Integer
