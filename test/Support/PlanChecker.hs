@@ -14,7 +14,11 @@
 -- * every part's profile legal for its zones by the profile legality checker, from and to the
 --   speeds it starts and ends at; the first part starting and the last part ending at rest, the
 --   motion at rest at every stop of the route, and each part starting at the speed the previous
---   one ends at (to 0.1 %).
+--   one ends at (to 0.1 %);
+-- * the TCP stream itself, as a controller follows it across the parts' joins: accelerations
+--   and jerks from the velocity samples alone (at rest before the first and after the last)
+--   within the plan's ranges, and the acceleration column equal to those differences (to
+--   'streamTolerance').
 module Support.PlanChecker
   ( checkTrajectory
   , oracleTcp
@@ -34,6 +38,14 @@ import VProf.Plan (LimitZone (..), Plan (..), Route (..), Trajectory (..))
 import VProf.Profile (Request (..), SpeedZone (..), check, defaultRequest, renderViolation, resProfile, validate)
 import VProf.Profile.Sampled (Columns (..), columns)
 import VProf.Units
+
+-- | The TCP stream's acceleration and jerk against the plan's ranges: 2 %. Each part of the
+-- route ends within its end tolerance (1 µm) of its end and is stretched onto it, so two parts
+-- that meet at speed may differ by up to about 2 µm over the part's length in that speed: for
+-- one sample, a little jerk (1.3 % of 20 m/s³ seen on 1 cm parts). Twice the jerk, as parts
+-- joined on one sample gave, is far outside it.
+streamTolerance :: Double
+streamTolerance = 2e-2
 
 speedTolerance, tcpTolerance, accelerationTolerance :: Double
 speedTolerance = 1e-3
@@ -106,6 +118,17 @@ checkTrajectory r wps zone acc jerk dt plan = concat
   , [ "part " ++ show (i + 1) ++ " starts at " ++ show v1 ++ " m/s, part " ++ show i ++ " ends at " ++ show v0 ++ " m/s"
     | (i, (_, v0), (v1, _)) <- zip3 [0 :: Int ..] ends (drop 1 ends), abs (v1 - v0) > 1e-3 * max v0 v1 + 1e-12 ]
   , [ "the trajectory is empty" | m == 0 ]
+    -- the TCP stream as a controller follows it, sample by sample across the parts' joins:
+    -- accelerations and jerks from the velocities alone, at rest before the first sample and
+    -- after the last, and the acceleration column the same as those differences
+  , take 5 [ "step " ++ show k ++ ": the TCP acceleration " ++ show a ++ " m/s² is above the limit " ++ show acc
+           | (k, a) <- zip [0 :: Int ..] (U.toList streamA), abs a > acc * (1 + streamTolerance) + 1e-9 ]
+  , take 5 [ "sample " ++ show k ++ ": the TCP jerk " ++ show j ++ " m/s³ is above the limit " ++ show jerk
+             ++ " (accelerations " ++ show a0 ++ " then " ++ show a1 ++ " m/s²)"
+           | (k, a0, a1) <- zip3 [0 :: Int ..] (0 : U.toList streamA) (U.toList streamA ++ [0])
+           , let j = (a1 - a0) / dt, abs j > jerk * (1 + streamTolerance) + 1e-9 ]
+  , take 5 [ "step " ++ show k ++ ": the acceleration column says " ++ show c ++ " m/s², the velocities " ++ show a
+           | (k, a, c) <- zip3 [0 :: Int ..] (U.toList streamA) (U.toList (trA tr)), abs (a - c) > streamTolerance * jerk * dt + 1e-9 ]
   ]
   where
     tr = planTrajectory plan
@@ -115,6 +138,7 @@ checkTrajectory r wps zone acc jerk dt plan = concat
     q k i = trQ tr U.! (k * n + i)
     t k = trTime tr U.! k
     take1 xs = case xs of { (x : _) -> Just x; [] -> Nothing }
+    streamA = let v = trV tr in if U.length v < 2 then U.empty else U.zipWith (\v0 v1 -> (v1 - v0) / dt) v (U.tail v)
     -- each part's first and last speed
     ends = [ (U.head vs, U.last vs) | res <- planProfiles plan, Just p <- [resProfile res]
                                     , let vs = colVelocity (columns p), not (U.null vs) ]
@@ -128,7 +152,7 @@ checkTrajectory r wps zone acc jerk dt plan = concat
               , rqZones = [ SpeedZone ((lzStart z - a) *~ meter) (lzSpeed z *~ mps) | z <- zs ]
               , rqMinAcceleration = negate acc *~ mps2, rqMaxAcceleration = acc *~ mps2
               , rqMinJerk = negate jerk *~ mps3, rqMaxJerk = jerk *~ mps3
-              , rqTimeStep = Just (dt *~ second), rqEndTolerance = Just (1e-6 *~ meter) }
+              , rqTimeStep = Just (dt *~ second), rqEndTolerance = Just (min 1e-6 ((b - a) / 10) *~ meter) }
         in case resProfile res of
              Nothing -> ["part " ++ show i ++ " has no profile"]
              Just p ->

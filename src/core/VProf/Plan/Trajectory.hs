@@ -32,7 +32,7 @@ module VProf.Plan.Trajectory
   , limitOptionsFor
   ) where
 
-import Data.List (group, sort)
+import Data.List (group, sort, zip4)
 import GHC.Conc (par)
 import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
@@ -315,7 +315,7 @@ planPath rq@PlanRequest{..} = do
         let st = stepLimitsAt lo route pb ac a b in timed (a, b) va vb (sym acc) st (limitZones top st a b)
       -- the profile of a part at the acceleration range (braking, speeding up) under the zones zs
       -- (of its steps st)
-      timed (a, b) va vb acc st zs = ((a, b), acc, st, zs, generatePure (profileRequest (min (si prEndTolerance) ((b - a) / 10)) a b acc zs va vb))
+      timed (a, b) va vb acc st zs = ((a, b), acc, st, zs, generatePure (profileRequest (min (si prEndTolerance) ((b - a) * 1e-5)) a b acc zs va vb))
       timeOf (_, _, _, _, r) = if resultLegal r then maybe (1 / 0) duration (resProfile r) else 1 / 0
       samplesOf ((a, b), _, _, _, r) = maybe U.empty (stretchedS a b . columns) (resProfile r)
       -- a candidate's duration when its sampled joint motion keeps the limits ('jointsKeepLimits'),
@@ -371,12 +371,36 @@ planPath rq@PlanRequest{..} = do
             -- the parts between the bounds, each timed ('part') from and to the speed at its cuts:
             -- the lower of the two parts' zones there and of @cap@ at the cut; vx and vy at the ends.
             -- Also whether every part has zones.
+            --
+            -- Each part's profile assumes no acceleration just past its end and just before its
+            -- start; joined on one sample, a part braking into a cut and the next speeding up out
+            -- of it would jump from one acceleration to the other, up to twice the jerk. So the
+            -- part after a cut at speed v starts one time step later, at u + v·dt: the step
+            -- between is driven at v with no acceleration, as both profiles assume ('assemble'
+            -- keeps both samples). When the next part's first zone at that start is below v, or
+            -- the part would be too short, the cut is joined on one sample as before.
             timeParts bounds vx vy cap =
-              let parts = [ ((x, y), st, limitZones top st x y) | (x, y) <- zip bounds (drop 1 bounds)
-                                                                 , let st = stepLimitsAt lo route pb 0 x y ]
+              let spanned (x, y) = let st = stepLimitsAt lo route pb 0 x y in ((x, y), st, limitZones top st x y)
+                  parts0 = map spanned (zip bounds (drop 1 bounds))
                   speeds = vx : [ minimum (cap u : map lzSpeed (take 1 (reverse zl) ++ take 1 zr))
-                                | ((_, _, zl), ((u, _), _, zr)) <- zip parts (drop 1 parts) ] ++ [vy]
-              in (all (\(_, _, zs) -> not (null zs)) parts, sparkEach (score False) (zipWith3 part parts speeds (drop 1 speeds)))
+                                | ((_, _, zl), ((u, _), _, zr)) <- zip parts0 (drop 1 parts0) ] ++ [vy]
+                  -- (its steps and zones are those of [u, y], on the route's grid, the zones cut at
+                  -- the new start; where that zone is below v, the cut's speed is lowered to it)
+                  shiftAt p0@((u, y), st, zs0) v = case [ (p1, w) | w <- [v, lowered], w > 0, Just p1 <- [at w] ] of
+                    (p1, w) : _ -> (p1, w)
+                    [] -> (p0, v)
+                    where
+                      at w = let u' = u + w * dt
+                             in case dropWhile (\z -> lzEnd z <= u') zs0 of
+                                  z : rest | u' <= y - 0.5 * minPartLength, lzSpeed z >= w -> Just ((u', y), st, z { lzStart = u' } : rest)
+                                  _ -> Nothing
+                      lowered = case dropWhile (\z -> lzEnd z <= u + v * dt) zs0 of
+                        z : _ -> min v (lzSpeed z)
+                        [] -> 0
+                  shiftedAll = zipWith shiftAt (drop 1 parts0) (drop 1 (init speeds))
+                  parts = take 1 parts0 ++ map fst shiftedAll
+                  speeds' = take 1 speeds ++ map snd shiftedAll ++ [last speeds]
+              in (all (\(_, _, zs) -> not (null zs)) parts, sparkEach (score False) (zipWith3 part parts speeds' (drop 1 speeds')))
             splitAt' bounds = snd (timeParts bounds 0 0 (const (1 / 0)))
             -- a part's acceleration: the fastest rung of the ladder whose joint motion keeps the
             -- limits, then refined ('refine')
@@ -455,7 +479,11 @@ planPath rq@PlanRequest{..} = do
                 join (s0, s1) ((t0, t1) : rest) | t0 - s1 <= 2 * flattenMargin = (s0, t1) : rest
                 join r rest = r : rest
             total ps = sum (map (score False) ps)
-            joined ps = U.concat (take 1 (map samplesOf ps) ++ map (U.drop 1 . samplesOf) (drop 1 ps))
+            -- the parts' samples as 'assemble' joins them: a part that starts where the previous
+            -- one ends (the same sample) without its first
+            joined ps = U.concat (take 1 (map samplesOf ps) ++ zipWith (\p q -> let (_, b) = spanOf p; (a', _) = spanOf q
+                                                                               in (if a' == b then U.drop 1 else id) (samplesOf q)) ps (drop 1 ps))
+            spanOf ((x, y), _, _, _, _) = (x, y)
             -- (cuts that leave one part would only time the whole stretch again, and the two
             -- kinds of cut often give the same parts)
             splitBounds = [ bs | (i, bs) <- zip [0 :: Int ..] candidatesB, length bs > 2, bs `notElem` take i candidatesB ]
@@ -661,8 +689,18 @@ planPath rq@PlanRequest{..} = do
             in c { colDistance = U.map (* f) (colDistance c), colVelocity = U.map (* f) (colVelocity c)
                  , colAcceleration = U.map (* f) (colAcceleration c), colJerk = U.map (* f) (colJerk c) }
           nParts = length cols
-          -- the last row of every stretch but the last is the next one's first (both at rest)
-          trimmed = [ (a, if i < nParts - 1 then dropLast c else c) | (i, (a, c)) <- zip [0 :: Int ..] cols ]
+          -- a part that ends at speed ends on the next one's first row (the same sample: same s,
+          -- same speed), which is dropped once; a part that ends at a stop keeps its last row, so
+          -- the motion rests one sample there (acceleration 0) and the jerk into the stop and out of
+          -- it stays within range (joined without it, the step from braking to speeding up
+          -- doubled the jerk)
+          -- (a part after a cut at speed that starts one time step past it keeps its first row too:
+          -- see 'timeParts')
+          spans = [ (a, b) | ((a, b), r) <- parts, Just _ <- [resProfile r] ]
+          nextStarts = map fst (drop 1 spans) ++ [1 / 0]
+          trimmed = [ (a, if i < nParts - 1 && not (atRest c) && a' == b then dropLast c else c)
+                    | (i, (a, c), (_, b), a') <- zip4 [0 :: Int ..] cols spans nextStarts ]
+          atRest c = not (U.null (colVelocity c)) && U.last (colVelocity c) == 0
           dropLast c = Columns (U.init (colTime c)) (U.init (colDistance c)) (U.init (colVelocity c))
                                (U.init (colAcceleration c)) (U.init (colJerk c))
           offsets = scanl (+) 0 [ fromIntegral (U.length (colTime c)) * dt | (_, c) <- trimmed ]
