@@ -138,6 +138,8 @@ spec = describe "vprof robots / fk / ik" $ do
       run robotsCommand ["ur5", "--plot", bad, "--q", "0 0 0 0 0 1e999"] `shouldReturn` ExitFailure 99
       run robotsCommand ["no-such-robot", "--plot", bad] `shouldReturn` ExitFailure 2
       run robotsCommand ["--plot", bad] `shouldReturn` ExitFailure 2
+      -- a plot in a directory that does not exist: exit 2 before the drawing (was a raw 'user error', exit 1)
+      run robotsCommand ["ur5", "--plot", tmp </> "nodir" </> "arm.png"] `shouldReturn` ExitFailure 2
       -- a plot file name the tool cannot write, refused by the option parser (it wrote PNG data under .pdf and .jpg)
       mapM_ (\f -> run robotsCommand ["ur5", "--plot", tmp </> f] `shouldReturn` ExitFailure 99) ["arm.pdf", "arm.jpg", "arm"]
       run robotsCommand ["ur5", "--q", "0 0 0 0 0 0"] `shouldReturn` ExitFailure 2

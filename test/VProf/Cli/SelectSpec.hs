@@ -43,6 +43,9 @@ spec = do
         run ["examples/cell-task.yaml", "--robots", "ur10,ur3,dobot-magician"] `shouldReturn` ExitSuccess
         run ["examples/cell-task.yaml", "--robots", "ur10", "--format", "json", "--plot", tmp </> "s.png"] `shouldReturn` ExitSuccess
         doesFileExist (tmp </> "s.png") `shouldReturn` True
+        -- a plot in a directory that does not exist: exit 2 before the selection (was a raw
+        -- 'user error' after it, exit 1: "no robot reaches every target")
+        run ["examples/cell-task.yaml", "--robots", "ur10", "--plot", tmp </> "nodir" </> "s.png"] `shouldReturn` ExitFailure 2
     it "is exit 1 when no robot reaches every target (a target 3 m away)" $
       withSystemTempDirectory "vprof-select" $ \tmp -> do
         f <- writeTask tmp cell "payload: 1\nclearance: 0.01\ntargets:\n  - {position: [3, 0, 0.3], rpy_deg: [180, 0, 0]}\n"

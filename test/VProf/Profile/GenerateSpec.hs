@@ -370,6 +370,11 @@ spec = do
         o -> expectationFailure (show o)
       -- and the band algorithm drives it
       resOutcome (generatePure rq { rqAlgorithm = Band }) `shouldBe` Generated
+    it "a time_budget above an hour is refused, naming time_budget (1e308 held a daemon worker without end)" $
+      forM_ [3601, 1e308] $ \b ->
+        case validate defaultRequest { rqTimeBudget = Just (b *~ second) } of
+          Left es -> map feField es `shouldBe` ["time_budget"]
+          Right _ -> expectationFailure ("time_budget " ++ show b ++ " s accepted")
     it "an end_tolerance not below route_length is refused, naming end_tolerance" $
       forM_ [0.004, 0.01] $ \tol ->
         case validate defaultRequest { rqRouteLength = 0.004 *~ meter, rqEndTolerance = Just (tol *~ meter) } of

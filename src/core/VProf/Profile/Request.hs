@@ -220,7 +220,8 @@ validate rq =
                         ++ " m/s (suggested: " ++ num dvAuto ++ " m/s, or 0 for automatic)")
                 else [] ]
       , check (maxIt > 0) "max_iterations" (fromIntegral maxIt :: Double) "" "must be > 0"
-      , checkFinite "time_budget" budget "s" $ check (budget > 0) "time_budget" budget "s" "must be > 0"
+      , checkFinite "time_budget" budget "s" $ check (budget > 0 && budget <= 3600) "time_budget" budget "s"
+          "must be > 0 and at most 3600 (an hour; a larger one would hold a worker of the daemon for as long)"
       , checkFinite "end_tolerance" tol "m" $ concat
           [ check (tol > 0) "end_tolerance" tol "m" "must be > 0"
           , check (not (finite len && len > 0) || tol < len) "end_tolerance" tol "m"

@@ -35,6 +35,7 @@ import VProf.Kinematics
 import VProf.Kinematics.Format.RobotFile (readRobotFile)
 import VProf.Kinematics.Format.Urdf (UrdfOptions (..), defaultUrdfOptions, readUrdfFile)
 import VProf.Kinematics.Library (libraryRobots, lookupRobot)
+import qualified VProf.Cli.Output as Out
 import VProf.Compress.Format.Common (readDouble)
 import VProf.Geometry.Bvh (buildBvh)
 import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
@@ -92,7 +93,9 @@ robotsCommand = runPlot <$> optional (strArgument (metavar "NAME" <> help "show 
       | otherwise = run name tip fmt
     runPlot Nothing _ _ (Just _) _ _ = failWith "--plot needs a robot NAME (a library name or a robot file)"
     runPlot (Just name) tip _ (Just file) qs deg = do
-      er <- loadRobot tip name
+      -- a plot file that cannot be written is a bad option, said before the robot is read
+      clash <- Out.overwritesInput [("the robot file", name)] [("--plot", file)]
+      er <- maybe (loadRobot tip name) (pure . Left) clash
       case er of
         Left e -> failWith e
         Right r -> do

@@ -33,7 +33,8 @@ import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
 import VProf.Kinematics.Library (libraryRobots)
 import VProf.Kinematics.Model (Robot (..))
 import VProf.Plot.Select (plotSelection)
-import VProf.Select.Format.Task (readTaskFile)
+import VProf.Select.Format.Task (readTaskFile, taskFileInputs)
+import qualified VProf.Cli.Output as Out
 import VProf.Select.Parallel (evaluateRobots)
 import VProf.Select.Selection
 import VProf.Select.Task
@@ -72,7 +73,10 @@ splitComma s = case break (== ',') s of
 
 runSelect :: SelectArgs -> IO ExitCode
 runSelect a = do
-  et <- readTaskFile (saTask a)
+  -- a plot file that cannot be written (or that is an input) is a bad option, said before the work
+  named <- taskFileInputs (saTask a)
+  clash <- Out.overwritesInput (("the task file", saTask a) : named) [ ("--plot", f) | Just f <- [saPlot a] ]
+  et <- maybe (readTaskFile (saTask a)) (\m -> pure (Left [m])) clash
   case et of
     Left es -> failWith (intercalate "\n  " es)
     Right task -> do
