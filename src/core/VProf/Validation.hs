@@ -7,6 +7,7 @@ module VProf.Validation
   ( FieldError (..)
   , FieldValue (..)
   , renderFieldError
+  , renderFieldErrors
   , renderValue
   , showNumber
     -- * Checks
@@ -64,6 +65,15 @@ renderValue :: FieldValue -> String
 renderValue = \case
   Number x -> showNumber x
   Literal s -> s
+
+-- | Every problem as 'renderFieldError' says it, joined by "; ", the first 20 of them and
+-- then how many more (2000 bad meshes made a message of 230 kB; the list of errors keeps them
+-- all).
+renderFieldErrors :: [FieldError] -> String
+renderFieldErrors es = case splitAt 20 es of
+  (shown, []) -> join (map renderFieldError shown)
+  (shown, rest) -> join (map renderFieldError shown) ++ "; and " ++ show (length rest) ++ " more"
+  where join = foldr1 (\a b -> a ++ "; " ++ b) . (\xs -> if null xs then [""] else xs)
 
 -- | "field = value unit: rule", or "field: rule" when the rule is about the field as a
 -- whole (an empty literal value).

@@ -426,7 +426,7 @@ spec = do
              _ -> verdict rq
 
   describe "budget and cap" $ do
-    it "a route whose zones at their speed limits already need more than 2^20 samples is refused, naming route_length" $ do
+    it "a route whose zones at their speed limits already need more than 2^20 samples is refused, naming the zone that alone needs them" $ do
       -- 10 m at 1 m/s, then 990 m at 1 mm/s: 990 010 s, 7 920 080 samples at 0.125 s, though
       -- the route at its top speed would need only 8 000 (the bound used to be that)
       let zones = [(0, 1.0), (10, 0.001)]
@@ -437,8 +437,16 @@ spec = do
       bound `shouldSatisfy` (> 1048576)
       case resOutcome (generatePure rq) of
         Failed (InvalidRequest es) -> do
-          map feField es `shouldBe` ["route_length"]
+          map feField es `shouldBe` ["speed_limits[1].velocity"]
           concatMap feRule es `shouldSatisfy` ("above the cap of 1048576 samples" `isInfixOf`)
+        other -> expectationFailure (show other)
+      -- no zone alone over the cap, together over it: the route is named
+      let many = [ (fromIntegral i, 0.002) | i <- [0 .. 999 :: Int] ]
+          rq2 = defaultRequest { rqRouteLength = 1000 *~ meter
+                               , rqZones = [ SpeedZone (st *~ meter) (v *~ mps) | (st, v) <- many ]
+                               , rqTimeStep = Just (0.125 *~ second) }
+      case resOutcome (generatePure rq2) of
+        Failed (InvalidRequest es) -> map feField es `shouldBe` ["route_length"]
         other -> expectationFailure (show other)
     it "a start that cannot stop by the route end but can within its end tolerance gets a legal profile (was claimed infeasible)" $ do
       Right rq <- requestFromJson <$> BL.readFile "test/data/overrun-within-tolerance-7cm.json"

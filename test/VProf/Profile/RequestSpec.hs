@@ -7,6 +7,7 @@ import Test.QuickCheck
 
 import VProf.Profile.Request
 import VProf.Units
+import VProf.Validation (fieldError, renderFieldErrors)
 
 fields :: Request -> [String]
 fields rq = either (map feField) (const []) (validate rq)
@@ -20,6 +21,18 @@ spec = do
 
   it "names the field and the value: max_jerk = -1.0 m/s³ must be > 0" $
     messages defaultRequest { rqMaxJerk = (-1) *~ mps3 } `shouldBe` ["max_jerk = -1.0 m/s³: must be > 0"]
+
+  it "names the cause of a degenerate request, not a default it set (route_length 5e-324 named end_tolerance, a zone at 5e-324 m/s route_length)" $ do
+    fields defaultRequest { rqRouteLength = 5e-324 *~ meter } `shouldBe` ["route_length"]
+    fields defaultRequest { rqZones = [SpeedZone (0 *~ meter) (5e-324 *~ mps)] } `shouldBe` ["speed_limits[0].velocity"]
+    fields defaultRequest { rqTimeStep = Just (1e-7 *~ second) } `shouldBe` ["time_step"]
+
+  it "says at most 20 problems and how many more (2000 bad meshes made a 230 kB message)" $ do
+    let es = [ fieldError ("x[" ++ show i ++ "]") 1 "m" "bad" | i <- [0 .. 99 :: Int] ]
+        m = renderFieldErrors es
+    length (filter (== ';') m) `shouldBe` 20
+    m `shouldSatisfy` ("and 80 more" `isInfixOf`)
+    renderFieldErrors (take 3 es) `shouldBe` "x[0] = 1.0 m: bad; x[1] = 1.0 m: bad; x[2] = 1.0 m: bad"
 
   it "reports every problem at once" $ do
     let rq = defaultRequest

@@ -1,6 +1,7 @@
 -- | The generator's promises over the wide world of requests ("Support.Wide"): every answer
 -- is a legal, converged profile that arrives without crawling, an infeasibility that an
--- independent proof confirms, a refusal by the sample cap naming route_length, or
+-- independent proof confirms, a refusal by the sample cap naming route_length (or the zone
+-- that alone needs more samples), or
 -- NOT_CONVERGED when the time budget runs out; no answer carries more than the cap of
 -- samples; the wall time, measured here, stays within the budget and a quarter second. And
 -- two metamorphic properties: the default generator is never slower than thesis mode, and
@@ -70,11 +71,15 @@ kind r = case resOutcome r of
     | otherwise -> "not converged: " ++ takeWhile (/= ':') m
   Failed (InvalidRequest es) -> "refused: " ++ unwords (map feField es)
 
--- | The cap's refusal: validation (or the generator after it) names route_length.
+-- | The cap's refusal: validation (or the generator after it) names route_length, or the one
+-- zone that alone needs more than the cap (its speed_limits[i].velocity, "above the cap").
 capRefusal :: Result -> Bool
 capRefusal r = case resOutcome r of
-  Failed (InvalidRequest es) -> not (null es) && all ((== "route_length") . feField) es
+  Failed (InvalidRequest es) -> not (null es) && all capError es
   _ -> False
+  where
+    capError e = feField e == "route_length"
+                 || ("speed_limits[" `isPrefixOf` feField e && "].velocity" `isSuffixOf` feField e && "above the cap" `isInfixOf` feRule e)
 
 durationOf :: Result -> Maybe Double
 durationOf r = case (resOutcome r, resProfile r) of

@@ -96,6 +96,11 @@ defaultTimeStep = 0.125
 defaultTimeBudget :: Double
 defaultTimeBudget = 1.0
 
+-- | The shortest route taken (m): 1 nm, well below any robot's resolution, and with a tenth of it
+-- a tolerance that is still a positive double.
+minRouteLength :: Double
+minRouteLength = 1e-9
+
 -- | 1 cm; a route shorter than 10 cm gets a tenth of its length.
 defaultEndTolerance :: Double
 defaultEndTolerance = 0.01
@@ -162,7 +167,8 @@ validate rq =
     budget = maybe defaultTimeBudget si (rqTimeBudget rq)
     -- a route no longer than its tolerance would be "reached" by standing still: the
     -- default is a tenth of a route shorter than ten times it, and a given one must be shorter
-    tol = maybe (if finite len && len > 0 then min defaultEndTolerance (len / 10) else defaultEndTolerance) si (rqEndTolerance rq)
+    lenOk = finite len && len >= minRouteLength   -- else route_length's own error says it
+    tol = maybe (if lenOk then min defaultEndTolerance (len / 10) else defaultEndTolerance) si (rqEndTolerance rq)
     maxIt = maybe (defaultMaxIterations (rqAlgorithm rq)) id (rqMaxIterations rq)
     dvGiven = fmap si (rqVelocityStep rq)
     -- the thesis mode grows its profile from rest one step per pass, so it takes the
@@ -184,7 +190,8 @@ validate rq =
     lastSpeed = limitAt len
 
     errors = concat
-      [ checkFinite "route_length" len "m" $ check (len > 0) "route_length" len "m" "must be > 0"
+      [ checkFinite "route_length" len "m" $ check (len >= minRouteLength) "route_length" len "m"
+          ("must be at least " ++ num minRouteLength ++ " m (1 nm)")
       , zoneErrors
       , checkFinite "min_acceleration" aMin "m/s²" $ check (aMin < 0) "min_acceleration" aMin "m/s²" "must be < 0"
       , checkFinite "max_acceleration" aMax "m/s²" $ check (aMax > 0) "max_acceleration" aMax "m/s²" "must be > 0"
@@ -206,7 +213,7 @@ validate rq =
       , checkFinite "end_acceleration" aE "m/s²" $
           check (not (finite aMin && finite aMax) || (aE >= aMin && aE <= aMax)) "end_acceleration" aE "m/s²"
             ("must lie within [min_acceleration, max_acceleration] = [" ++ num aMin ++ ", " ++ num aMax ++ "] m/s²")
-      , checkFinite "time_step" dt "s" $ check (dt > 0 && dt <= 1) "time_step" dt "s" "must be > 0 and at most 1 s"
+      , checkFinite "time_step" dt "s" $ check (dt >= 1e-6 && dt <= 1) "time_step" dt "s" "must be from 1e-6 s (1 µs) to 1 s"
       , case dvGiven of
           Nothing -> []
           Just d -> checkFinite "velocity_step" d "m/s" $ concat
@@ -224,7 +231,7 @@ validate rq =
           "must be > 0 and at most 3600 (an hour; a larger one would hold a worker of the daemon for as long)"
       , checkFinite "end_tolerance" tol "m" $ concat
           [ check (tol > 0) "end_tolerance" tol "m" "must be > 0"
-          , check (not (finite len && len > 0) || tol < len) "end_tolerance" tol "m"
+          , check (not lenOk || tol < len) "end_tolerance" tol "m"
               ("must be smaller than route_length, " ++ num len ++ " m: a profile that stands still would reach the end within it")
           ]
       , sizeErrors
@@ -254,13 +261,24 @@ validate rq =
     -- limit (no legal profile is faster anywhere), so the time is at least the sum of the
     -- zones' lengths over their limits.
     sizeErrors
-      | all finite [len, dt] && len > 0 && dt > 0 && not (null zones)
+      | all finite [len, dt] && len > 0 && dt >= 1e-6 && dt <= 1 && not (null zones)
       , all (\(st, v) -> finite st && finite v && v > 0) zones =
           let lower = leastSamples len dt sorted
-          in check (lower <= fromIntegral maxSamples) "route_length" len "m"
-               ("needs at least " ++ (if lower < 1e15 then show (ceiling lower :: Integer) else showNumber lower) ++ " samples at time_step " ++ num dt
-                ++ " s (each zone at its speed limit), above the cap of " ++ show maxSamples
-                ++ " samples; split the route or raise time_step")
+              -- one zone of several that alone needs more than the cap is named: its speed is the
+              -- cause (so is a speed so low that no route could be driven at it, even the only zone's)
+              ends = drop 1 (map fst sorted) ++ [len]
+              alone = [ (i, v, n) | (i, ((st, v), e)) <- zip [0 :: Int ..] (zip sorted ends)
+                                  , let n = max 0 (min len e - max 0 st) / v / dt
+                                  , n > fromIntegral maxSamples, length zones > 1 || n > 1e15 ]
+          in case alone of
+               (i, v, n) : _ -> err (fld i "velocity") v "m/s"
+                 ("is too slow: its zone alone needs " ++ (if n < 1e15 then show (ceiling n :: Integer) else showNumber n)
+                  ++ " samples at time_step " ++ num dt ++ " s, above the cap of " ++ show maxSamples
+                  ++ " samples; raise it, split the route or raise time_step")
+               [] -> check (lower <= fromIntegral maxSamples) "route_length" len "m"
+                       ("needs at least " ++ (if lower < 1e15 then show (ceiling lower :: Integer) else showNumber lower) ++ " samples at time_step " ++ num dt
+                        ++ " s (each zone at its speed limit), above the cap of " ++ show maxSamples
+                        ++ " samples; split the route or raise time_step")
       | otherwise = []
 
     sorted = sortOn fst zones

@@ -44,8 +44,6 @@ serveCompress req = do
   pure $ case r of
     Left e -> errorResponse rid secs ErrInternal "" ("internal error: " ++ show (e :: SomeException))
     Right (Left errs@(e1 : _)) ->
-      errorResponse rid secs ErrInvalidArgument (feField e1) (unwords' (map renderFieldError errs))
+      errorResponse rid secs ErrInvalidArgument (feField e1) (renderFieldErrors errs)
     Right (Left []) -> errorResponse rid secs ErrInternal "" "internal error: empty error list"
     Right (Right (warns, o)) -> outcomeToMsg rid secs warns o
-  where
-    unwords' = foldr1 (\a b -> a ++ "; " ++ b)

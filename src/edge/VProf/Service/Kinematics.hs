@@ -12,7 +12,6 @@ module VProf.Service.Kinematics
   ) where
 
 import Control.Exception (SomeException, evaluate, try)
-import Data.List (intercalate)
 import qualified Data.ByteString as B
 import Data.ProtocolBuffers (Encode, getField, putField)
 import GHC.Clock (getMonotonicTime)
@@ -21,6 +20,7 @@ import VProf.Kinematics
 import VProf.Kinematics.Collision (Clearance (..))
 import VProf.Select.Ik (Candidate (..), SelectIkFailure (..), solveCollisionFree)
 import VProf.Wire.Kinematics
+import VProf.Validation (renderFieldErrors)
 import VProf.Wire.Messages
 
 -- | Seconds an FK request may take before the server's grace (an inline URDF is parsed too).
@@ -37,7 +37,7 @@ ikTimeLimit m
   where b = orDefault (getField (ikqTimeBudget m)) :: Double
 
 invalid :: [FieldError] -> (String, String)
-invalid errs = (case errs of (e : _) -> feField e; [] -> "", intercalate "; " (map renderFieldError errs))
+invalid errs = (case errs of (e : _) -> feField e; [] -> "", renderFieldErrors errs)
 
 timed :: IO a -> IO (Either SomeException a, Double)
 timed act = do

@@ -17,7 +17,7 @@ module VProf.Wire.Select
   ) where
 
 import Data.Char (isAlphaNum, toLower)
-import Data.List (intercalate, isPrefixOf)
+import Data.List (isPrefixOf)
 import Data.ProtocolBuffers (getField, putField)
 import qualified Data.Text as T
 import qualified Data.Vector.Unboxed as U
@@ -29,7 +29,7 @@ import VProf.Kinematics
 import VProf.Kinematics.Library (libraryRobots)
 import VProf.Select.Selection
 import VProf.Select.Task
-import VProf.Validation (FieldValue (..), ensureFinite)
+import VProf.Validation (FieldValue (..), ensureFinite, renderFieldErrors)
 import VProf.Wire.Kinematics (meshFromMsg, mkError, poseFromMsg, robotFromMsg)
 import VProf.Wire.Messages
 
@@ -193,5 +193,5 @@ selectErrors rid secs errs = SelectResponseMsg
     firstField = case errs of
       e : _ -> feField e
       [] -> ""
-    joined = intercalate "; " . map renderFieldError
+    joined = renderFieldErrors
 
