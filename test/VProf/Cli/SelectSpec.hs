@@ -71,6 +71,7 @@ spec = do
           , ("a position beyond 1e9 m (the reach message overflowed to Infinity mm)", "payload: 1\nclearance: 0.01\ntargets:\n  - {position: [1e300, 0, 0.3]}\n", ["targets[0].position", "1.0e300", "from the origin"])
           , ("a robot base beyond 1e9 m", "payload: 1\nclearance: 0.01\nbase: {position: [0, -2e9, 0]}\ntargets:\n  - {position: [0.5, 0, 0.3]}\n", ["base.position", "from the origin"])
           , ("a roll angle beyond a million degrees (1e300 was taken: its sine is noise)", "payload: 1\nclearance: 0.01\ntargets:\n  - {position: [0.5, 0, 0.3], rpy_deg: [1e300, 0, 0]}\n", ["targets[0].rpy_deg", "degrees"])
+          , ("a tool capsule radius beyond 1e9 m (1e300 read as a self-collision 24.5 mm apart)", "payload: 1\nclearance: 0.01\ntool_capsule: {a: [0, 0, -0.1], b: [0, 0, 0], radius: 1e300}\ntargets:\n  - {position: [0.5, 0, 0.3]}\n", ["tool_capsule.radius"])
           , ("a missing path file", "payload: 1\nclearance: 0.01\npath: {file: nowhere.mod}\n", ["path.file", "nowhere.mod"])
           ]
     mapM_ (\(what, body, needles) -> it what $ withSystemTempDirectory "vprof-select" $ \tmp -> do

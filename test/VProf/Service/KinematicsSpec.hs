@@ -212,6 +212,17 @@ spec = do
       (_, f4, _) <- ikErr (withEnv [mesh [0, 0, 0, 1, 0, 0, 0, 1, 0] [0, 1, 2]] (Just (-0.01)))
       [f1, f2, f3, f4] `shouldBe` ["environment[0].vertices", "environment[0].triangles[2]", "environment[0].vertices[4]", "clearance"]
       T.unpack m2 `shouldContain` "3 vertices"
+    it "a scale or vertex beyond 1e9 m, a target beyond 1e9 m and a body the robot does not have (1e308 scale made every solution 'collide'; body 99 was ignored)" $ do
+      let mesh vs sc = MeshMsg (putField vs) (putField [0, 1, 2]) (putField (Just sc)) (putField Nothing)
+          withEnv ms = (ikReq (named "ur5") target) { ikqEnvironment = putField ms }
+      (c1, f1, _) <- ikErr (withEnv [mesh [2, 2, -0.5, 3, 2, -0.5, 2, 3, -0.5] 1e308])
+      (c2, f2, _) <- ikErr (withEnv [mesh [2, 2, -0.5, 3e12, 2, -0.5, 2, 3, -0.5] 0])
+      (c3, f3, _) <- ikErr (ikReq (named "ur5") target) { ikqTarget = putField (Just goodPose { poseZ = putField (Just 1e308) }) }
+      (c4, f4, m4) <- ikErr (withEnv [mesh [2, 2, -0.5, 3, 2, -0.5, 2, 3, -0.5] 1]) { ikqIgnoreBodies = putField [99] }
+      [(c1, f1), (c2, f2), (c3, f3), (c4, f4)] `shouldBe`
+        [ (ErrInvalidArgument, "environment[0].scale"), (ErrInvalidArgument, "environment[0].vertices[3]")
+        , (ErrInvalidArgument, "target.z"), (ErrInvalidArgument, "ignore_bodies[0]") ]
+      T.unpack m4 `shouldContain` "1 to 6"
     it "a request with no body and one with two bodies" $ do
       let both = envelope (Just (fkReq (named "ur5") [0, 0, 0, 0, 0, 0])) (Just (ikReq (named "ur5") target))
       classify both `shouldSatisfy` either (T.isInfixOf "fk, ik" . orDefault . getField . errMessage) (const False)

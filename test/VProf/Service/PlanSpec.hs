@@ -294,6 +294,10 @@ spec = do
       sort (fieldsOf all') `shouldBe` sort ["zone", "time_step", "acceleration", "jerk", "time_budget", "base", "ignore_bodies[0]", "clearance"]
       msg `shouldContain` "zone = -0.01 m"
       msg `shouldContain` "time_step = 2.0 s: must be at most 1"
+    it "a body the robot does not have is refused naming ignore_bodies[0] (99 was ignored)" $ do
+      ((code, field, msg), _) <- errs (squareReq rows) { plqIgnoreBodies = putField [99] }
+      (code, field) `shouldBe` (ErrInvalidArgument, "ignore_bodies[0]")
+      msg `shouldContain` "1 to 6"
     it "a zone between 0 and 0.1 mm is refused naming zone (a 0.1 µm zone planned for 12 s)" $ do
       ((code, field, msg), _) <- errs (squareReq rows) { plqZone = putField (Just 1e-7) }
       (code, field) `shouldBe` (ErrInvalidArgument, "zone")

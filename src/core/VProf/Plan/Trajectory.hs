@@ -251,7 +251,7 @@ validateRequest PlanRequest{..} = concat
   [ positive "speed" (si prSpeed) "m/s"
   , positive "acceleration" (si prAcceleration) "m/s²"
   , positive "jerk" (si prJerk) "m/s³"
-  , ensureFinite "dt" dt "s" $ ensure (dt > 0 && dt <= 1) (fieldError "dt" dt "s" "must be > 0 and at most 1 s")
+  , ensureFinite "dt" dt "s" $ ensure (dt >= 1e-6 && dt <= 1) (fieldError "dt" dt "s" "must be from 1e-6 s (1 µs) to 1 s")
   , positive "end_tolerance" (si prEndTolerance) "m"
   , case prStart of
       Nothing -> []
@@ -260,20 +260,22 @@ validateRequest PlanRequest{..} = concat
                     ("must be " ++ show (dof prRobot) ++ " finite joint values for " ++ robotName prRobot)]
              -- a start outside a joint's range is no configuration of the robot (and radians
              -- given as degrees, 90 for 90°, would silently pick another branch)
-             | otherwise -> concat [ outside j x | (j, x) <- zip (robotJoints prRobot) (U.toList q) ]
+             | otherwise -> concat [ outside i j x | (i, j, x) <- zip3 [0 :: Int ..] (robotJoints prRobot) (U.toList q) ]
   , ensure (dof prRobot > 0) (literalError "robot" (robotName prRobot) "has no joints")
   ]
   where
     dt = si prTimeStep
     positive f x u = ensureFinite f x u (ensure (x > 0) (fieldError f x u "must be > 0"))
-    outside j x =
+    outside i j x =
       let Limits lo hi = jointLimits j
           slack = 1e-9 * max 1 (abs x)
           rev = jointKind j == Revolute
-          deg v = showNumber (fromIntegral (round (v * 180 / pi * 1000) :: Integer) / 1000)
-          shown v = showNumber (fromIntegral (round (v * 1e6) :: Integer) / 1e6) ++ (if rev then " rad (" ++ deg v ++ "°)" else " m")
+          -- rounded for reading, but a huge value as it is (rounding 1e308 overflowed to Infinity)
+          rounded k v = if abs v < 1e9 then showNumber (fromIntegral (round (v * k) :: Integer) / k) else showNumber v
+          deg v = rounded 1000 (v * 180 / pi)
+          shown v = rounded 1e6 v ++ (if rev then " rad (" ++ deg v ++ "°)" else " m")
       in ensure (x >= lo - slack && x <= hi + slack)
-           (literalError "start" (shown x)
+           (literalError ("start[" ++ show i ++ "]") (shown x)
               ("joint " ++ jointName j ++ " is outside its limits " ++ shown lo ++ " to " ++ shown hi))
 
 planPath :: PlanRequest -> Either PlanFailure Plan

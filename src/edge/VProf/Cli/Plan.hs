@@ -23,7 +23,7 @@ import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy.Char8 as BL
 import Data.Char (toLower)
-import Data.List (intercalate)
+import Data.List (intercalate, isPrefixOf)
 import Data.Maybe (isJust)
 import qualified Data.Vector.Unboxed as U
 import GHC.Clock (getMonotonicTime)
@@ -201,6 +201,7 @@ optionName = \case
   "jerk" -> Just (UserField "--jerk" "m/s³" 1)
   "dt" -> Just (UserField "--dt" "s" 1)
   "start" -> Just (UserField "--start" "" 1)
+  f | "start[" `isPrefixOf` f -> Just (UserField ("--start" ++ drop 5 f) "" 1)
   _ -> Nothing
 
 -- | What the path argument gives: the waypoints in the world and, from a task file, the task.

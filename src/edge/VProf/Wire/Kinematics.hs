@@ -42,12 +42,12 @@ import Data.Word (Word32, Word64)
 import VProf.Geometry.Bvh (Bvh, buildBvh)
 import VProf.Geometry.Mesh (Mesh, ScenePart (..), composeScene, fromTriangles)
 import VProf.Kinematics
-import VProf.Kinematics.Collision (CollisionModel, CollisionOptions (..), collisionModel, defaultCollisionOptions)
+import VProf.Kinematics.Collision (CollisionModel, CollisionOptions (..), collisionModel, defaultCollisionOptions, unknownBody)
 import VProf.Kinematics.Format.RobotFile (readRobotYaml)
 import VProf.Kinematics.Format.Urdf (UrdfOptions (..), readUrdf)
 import VProf.Kinematics.Library (libraryRobots, lookupRobot)
 import VProf.Select.Ik (SelectIkFailure (..), SelectIkOptions (..), describeSelectIkFailure)
-import VProf.Validation (FieldValue (..), finite, literalError)
+import VProf.Validation (FieldValue (..), finite, literalError, maxCoordinate, showNumber)
 import VProf.Wire.Messages
 
 -- | A validated FK request.
@@ -129,6 +129,8 @@ poseFromMsg prefix p
     bad = [ FieldError (prefix ++ "." ++ k) (Number v) u "must be a finite number"
           | (k, v, u) <- zip3 ["x", "y", "z", "qw", "qx", "qy", "qz"] [x, y, z, w, a, b, c] ["m", "m", "m", "", "", "", ""]
           , not (finite v) ]
+          ++ [ FieldError (prefix ++ "." ++ k) (Number v) "m" ("is more than " ++ showNumber maxCoordinate ++ " m from the origin (is the unit right?)")
+             | (k, v) <- zip ["x", "y", "z"] [x, y, z], finite v, abs v > maxCoordinate ]
 
 -- | A joint vector of the robot's length with finite entries, in rad (revolute) and m (prismatic).
 jointsFromMsg :: String -> Robot -> [Double] -> Either [FieldError] (U.Vector Double)
@@ -176,8 +178,9 @@ ikFromMsg m = do
       envs = getField (ikqEnvironment m)
       clearance = let c = orDefault (getField (ikqClearance m)) :: Double in
         if finite c && c >= 0 then Right c else Left [FieldError "clearance" (Number c) "m" "must be a finite number >= 0"]
-      ignores = [ if b == 0 then Left [FieldError ("ignore_bodies[" ++ show i ++ "]") (Number 0) "" "bodies count from 1"]
-                  else Right (fromIntegral b :: Int)
+      ignores = [ if b == 0 then Left [FieldError ("ignore_bodies[" ++ show i ++ "]") (Literal "0") "" "bodies count from 1"]
+                  else maybe (Right (fromIntegral b :: Int)) (\e -> Left [FieldError ("ignore_bodies[" ++ show i ++ "]") (Literal (show b)) "" e])
+                             (unknownBody r False (fromIntegral b))
                 | (i, b) <- zip [0 :: Int ..] (getField (ikqIgnoreBodies m)) ]
       meshes = collect [ meshFromMsg ("environment[" ++ show i ++ "]") e | (i, e) <- zip [0 :: Int ..] envs ]
   -- every problem at once
@@ -213,6 +216,13 @@ meshFromMsg prefix m = do
         ++ [ err (prefix ++ ".triangles[" ++ show i ++ "]") (show t) ("is not a vertex index: the mesh has " ++ show nv ++ " vertices (indices from 0)")
            | (i, t) <- take 1 [ it | it@(_, t) <- zip [0 :: Int ..] ts, fromIntegral t >= nv ] ]
         ++ [ FieldError (prefix ++ ".scale") (Number sc) "" "must be a finite number >= 0 (0 means 1)" | not (finite sc) || sc < 0 ]
+        -- a scale that puts a vertex beyond the bound of every coordinate is a wrong unit (1e308
+        -- made the vertices infinite and every IK solution 'collide')
+        ++ [ FieldError (prefix ++ ".scale") (Number sc) ""
+               ("puts vertex " ++ show (i `div` 3) ++ " more than " ++ showNumber maxCoordinate ++ " m from the origin (is the unit right?)")
+           | finite sc, sc > 0, i <- take 1 [ j | (j, v) <- zip [0 :: Int ..] vs, finite v, abs (v * sc) > maxCoordinate ] ]
+        ++ [ FieldError (prefix ++ ".vertices[" ++ show i ++ "]") (Number v) "" ("is more than " ++ showNumber maxCoordinate ++ " from the origin (is the unit right?)")
+           | (i, v) <- take 1 [ iv | iv@(_, v) <- zip [0 :: Int ..] vs, finite v, abs v > maxCoordinate ] ]
       pose = maybe (Right identity) (poseFromMsg (prefix ++ ".pose")) (getField (meshPose m))
   case e1 ++ either id (const []) pose of
     errs@(_ : _) -> Left errs

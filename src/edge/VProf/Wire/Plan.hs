@@ -23,7 +23,6 @@ module VProf.Wire.Plan
   , wireName
   ) where
 
-import Data.List (intercalate)
 import Data.ProtocolBuffers (getField, putField)
 import qualified Data.Text as T
 import qualified Data.Vector.Unboxed as U
@@ -32,7 +31,7 @@ import Data.Word (Word64)
 import VProf.Geometry.Bvh (buildBvh)
 import VProf.Geometry.Mesh (composeScene)
 import VProf.Kinematics
-import VProf.Kinematics.Collision (CollisionOptions (..), collisionModel, defaultCollisionOptions)
+import VProf.Kinematics.Collision (CollisionOptions (..), collisionModel, defaultCollisionOptions, unknownBody)
 import VProf.Plan
 import VProf.Units
 import VProf.Validation
@@ -121,8 +120,10 @@ planFromMsg m =
       clearanceM = orDefault (getField (plqClearance m))
       clearance = if finite clearanceM && clearanceM >= 0 then Right clearanceM
                   else Left [fieldError "clearance" clearanceM "m" "must be a finite number >= 0"]
-      ignores = [ if b == 0 then Left [fieldError ("ignore_bodies[" ++ show i ++ "]") 0 "" "bodies count from 1 (the first link)"]
-                  else Right (fromIntegral b :: Int)
+      ignores = [ if b == 0 then Left [literalError ("ignore_bodies[" ++ show i ++ "]") "0" "bodies count from 1 (the first link)"]
+                  else case robot of
+                    Right (r, _) | Just e <- unknownBody r False (fromIntegral b) -> Left [literalError ("ignore_bodies[" ++ show i ++ "]") (show b) e]
+                    _ -> Right (fromIntegral b :: Int)
                 | (i, b) <- zip [0 :: Int ..] (getField (plqIgnoreBodies m)) ]
       speed = orDefaultPositive "speed" "m/s" 0.5 (orDefault (getField (plqSpeed m)))
       acc = orDefaultPositive "acceleration" "m/s²" defaultAcceleration (orDefault (getField (plqAcceleration m)))
@@ -246,7 +247,7 @@ planFailureToMsg rid secs q f = case f of
 -- apart.
 planErrors :: Word64 -> Double -> [FieldError] -> PlanResponseMsg
 planErrors rid secs errs = (bare rid secs PlanStatusInvalidArgument)
-  { plrError = putField (Just (mkError ErrInvalidArgument firstField (intercalate "; " (map renderFieldError errs))))
+  { plrError = putField (Just (mkError ErrInvalidArgument firstField (renderFieldErrors errs)))
   , plrErrors = putField [ mkError ErrInvalidArgument (feField e) (renderFieldError e) | e <- errs ] }
   where
     firstField = case errs of

@@ -37,6 +37,8 @@ spec = describe "VProf.Geometry.Format.Obj" $ do
     ok (square <> "f 1/1 2/2 3/3\n") `shouldBe` expect
     ok (square <> "f 1//1 2//1 3//1\n") `shouldBe` expect
     ok (square <> "f 1/1/1 2/2/1 3/3/1\n") `shouldBe` expect
+  it "skips a UTF-8 byte-order mark before the first line (was 'unknown statement')" $
+    ok ("\xEF\xBB\xBF" <> square <> "f 1 2 3\n") `shouldBe` ok (square <> "f 1 2 3\n")
   it "reads negative (relative) indices" $ do
     ok (square <> "f -4 -3 -2\n") `shouldBe` ok (square <> "f 1 2 3\n")
     ok ("v 9 9 9\n" <> square <> "f -4/-3/-1 -3/-2/-1 -2/-1/-1\n") `shouldBe` ok (square <> "f 1 2 3\n")

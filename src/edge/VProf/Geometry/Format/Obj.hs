@@ -15,7 +15,8 @@ module VProf.Geometry.Format.Obj
   , readDouble
   ) where
 
-import Control.Exception (SomeException, try)
+import Control.Exception (IOException, try)
+import VProf.Format.IOError (ioReason)
 import qualified Data.ByteString as BS
 import qualified Data.ByteString.Char8 as BC
 import qualified Data.ByteString.Unsafe as BU
@@ -34,7 +35,7 @@ readObj :: FilePath -> IO (Either String Mesh)
 readObj path = do
   r <- try (BS.readFile path)
   pure $ case r of
-    Left (e :: SomeException) -> Left ("cannot read " ++ path ++ ": " ++ show e)
+    Left (e :: IOException) -> Left ("cannot read " ++ path ++ ": " ++ ioReason e)
     Right bs -> either (Left . ((path ++ ": ") ++) . renderFieldError) Right (parseObj bs)
 
 data Stmt = SVertex !Double !Double !Double | SFace [Int] | SSkip
@@ -42,8 +43,10 @@ data Stmt = SVertex !Double !Double !Double | SFace [Int] | SSkip
 -- | The triangles of an OBJ text, or the first error ("line 12 = f 1 2: a face needs at least 3
 -- vertices").
 parseObj :: BS.ByteString -> Either FieldError Mesh
-parseObj bs = go 1 0 [] [] (BC.lines bs)
+parseObj bs = go 1 0 [] [] (BC.lines (dropBom bs))
   where
+    -- a UTF-8 byte-order mark before the first line, as editors on Windows write it
+    dropBom b = if BS.pack [0xEF, 0xBB, 0xBF] `BS.isPrefixOf` b then BS.drop 3 b else b
     -- vertex count, vertices (reversed, flat xyz), triangles (reversed, vertex indices)
     go :: Int -> Int -> [Double] -> [[Int]] -> [BS.ByteString] -> Either FieldError Mesh
     go !_ !nv vs fs [] = finish nv vs fs

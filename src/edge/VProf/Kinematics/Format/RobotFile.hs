@@ -16,7 +16,8 @@ module VProf.Kinematics.Format.RobotFile
   , defaultCapsules
   ) where
 
-import Control.Exception (SomeException, try)
+import Control.Exception (IOException, try)
+import VProf.Format.IOError (ioReason)
 import qualified Data.Aeson as A
 import qualified Data.Aeson.Key as K
 import qualified Data.Aeson.KeyMap as KM
@@ -37,7 +38,7 @@ readRobotFile :: FilePath -> IO (Either [String] Robot)
 readRobotFile path = do
   r <- try (BS.readFile path)
   pure $ case r of
-    Left (e :: SomeException) -> Left ["cannot read " ++ path ++ ": " ++ show e]
+    Left (e :: IOException) -> Left ["cannot read " ++ path ++ ": " ++ ioReason e]
     Right bs -> readRobotYaml bs
 
 readRobotYaml :: BS.ByteString -> Either [String] Robot

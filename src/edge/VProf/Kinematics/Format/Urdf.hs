@@ -14,7 +14,8 @@ module VProf.Kinematics.Format.Urdf
   , urdfJointNames
   ) where
 
-import Control.Exception (SomeException, try)
+import Control.Exception (IOException, try)
+import VProf.Format.IOError (ioReason)
 import qualified Data.ByteString.Lazy as BL
 import Data.Either (lefts, rights)
 import Data.List (find, isPrefixOf, nub, stripPrefix)
@@ -55,7 +56,7 @@ readUrdfFile :: UrdfOptions -> FilePath -> IO (Either [String] Robot)
 readUrdfFile opts path = do
   r <- try (BL.readFile path)
   pure $ case r of
-    Left (e :: SomeException) -> Left ["cannot read " ++ path ++ ": " ++ show e]
+    Left (e :: IOException) -> Left ["cannot read " ++ path ++ ": " ++ ioReason e]
     Right bs -> (\r -> r {robotSources = ["URDF file " ++ path]}) <$> readUrdf opts bs
 
 -- | The names of the actuated joints of the chain, in order (the order of q).

@@ -15,7 +15,8 @@ module VProf.Select.Format.Task
   , taskFileInputs
   ) where
 
-import Control.Exception (SomeException, try)
+import Control.Exception (IOException, try)
+import VProf.Format.IOError (ioReason)
 import Control.Monad (when)
 import qualified Data.Aeson as A
 import qualified Data.Aeson.Key as K
@@ -51,7 +52,7 @@ readTaskFile :: FilePath -> IO (Either [String] Task)
 readTaskFile path = do
   r <- try (BS.readFile path)
   case r of
-    Left (e :: SomeException) -> pure (Left ["cannot read the task file " ++ path ++ ": " ++ show e])
+    Left (e :: IOException) -> pure (Left ["cannot read the task file " ++ path ++ ": " ++ ioReason e])
     Right bs -> case Y.decodeEither' bs of
       Left e -> pure (Left [path ++ ": not valid YAML/JSON: " ++ Y.prettyPrintParseException e])
       Right _ | dups@(_ : _) <- duplicateKeyErrors bs -> pure (Left (map ((path ++ ": ") ++) dups))
@@ -88,7 +89,7 @@ taskFileInputs :: FilePath -> IO [(String, FilePath)]
 taskFileInputs path = do
   r <- try (BS.readFile path)
   case r of
-    Left (_ :: SomeException) -> pure []
+    Left (_ :: IOException) -> pure []
     Right bs -> case Y.decodeEither' bs of
       Left _ -> pure []
       Right v -> mapM (\(w, f) -> (,) ("the task's " ++ w) <$> resolvePath (takeDirectory path) f) (named v)
@@ -210,7 +211,7 @@ readPathTargets :: Tf -> FilePath -> IO (Either String [Target])
 readPathTargets frame f = do
   r <- try (BS.readFile f)
   pure $ case r of
-    Left (e :: SomeException) -> Left ("cannot read the path file " ++ f ++ ": " ++ show e)
+    Left (e :: IOException) -> Left ("cannot read the path file " ++ f ++ ": " ++ ioReason e)
     Right bs -> do
       samples <- either (Left . ((f ++ ": ") ++)) Right $ case map toLower (takeExtension f) of
         ".mod" -> readRapid bs
