@@ -379,15 +379,16 @@ planPath rq@PlanRequest{..} = do
             -- of it would jump from one acceleration to the other, up to twice the jerk. So the
             -- part after a cut at speed v starts one time step later, at u + v·dt: the step
             -- between is driven at v with no acceleration, as both profiles assume ('assemble'
-            -- keeps both samples). When the next part's first zone at that start is below v, or
-            -- the part would be too short, the cut is joined on one sample as before.
+            -- keeps both samples). Where the next part's first zone at that start is below v, the
+            -- cut's speed is lowered to it; only where the next part would be left shorter than
+            -- half 'minPartLength' is the cut joined on one sample as before.
             timeParts bounds vx vy cap =
               let spanned (x, y) = let st = stepLimitsAt lo route pb 0 x y in ((x, y), st, limitZones top st x y)
                   parts0 = map spanned (zip bounds (drop 1 bounds))
                   speeds = vx : [ minimum (cap u : map lzSpeed (take 1 (reverse zl) ++ take 1 zr))
                                 | ((_, _, zl), ((u, _), _, zr)) <- zip parts0 (drop 1 parts0) ] ++ [vy]
                   -- (its steps and zones are those of [u, y], on the route's grid, the zones cut at
-                  -- the new start; where that zone is below v, the cut's speed is lowered to it)
+                  -- the new start)
                   shiftAt p0@((u, y), st, zs0) v = case [ (p1, w) | w <- [v, lowered], w > 0, Just p1 <- [at w] ] of
                     (p1, w) : _ -> (p1, w)
                     [] -> (p0, v)
