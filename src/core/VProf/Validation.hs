@@ -18,6 +18,7 @@ module VProf.Validation
   , ensureFinite
   , validated
   , maxCoordinate
+  , tooFarRule
   , maxAngleDeg
     -- * Speaking the user's language
   , UserField (..)
@@ -33,6 +34,10 @@ import Numeric (showEFloat, showFFloat)
 -- or a corrupt file.
 maxCoordinate :: Double
 maxCoordinate = 1e9
+
+-- | The rule a position beyond 'maxCoordinate' breaks, in the words every reader uses.
+tooFarRule :: String
+tooFarRule = "is more than " ++ showNumber maxCoordinate ++ " m from the origin (is the unit right?)"
 
 -- | The largest angle taken in degrees (a pose's roll, pitch or yaw): a million degrees is
 -- some 2,800 turns; beyond, the angle is taken for a wrong unit (the sine of 1e300 is noise).

@@ -121,7 +121,7 @@ mkRoute zones wps = validated [errors] route
       [ ensure (n >= 2) (literalError "waypoints" (show n) "a route needs at least 2 waypoints")
       , concat [ [ fieldError ("waypoints[" ++ show i ++ "].position") v "m" "must be a finite number" | v <- nums p, not (finite v) ]
                  ++ take 1 [ fieldError ("waypoints[" ++ show i ++ "].position") v "m"
-                               ("is more than " ++ showNumber maxCoordinate ++ " m from the origin (is the unit right?)")
+                               tooFarRule
                            | v <- nums p, finite v, abs v > maxCoordinate ]
                | (i, p) <- zip [0 :: Int ..] pts ]
       , concat [ ensure (all finite [w, a, b, c] && nq > 0.5 && nq < 2)

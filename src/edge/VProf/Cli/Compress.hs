@@ -28,7 +28,7 @@ import qualified VProf.Cli.Output as Out
 import VProf.Format.IOError (ioReason)
 import VProf.Compress
 import VProf.Compress.Clean
-import VProf.Compress.Format.Common (dropBom)
+import VProf.Format.Text (dropBom)
 import VProf.Compress.Format.Csv
 import VProf.Compress.Format.Kitti
 import VProf.Compress.Format.Log

@@ -39,7 +39,7 @@ import VProf.Cli.Kinematics (loadRobot)
 import qualified VProf.Cli.Output as Out
 import VProf.Format.IOError (ioReason)
 import VProf.Compress.Clean (fileLocator, nonUnitWarning, renderCleanWarning)
-import VProf.Compress.Format.Common (dropBom)
+import VProf.Format.Text (dropBom)
 import VProf.Compress.Format.Csv (parseCsv, readCsv)
 import VProf.Compress.Format.Rapid (parseRapid, readRapid)
 import VProf.Compress.Format.Tum (parseTum, readTum)
@@ -137,7 +137,7 @@ planCommand = runPlan <$> (PlanOpts
       _ -> Left (what ++ " " ++ show s ++ ": expected " ++ (if k == 0 then "numbers" else show k ++ " numbers"))
     pose what s = case numbers what 0 s of
       Right xs | any ((> maxCoordinate) . abs) (take 3 xs) ->
-                   Left (what ++ " " ++ show s ++ ": a position more than " ++ showNumber maxCoordinate ++ " m from the origin (is the unit right?)")
+                   Left (what ++ " " ++ show s ++ ": the position " ++ tooFarRule)
                | any ((> maxAngleDeg) . abs) (drop 3 xs) ->
                    Left (what ++ " " ++ show s ++ ": an angle beyond " ++ showNumber maxAngleDeg ++ " degrees (is the unit right?)")
                | length xs `elem` [3, 6] -> Right xs

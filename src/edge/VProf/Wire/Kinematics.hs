@@ -47,7 +47,7 @@ import VProf.Kinematics.Format.RobotFile (readRobotYaml)
 import VProf.Kinematics.Format.Urdf (UrdfOptions (..), readUrdf)
 import VProf.Kinematics.Library (libraryRobots, lookupRobot)
 import VProf.Select.Ik (SelectIkFailure (..), SelectIkOptions (..), describeSelectIkFailure)
-import VProf.Validation (FieldValue (..), finite, literalError, maxCoordinate, showNumber)
+import VProf.Validation (FieldValue (..), finite, literalError, maxCoordinate, showNumber, tooFarRule)
 import VProf.Wire.Messages
 
 -- | A validated FK request.
@@ -129,7 +129,7 @@ poseFromMsg prefix p
     bad = [ FieldError (prefix ++ "." ++ k) (Number v) u "must be a finite number"
           | (k, v, u) <- zip3 ["x", "y", "z", "qw", "qx", "qy", "qz"] [x, y, z, w, a, b, c] ["m", "m", "m", "", "", "", ""]
           , not (finite v) ]
-          ++ [ FieldError (prefix ++ "." ++ k) (Number v) "m" ("is more than " ++ showNumber maxCoordinate ++ " m from the origin (is the unit right?)")
+          ++ [ FieldError (prefix ++ "." ++ k) (Number v) "m" tooFarRule
              | (k, v) <- zip ["x", "y", "z"] [x, y, z], finite v, abs v > maxCoordinate ]
 
 -- | A joint vector of the robot's length with finite entries, in rad (revolute) and m (prismatic).

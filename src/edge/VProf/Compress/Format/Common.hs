@@ -2,7 +2,6 @@
 -- track they make, and one-pose-a-line output.
 module VProf.Compress.Format.Common
   ( readDouble
-  , dropBom
   , trackFromRows
   , everyPose
   , dataLines
@@ -46,10 +45,6 @@ everyPose format rows = case filter lacksPose rows of
   [] -> Right ()
   where
     lacksPose (Sample _ _ (P3 x y z) (Q4 w a b c)) = any isNaN [x, y, z, w, a, b, c]
-
--- | The text without a UTF-8 byte-order mark at its start (spreadsheets write one before a CSV).
-dropBom :: B.ByteString -> B.ByteString
-dropBom s = if B.pack "\xEF\xBB\xBF" `B.isPrefixOf` s then B.drop 3 s else s
 
 -- | A decimal number (optional sign, fraction, exponent) filling the whole string.
 readDouble :: B.ByteString -> Maybe Double

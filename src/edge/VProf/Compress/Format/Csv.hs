@@ -167,8 +167,8 @@ layoutOf hi names = do
   let named = [ (c, n, base, unit, roleOf base) | (c, n) <- zip [1 :: Int ..] names, let (base, unit) = splitName n ]
       firstOf r = [ (c, n, unit) | (c, n, _, unit, Just r') <- named, r' == r ]
       -- a sensor's stamp before a receive time (ROS exports both)
-      timeCols = let ts = firstOf RTime
-                 in [ t | t@(_, n, _) <- ts, "stamp" `elem` words (map (\ch -> if ch `elem` "._-/ " then ' ' else toLower ch) n) ] ++ ts
+      timeCols = stamps ++ firstOf RTime
+      stamps = [ t | t@(_, n, _) <- firstOf RTime, "stamp" `elem` words (map (\ch -> if ch `elem` "._-/ " then ' ' else toLower ch) n) ]
       pick r = case firstOf r of (c, n, u) : _ -> Just (c, n, u); [] -> Nothing
       slots = [ ("time", case timeCols of t : _ -> Just t; [] -> Nothing) ]
               ++ [ (nm, pick (RPos k)) | (k, nm) <- zip [0 ..] ["x", "y", "z"] ]
@@ -176,9 +176,7 @@ layoutOf hi names = do
       missing = [ nm | (nm, Nothing) <- slots ]
       -- two columns for one part of the pose: which one is meant cannot be guessed
       twice = [ (nm, cs) | (nm, cs) <- ("time", timeTies) : [ (nm, firstOf r) | (nm, r) <- poseRoles ], length cs > 1 ]
-      timeTies = let ts = firstOf RTime
-                     stamps = [ t | t@(_, n, _) <- ts, "stamp" `elem` words (map (\ch -> if ch `elem` "._-/ " then ' ' else toLower ch) n) ]
-                 in if null stamps then ts else stamps
+      timeTies = if null stamps then firstOf RTime else stamps
       poseRoles = zip ["x", "y", "z"] (map RPos [0 ..]) ++ zip ["qw", "qx", "qy", "qz"] (map RQuat [0 ..])
       quatUnits = [ (c, n, u) | (_, r) <- drop 3 poseRoles, (c, n, u) : _ <- [firstOf r], not (null u) ]
   case twice of

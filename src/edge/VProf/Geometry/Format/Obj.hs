@@ -17,6 +17,7 @@ module VProf.Geometry.Format.Obj
 
 import Control.Exception (IOException, try)
 import VProf.Format.IOError (ioReason)
+import VProf.Format.Text (dropBom)
 import qualified Data.ByteString as BS
 import qualified Data.ByteString.Char8 as BC
 import qualified Data.ByteString.Unsafe as BU
@@ -45,8 +46,6 @@ data Stmt = SVertex !Double !Double !Double | SFace [Int] | SSkip
 parseObj :: BS.ByteString -> Either FieldError Mesh
 parseObj bs = go 1 0 [] [] (BC.lines (dropBom bs))
   where
-    -- a UTF-8 byte-order mark before the first line, as editors on Windows write it
-    dropBom b = if BS.pack [0xEF, 0xBB, 0xBF] `BS.isPrefixOf` b then BS.drop 3 b else b
     -- vertex count, vertices (reversed, flat xyz), triangles (reversed, vertex indices)
     go :: Int -> Int -> [Double] -> [[Int]] -> [BS.ByteString] -> Either FieldError Mesh
     go !_ !nv vs fs [] = finish nv vs fs

@@ -43,7 +43,7 @@ import VProf.Kinematics.Model (Capsule (..))
 import VProf.Kinematics.Transform
 import VProf.Format.DuplicateKeys (duplicateKeyErrors)
 import VProf.Select.Task
-import VProf.Validation (maxAngleDeg, maxCoordinate, renderFieldError, showNumber)
+import VProf.Validation (maxAngleDeg, maxCoordinate, renderFieldError, showNumber, tooFarRule)
 
 type P a = Either [String] a
 
@@ -182,8 +182,7 @@ pose p v = do
   pos <- optionalP p o "position" (Right (V3 0 0 0)) (vec3 (p ++ ".position"))
   let V3 px py pz = pos
   when (any ((> maxCoordinate) . abs) [px, py, pz]) $
-    Left [p ++ ".position: " ++ show [px, py, pz] ++ " is more than " ++ showNumber maxCoordinate
-          ++ " m from the origin, beyond any work cell (is the unit right?)"]
+    Left [p ++ ".position: " ++ show [px, py, pz] ++ " " ++ tooFarRule]
   case (KM.lookup "quaternion" o, KM.lookup "rpy_deg" o) of
     (Just _, Just _) -> Left [p ++ ": give quaternion or rpy_deg, not both"]
     (Just q, Nothing) -> do
