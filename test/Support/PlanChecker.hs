@@ -40,10 +40,11 @@ import VProf.Profile.Sampled (Columns (..), columns)
 import VProf.Units
 
 -- | The TCP stream's acceleration and jerk against the plan's ranges: 2 %. Each part of the
--- route ends within its end tolerance (1 µm) of its end and is stretched onto it, so two parts
+-- route ends within its end tolerance (1 µm, at most 1e-5 of its length: the planner's request,
+-- also the tolerance each part is checked against) of its end and is stretched onto it, so two parts
 -- that meet at speed may differ by up to about 2 µm over the part's length in that speed: for
 -- one sample, a little jerk (1.3 % of 20 m/s³ seen on 1 cm parts). Twice the jerk, as parts
--- joined on one sample gave, is far outside it.
+-- joined on one sample can give, is far outside it.
 streamTolerance :: Double
 streamTolerance = 2e-2
 
@@ -152,7 +153,7 @@ checkTrajectory r wps zone acc jerk dt plan = concat
               , rqZones = [ SpeedZone ((lzStart z - a) *~ meter) (lzSpeed z *~ mps) | z <- zs ]
               , rqMinAcceleration = negate acc *~ mps2, rqMaxAcceleration = acc *~ mps2
               , rqMinJerk = negate jerk *~ mps3, rqMaxJerk = jerk *~ mps3
-              , rqTimeStep = Just (dt *~ second), rqEndTolerance = Just (min 1e-6 ((b - a) / 10) *~ meter) }
+              , rqTimeStep = Just (dt *~ second), rqEndTolerance = Just (min 1e-6 ((b - a) * 1e-5) *~ meter) }
         in case resProfile res of
              Nothing -> ["part " ++ show i ++ " has no profile"]
              Just p ->

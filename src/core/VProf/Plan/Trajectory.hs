@@ -376,12 +376,18 @@ planPath rq@PlanRequest{..} = do
             --
             -- Each part's profile assumes no acceleration just past its end and just before its
             -- start; joined on one sample, a part braking into a cut and the next speeding up out
-            -- of it would jump from one acceleration to the other, up to twice the jerk. So the
-            -- part after a cut at speed v starts one time step later, at u + v·dt: the step
-            -- between is driven at v with no acceleration, as both profiles assume ('assemble'
-            -- keeps both samples). Where the next part's first zone at that start is below v, the
-            -- cut's speed is lowered to it; only where the next part would be left shorter than
-            -- half 'minPartLength' is the cut joined on one sample as before.
+            -- of it can jump from one acceleration to the other, up to twice the jerk. Where the
+            -- streamed speeds across such a join break the jerk limit ('joinKeepsJerk'), the part
+            -- after the cut (speed v) starts one time step later, at u + v·dt: the step between is
+            -- driven at v with no acceleration, as both profiles assume ('assemble' keeps both
+            -- samples). Where the next part's first zone at that start is below v, the cut's speed
+            -- is lowered to it (and that join is always shifted); where the next part would be
+            -- left shorter than half 'minPartLength', the cut stays joined on one sample. The
+            -- joins that keep the limit on one sample stay so: a shifted part is one time step
+            -- shorter only on average (its samples fall elsewhere; its first step no longer holds
+            -- the corner, so its acceleration can differ), and shifting every join cost the
+            -- README's workflow 1.2 s of 28.1 (4 %). Shifting a part re-times it, which can change
+            -- the speeds at its end, so the joins are checked again until none breaks the limit.
             timeParts bounds vx vy cap =
               let spanned (x, y) = let st = stepLimitsAt lo route pb 0 x y in ((x, y), st, limitZones top st x y)
                   parts0 = map spanned (zip bounds (drop 1 bounds))
@@ -400,10 +406,39 @@ planPath rq@PlanRequest{..} = do
                       lowered = case dropWhile (\z -> lzEnd z <= u + v * dt) zs0 of
                         z : _ -> min v (lzSpeed z)
                         [] -> 0
+                  -- join j (between parts j and j+1, j = 0 … n−2): part j+1 shifted, and its speed
                   shiftedAll = zipWith shiftAt (drop 1 parts0) (drop 1 (init speeds))
-                  parts = take 1 parts0 ++ map fst shiftedAll
-                  speeds' = take 1 speeds ++ map snd shiftedAll ++ [last speeds]
-              in (all (\(_, _, zs) -> not (null zs)) parts, sparkEach (score False) (zipWith3 part parts speeds' (drop 1 speeds')))
+                  nJoins = length shiftedAll
+                  lowers = [ j | (j, (_, w), v) <- zip3 [0 :: Int ..] shiftedAll (drop 1 speeds), w < v ]
+                  -- part i timed with its start shifted or not and its end speed lowered or not,
+                  -- each variant once (lazily)
+                  variants = [ [ [ part (if sh && i > 0 then fst (shiftedAll !! (i - 1)) else p)
+                                        (if sh && i > 0 then snd (shiftedAll !! (i - 1)) else speeds !! i)
+                                        (if lo' && i < nJoins then snd (shiftedAll !! i) else speeds !! (i + 1))
+                                 | lo' <- [False, True] ]
+                               | sh <- [False, True] ]
+                             | (i, p) <- zip [0 :: Int ..] parts0 ]
+                  layout js = [ variants !! i !! fromEnum (i > 0 && (i - 1) `elem` js) !! fromEnum (i < nJoins && i `elem` js && i `elem` lowers)
+                              | i <- [0 .. length parts0 - 1] ]
+                  settle js =
+                    let rs = layout js
+                        breaking = [ j | (j, (r1, r2)) <- zip [0 :: Int ..] (zip rs (drop 1 rs)), j `notElem` js, not (joinKeepsJerk r1 r2) ]
+                    in if null breaking then (js, rs) else settle (js ++ breaking)
+                  (shiftedJoins, results) = settle lowers
+                  parts = [ if i > 0 && (i - 1) `elem` shiftedJoins then fst (shiftedAll !! (i - 1)) else p | (i, p) <- zip [0 :: Int ..] parts0 ]
+              in (all (\(_, _, zs) -> not (null zs)) parts, sparkEach (score False) results)
+            -- two parts joined on one sample (the second's first dropped) keep the jerk limit in
+            -- the streamed speeds: the second difference across the join, (v⁺ − 2v + v⁻)/dt², at
+            -- most the TCP jerk (speeds as streamed, each part stretched to its length)
+            joinKeepsJerk r1 r2 = case (streamedSpeeds r1, streamedSpeeds r2) of
+              (v1, v2) | U.length v1 >= 2, U.length v2 >= 2 ->
+                abs (v2 U.! 1 - 2 * U.last v1 + v1 U.! (U.length v1 - 2)) <= si prJerk * dt * dt * (1 + 1e-9)
+              _ -> True
+            streamedSpeeds ((a, b), _, _, _, r) = case resProfile r of
+              Nothing -> U.empty
+              Just p -> let c = columns p
+                            e = if U.null (colDistance c) then 0 else U.last (colDistance c)
+                        in U.map (* (if e > 0 then (b - a) / e else 1)) (colVelocity c)
             splitAt' bounds = snd (timeParts bounds 0 0 (const (1 / 0)))
             -- a part's acceleration: the fastest rung of the ladder whose joint motion keeps the
             -- limits, then refined ('refine')
@@ -481,7 +516,9 @@ planPath rq@PlanRequest{..} = do
               where
                 join (s0, s1) ((t0, t1) : rest) | t0 - s1 <= 2 * flattenMargin = (s0, t1) : rest
                 join r rest = r : rest
-            total ps = sum (map (score False) ps)
+            -- the parts' time as 'assemble' joins them: a part that starts one time step after
+            -- the previous one ends ('timeParts') adds that step
+            total ps = sum (map (score False) ps) + dt * fromIntegral (length [ () | (p, q) <- zip ps (drop 1 ps), snd (spanOf p) /= fst (spanOf q) ])
             -- the parts' samples as 'assemble' joins them: a part that starts where the previous
             -- one ends (the same sample) without its first
             joined ps = U.concat (take 1 (map samplesOf ps) ++ zipWith (\p q -> let (_, b) = spanOf p; (a', _) = spanOf q
