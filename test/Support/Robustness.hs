@@ -14,6 +14,7 @@ module Support.Robustness
   ) where
 
 import Control.Concurrent.Async (forConcurrently)
+import Control.Exception (SomeException, try)
 import Control.Monad
 import Data.Bits (shiftR, xor, shiftL)
 import qualified Data.ByteString as B
@@ -118,6 +119,16 @@ robustnessSpec hut = around (withServer quietConfig (hutHandler hut) . (. server
     withClient port $ \c -> do  -- a 2^63 prefix too
       sendRaw c (encodeVarint (2 ^ (63 :: Int)) <> "garbage")
       fmap (fmap fst . errorOf) (recvResponse c) `shouldReturn` Just ErrFrameTooLarge
+    alive port
+
+  it "answers FRAME_TOO_LARGE to a client that writes the whole oversized frame before it reads" $ \port -> do
+    -- (the server closes with the body unread; the client's write fails, its read must still
+    -- find the answer)
+    withClient port $ \c -> do
+      let n = 5 * 1024 * 1024
+      _ <- try (sendRaw c (encodeVarint (fromIntegral n) <> B.replicate n 7)) :: IO (Either SomeException ())
+      r <- recvResponse c
+      fst <$> errorOf r `shouldBe` Just ErrFrameTooLarge
     alive port
 
   it "answers a length prefix of 11 varint bytes with MALFORMED and closes" $ \port -> do

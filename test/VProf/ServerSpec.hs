@@ -46,13 +46,23 @@ spec = do
   describe "robustness (test handler)" $
     robustnessSpec (HandlerUnderTest testHandler False)
 
-  describe "bounded concurrency" $
+  describe "bounded concurrency" $ do
     it "never runs more than --workers handler calls at once" $ do
       ref <- newIORef (0, 0)
       withServer quietConfig { cfgWorkers = 2 } (countingHandler ref 0.1) $ \s -> do
         _ <- forConcurrently [1 .. 8 :: Word64] $ \i -> withClient (serverPort s) $ \c ->
-          roundTrip c (pingMsg i "w")
+          roundTrip c (profileMsg i (simpleProfileRequest i))
         snd <$> readIORef ref `shouldReturn` 2
+    it "answers a ping at once while every worker is busy (a ping takes no worker)" $ do
+      let slow = onProfile (\rid -> threadDelay 3000000 >> testAnswer rid (InPing (PingMsg (putField Nothing))))
+      withServer quietConfig { cfgWorkers = 1 } slow $ \s ->
+        withAsync (withClient (serverPort s) $ \c -> roundTrip c (profileMsg 1 (simpleProfileRequest 1))) $ \_ -> do
+          threadDelay 200000
+          t0 <- getMonotonicTime
+          r <- withClient (serverPort s) $ \c -> roundTrip c (pingMsg 2 "alive?")
+          t1 <- getMonotonicTime
+          orDefault (getField (rspRequestId r)) `shouldBe` (2 :: Word64)
+          (t1 - t0) `shouldSatisfy` (< 1.5)
 
   describe "hard timeout" $
     it "answers INTERNAL after time_budget + grace and stays usable" $ do

@@ -12,13 +12,14 @@
 -- What the server guarantees whatever the handler or the clients do:
 --
 -- * at most 'cfgWorkers' handler calls run at once (a semaphore), so generation never takes
---   every CPU of the robot computer;
+--   every CPU of the robot computer; a ping takes no slot, so a busy daemon still answers it;
 -- * every handler call is guarded by a hard timeout (the handler's 'handlerTimeLimit' for
 --   the body, plus 'cfgGrace'); past it the client gets Error INTERNAL instead of a hang;
 -- * a handler exception (or a response that cannot be encoded) is answered with
 --   Error INTERNAL; the connection and the daemon live on;
 -- * a length prefix above 'cfgMaxFrameBytes' is answered with FRAME_TOO_LARGE and the
---   connection is closed without reading the body; a prefix longer than 10 bytes is
+--   connection is closed without reading the body (a client that writes the whole frame
+--   before it reads still gets the answer); a prefix longer than 10 bytes is
 --   MALFORMED and closes too; at most 'cfgMaxConnections' connections are served at once,
 --   so memory stays bounded by about connections x max frame;
 -- * undecodable bodies are answered with MALFORMED and the connection stays usable;
@@ -237,9 +238,9 @@ guarded :: ServerEnv -> Word64 -> Incoming -> IO ResponseMsg
 guarded env rid inc = do
   result <- newEmptyMVar
   tid <- mask_ $ do
-    waitQSem (envSem env)
+    when holdsSlot (waitQSem (envSem env))
     forkIOWithUnmask $ \unmask ->
-      (unmask (try work) >>= putMVar result) `finally` signalQSem (envSem env)
+      (unmask (try work) >>= putMVar result) `finally` when holdsSlot (signalQSem (envSem env))
   r <- timeout (round (limitS * 1e6)) (readMVar result)
   case r of
     Nothing -> do
@@ -251,6 +252,11 @@ guarded env rid inc = do
       pure (errorResponse rid ErrInternal "" ("the handler failed: " <> tshow e))
     Just (Right resp) -> pure resp
   where
+    -- a ping takes no worker slot: a daemon whose workers are all busy with long requests
+    -- still answers at once that it is alive (six thesis requests kept a ping waiting 6 s)
+    holdsSlot = case inc of
+      InPing _ -> False
+      _ -> True
     limitS = handlerTimeLimit (envHandler env) inc + cfgGrace (envCfg env)
     work = do
       resp <- handlerAnswer (envHandler env) rid inc

@@ -2,6 +2,7 @@
 -- | The protobuf side: request validation, conversion and serveCompress.
 module VProf.Compress.WireSpec (spec) where
 
+import qualified Data.ByteString as B
 import Data.ProtocolBuffers (getField, putField)
 import Data.List (isInfixOf)
 import qualified Data.Text as T
@@ -12,7 +13,7 @@ import VProf.Compress
 import VProf.Compress.Clean
 import VProf.Geometry.Vec (P3 (..), pifilter, pindex, ptoList)
 import Support.Recordings
-import VProf.Service.Compress (serveCompress)
+import VProf.Service.Compress (serveCompress, serveCompressWithin)
 import VProf.Wire.Compress
 import VProf.Wire.Messages
 import VProf.Wire.Validate (MsgType (..), validateWire)
@@ -96,6 +97,29 @@ spec = describe "serveCompress" $ do
     getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
     getField (errField err) `shouldBe` Just (T.pack "free_ends")
     fmap (T.isInfixOf (T.pack "free_ends = true")) (getField (errMessage err)) `shouldBe` Just True
+  it "answers NOT_CONVERGED naming search_rounds when the compression outlasts the time limit (was the server's INTERNAL)" $ do
+    Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
+    rsp <- serveCompressWithin 0.05 (request tr 90) { crqSearchRounds = putField (Just 50) }
+    let Just err = getField (cpError rsp)
+    getEnum (getField (errCode err)) `shouldBe` ErrNotConverged
+    getField (errField err) `shouldBe` Just (T.pack "search_rounds")
+    fmap (T.isInfixOf (T.pack "0.05 s")) (getField (errMessage err)) `shouldBe` Just True
+  it "refuses a method number it does not know (7, -1 as sent) naming method, instead of running the default" $ do
+    Recording tr0 <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let tr = Track (U.take 300 (tTime tr0)) (pifilter (< 300) (tPos tr0)) (pifilter (< 300) (tRot tr0))
+        -- field 3 (varint, tag 0x18) appended as a newer client would send it
+        withMethod bytes = either error id (decodeBare (encodeBare (request tr 12) <> B.pack (0x18 : bytes))) :: CompressRequestMsg
+    mapM_ (\(bytes, shown) -> do
+             bad <- serveCompress (withMethod bytes)
+             let Just err = getField (cpError bad)
+             getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
+             getField (errField err) `shouldBe` Just (T.pack "method")
+             fmap (T.isInfixOf (T.pack shown)) (getField (errMessage err)) `shouldBe` Just True
+             getField (cpPath bad) `shouldBe` Nothing)
+          [([7], "7"), (replicate 9 0xff ++ [0x01], "-1")]
+    -- a known number still runs
+    ok <- serveCompress (withMethod [2])
+    getField (cpError ok) `shouldBe` Nothing
   it "answers a bad request with INVALID_ARGUMENT naming the field and the value" $ do
     Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
     let req = (request tr 60) { crqMargin = putField (Just 0.5) }

@@ -1,10 +1,12 @@
 -- | The daemon's path compression: one 'CompressRequestMsg' in, one 'CompressedPathMsg'
 -- out, never an exception. Validation problems come back as INVALID_ARGUMENT naming the
 -- field (all problems joined in the message), an unmet tolerance as INFEASIBLE with the
--- path, anything unexpected as INTERNAL; what cleaning the recording changed goes into @warnings@; the compute time is measured on the monotonic
+-- path, a compression still running at 'compressTimeLimit' as NOT_CONVERGED naming what to
+-- lower, anything unexpected as INTERNAL; what cleaning the recording changed goes into @warnings@; the compute time is measured on the monotonic
 -- clock.
 module VProf.Service.Compress
   ( serveCompress
+  , serveCompressWithin
   , compressTimeLimit
   ) where
 
@@ -12,10 +14,12 @@ import Control.DeepSeq (force)
 import Control.Exception (SomeException, evaluate, try)
 import Data.ProtocolBuffers (getField)
 import GHC.Clock (getMonotonicTime)
+import System.Timeout (timeout)
 
 import VProf.Compress
 import VProf.Compress.Clean (renderCleanWarning)
 import VProf.Wire.Compress
+import VProf.Validation (showNumber)
 import VProf.Wire.Messages
 
 -- | Seconds a compression may take before the server's grace: a compress request carries
@@ -25,13 +29,20 @@ compressTimeLimit = 60
 
 -- | Serve one request: validate, compress, measure the compute time. Never throws:
 -- validation problems come back as INVALID_ARGUMENT naming the field (all problems joined
--- in the message), an unmet tolerance as INFEASIBLE with the path, anything unexpected as
--- INTERNAL.
+-- in the message), an unmet tolerance as INFEASIBLE with the path, a compression still
+-- running after 'compressTimeLimit' as NOT_CONVERGED, anything unexpected as INTERNAL.
 serveCompress :: CompressRequestMsg -> IO CompressedPathMsg
-serveCompress req = do
+serveCompress = serveCompressWithin compressTimeLimit
+
+-- | 'serveCompress' with this many seconds for the compression.
+serveCompressWithin :: Double -> CompressRequestMsg -> IO CompressedPathMsg
+serveCompressWithin limitS req = do
   let rid = orDefault (getField (crqRequestId req))
   t0 <- getMonotonicTime
-  r <- try $ case requestToDomainW req of
+  -- within the time the server grants, so that the answer says what to change (past it
+  -- and the grace the server could only answer INTERNAL); the try outside the timeout,
+  -- which inside would catch the timeout's own exception
+  r <- try $ timeout (round (limitS * 1e6)) $ case requestToDomainW req of
     Left errs -> evaluate (Left errs)
     Right (rec, s, ws) -> case compress s rec of
       Left errs -> evaluate (Left errs)
@@ -42,8 +53,15 @@ serveCompress req = do
   t1 <- getMonotonicTime
   let secs = t1 - t0
   pure $ case r of
+    Right Nothing ->
+      let rounds = orDefault (getField (crqSearchRounds req))
+      in errorResponse rid secs ErrNotConverged (if rounds > 0 then "search_rounds" else "points")
+           ("the compression did not finish within " ++ showNumber limitS
+            ++ " s, the daemon's limit for one request"
+            ++ (if rounds > 0 then " (search_rounds = " ++ show rounds ++ ": each round costs about one fit; ask fewer)"
+                              else " (ask fewer points, or send a shorter recording)"))
     Left e -> errorResponse rid secs ErrInternal "" ("internal error: " ++ show (e :: SomeException))
-    Right (Left errs@(e1 : _)) ->
+    Right (Just (Left errs@(e1 : _))) ->
       errorResponse rid secs ErrInvalidArgument (feField e1) (renderFieldErrors errs)
-    Right (Left []) -> errorResponse rid secs ErrInternal "" "internal error: empty error list"
-    Right (Right (warns, o)) -> outcomeToMsg rid secs warns o
+    Right (Just (Left [])) -> errorResponse rid secs ErrInternal "" "internal error: empty error list"
+    Right (Just (Right (warns, o))) -> outcomeToMsg rid secs warns o

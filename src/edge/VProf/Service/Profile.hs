@@ -11,6 +11,7 @@ import Data.ProtocolBuffers (getField, putField)
 
 import VProf.Profile.Generate
 import VProf.Profile.Request (Algorithm (..), defaultTimeBudget)
+import VProf.Validation (literalError)
 import VProf.Wire.Messages
 import VProf.Wire.Profile
 
@@ -18,7 +19,11 @@ import VProf.Wire.Profile
 serveProfile :: ProfileRequestMsg -> IO ProfileResponseMsg
 serveProfile m = do
   let rid = orDefault (getField (prqRequestId m))
-  r <- try (generate (requestFromMsg m) >>= \res -> evaluate (resultToMsg rid res))
+  r <- case getEnum (getField (prqAlgorithm m)) of
+    -- a number this version does not know: refused, not run as the default
+    AlgorithmUnknown k -> pure (Right (resultToMsg rid (Result (Failed (InvalidRequest [literalError "algorithm" (show k)
+                            "is not an algorithm: 0 (the default, band), 1 (band) or 2 (thesis)"])) Nothing [] 0 False Band 0 0 0)))
+    _ -> try (generate (requestFromMsg m) >>= \res -> evaluate (resultToMsg rid res))
   pure $ case r of
     Right msg -> msg
     Left (e :: SomeException) -> (resultToMsg rid emptyResult)

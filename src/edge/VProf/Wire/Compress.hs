@@ -68,6 +68,9 @@ requestToDomainW m = do
         , sSearch = fromIntegral (orDefault (getField (crqSearchRounds m)))
         , sEnds = if orDefault (getField (crqFreeEnds m)) then EndsFree else EndsPinned
         }
+  case getEnum (getField (crqMethod m)) of
+    CompressUnknown k -> Left [literalError "method" (show k) "is not a method: 0 (the default, knots), 1 (thesis), 2 (rdp) or 3 (knots)"]
+    _ -> Right ()
   validated [map asSent (inUserTerms protoField (validateSettings n settings))] (Recording tr, settings, clWarnings cl)
   where
     protoField = \case

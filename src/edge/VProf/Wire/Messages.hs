@@ -110,36 +110,42 @@ getEnum = maybe (toEnum 0) id
 
 ----------------------------------------------------------------------------- enums
 -- Constructors are in wire-number order starting at 0, so 'fromEnum' is the wire number.
--- A number this version does not know decodes to the catch-all (see each 'Enum').
+-- In a response, a number this version does not know decodes to the catch-all (see each
+-- 'Enum'); in a request (algorithm, method) it is kept, so that the service refuses it
+-- naming the field instead of running the default.
 
-data AlgorithmEnum = AlgorithmDefault | AlgorithmBand | AlgorithmThesis
-  deriving (Eq, Show, Bounded)
+data AlgorithmEnum = AlgorithmDefault | AlgorithmBand | AlgorithmThesis | AlgorithmUnknown !Int
+  deriving (Eq, Show)
 
 instance Enum AlgorithmEnum where
   fromEnum AlgorithmDefault = 0
   fromEnum AlgorithmBand = 1
   fromEnum AlgorithmThesis = 2
+  fromEnum (AlgorithmUnknown n) = n
+  toEnum 0 = AlgorithmDefault
   toEnum 1 = AlgorithmBand
   toEnum 2 = AlgorithmThesis
-  toEnum _ = AlgorithmDefault
+  toEnum n = AlgorithmUnknown n
 
 data ErrorCodeEnum
   = ErrUnspecified | ErrInvalidArgument | ErrInfeasible | ErrNotConverged
   | ErrMalformed | ErrFrameTooLarge | ErrUnsupported | ErrInternal
   deriving (Eq, Show, Bounded, Enum)
 
-data CompressMethodEnum = CompressDefault | CompressThesis | CompressRdp | CompressKnots
-  deriving (Eq, Show, Bounded)
+data CompressMethodEnum = CompressDefault | CompressThesis | CompressRdp | CompressKnots | CompressUnknown !Int
+  deriving (Eq, Show)
 
 instance Enum CompressMethodEnum where
   fromEnum CompressDefault = 0
   fromEnum CompressThesis = 1
   fromEnum CompressRdp = 2
   fromEnum CompressKnots = 3
+  fromEnum (CompressUnknown n) = n
+  toEnum 0 = CompressDefault
   toEnum 1 = CompressThesis
   toEnum 2 = CompressRdp
   toEnum 3 = CompressKnots
-  toEnum _ = CompressDefault
+  toEnum n = CompressUnknown n
 
 ----------------------------------------------------------------------------- profiles
 
