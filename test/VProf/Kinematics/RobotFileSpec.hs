@@ -131,6 +131,22 @@ spec = do
       let es = errsOf (minimal "capsule_radius: -0.06")
       es `shouldSatisfy` any ("capsule_radius = -6.0e-2" `isInfixOf`)
       length es `shouldBe` 1
+    it "a key of the other convention is an error naming it (a dh table under urdf was ignored)" $ do
+      let urdfFile = B.pack (unlines ["name: x", "convention: urdf", "joints:", "  - {name: J1, limits: [-1, 1]}", "links:", "  - {origin: {xyz: [0, 0, 0.1]}, axis: [0, 0, 1], dh: {a: 1}}"])
+      errsOf urdfFile `shouldSatisfy` any ("links[0].dh: not a key of the urdf convention" `isInfixOf`)
+      errsOf (minimal "") `shouldBe` []
+      let dhFile = B.pack (unlines ["name: x", "convention: modified-dh", "joints:", "  - {name: J1, limits: [-1, 1]}", "links:", "  - {dh: {a: 1}, axis: [0, 1, 0]}"])
+      errsOf dhFile `shouldSatisfy` any ("links[0].axis: not a key of the modified-dh convention" `isInfixOf`)
+    it "lengths beyond 1e9 m, angles beyond 1e6 degrees and capsule radii of 0 are refused naming the field (1e200 m gave NaN residuals)" $ do
+      let withLink l = B.pack (unlines ["name: x", "convention: standard-dh", "joints:", "  - {name: J1, limits: [-90, 90]}", "links:", l])
+      errsOf (withLink "  - {dh: {a: 1e200}}") `shouldSatisfy` any (\e -> "links[0].dh.a" `isInfixOf` e && "is the unit right" `isInfixOf` e)
+      errsOf (withLink "  - {dh: {d: -2e9}}") `shouldSatisfy` any ("links[0].dh.d" `isInfixOf`)
+      errsOf (withLink "  - {dh: {a: 1, alpha: 1e300}}") `shouldSatisfy` any ("links[0].dh.alpha" `isInfixOf`)
+      errsOf (withLink "  - {dh: {a: 1}, capsules: [{a: [0, 0, 0], b: [1, 0, 0], radius: 0}]}") `shouldSatisfy` any ("links[0].capsules[0].radius" `isInfixOf`)
+      errsOf (withLink "  - {dh: {a: 1}, capsules: [{a: [0, 0, 0], b: [1e12, 0, 0], radius: 0.1}]}") `shouldSatisfy` any ("links[0].capsules[0]" `isInfixOf`)
+      errsOf (B.append (withLink "  - {dh: {a: 1}}") "base: {xyz: [0, 0, 1e10]}\n") `shouldSatisfy` any ("base.xyz" `isInfixOf`)
+      -- the largest that pass: a 1e9 m link, no capsules
+      errsOf (withLink "  - {dh: {a: 1e9}, capsules: []}") `shouldBe` []
     it "unknown units" $
       errsOf (minimal "units: {length: furlong}") `shouldSatisfy` any ("units.length" `isInfixOf`)
     it "a missing file" $ do

@@ -22,6 +22,15 @@ import VProf.Kinematics.Transform
 fe :: String -> String -> String -> String -> FieldError
 fe f v = FieldError f (Literal v)
 
+-- | A finite length (unit "m") beyond 'maxCoordinate' or angle (unit "rad") beyond
+-- 'maxAngleDeg': taken for a wrong unit (a link of 1e200 m made every IK residual infinite
+-- or NaN; the sine of 1e300 rad is noise).
+tooLarge :: String -> Double -> String -> [FieldError]
+tooLarge f v u
+  | u == "m", abs v > maxCoordinate = [fe f (show v) u ("is more than " ++ showNumber maxCoordinate ++ " m (is the unit right?)")]
+  | u == "rad", abs v > maxAngleDeg * pi / 180 = [fe f (show v) u ("is more than " ++ showNumber maxAngleDeg ++ "° (is the unit right?)")]
+  | otherwise = []
+
 unitOf :: JointKind -> (String, String, String)
 unitOf Revolute = ("rad", "rad/s", "rad/s^2")
 unitOf Prismatic = ("m", "m/s", "m/s^2")
@@ -65,6 +74,7 @@ validateRobot Robot{..} =
                 ++ [fe (p ++ ".axis") (show [x, y, z]) "" "must be a finite, non-zero vector" | not (all finite [x, y, z]) || v3Norm (V3 x y z) < 1e-12]
             FixedTransform t -> tfErrs (p ++ ".transform") t
           nums xs = [fe (p ++ "." ++ f) (show v) u "must be a finite number" | (f, v, u) <- xs, not (finite v)]
+                    ++ concat [ tooLarge (p ++ "." ++ f) v u | (f, v, u) <- xs, finite v ]
           drive = case linkJointKind of
             Nothing -> []
             Just _ ->
@@ -75,12 +85,15 @@ validateRobot Robot{..} =
                 ++ [ fe (p ++ ".drive[" ++ show t ++ "].coefficient") (show c) "" "must be a finite, non-zero number"
                    | (t, (_, c)) <- zip [0 :: Int ..] (driveTerms linkDrive), not (finite c) || c == 0 ]
           caps = concat
-            [ [fe (p ++ ".capsules[" ++ show c ++ "].radius") (show capRadius) "m" "must be a finite number ≥ 0" | not (finite capRadius && capRadius >= 0)]
+            [ [fe (p ++ ".capsules[" ++ show c ++ "].radius") (show capRadius) "m" "must be a finite number > 0 (a link without a body gives capsules: [])" | not (finite capRadius && capRadius > 0)]
+                ++ (if finite capRadius then tooLarge (p ++ ".capsules[" ++ show c ++ "].radius") capRadius "m" else [])
                 ++ [fe (p ++ ".capsules[" ++ show c ++ "]") "" "m" "endpoints must be finite" | not (all finite [ax, ay, az, bx, by, bz])]
+                ++ take 1 (concat [ tooLarge (p ++ ".capsules[" ++ show c ++ "]") v "m" | v <- [ax, ay, az, bx, by, bz], finite v ])
             | (c, Capsule{..}) <- zip [0 :: Int ..] linkCapsules, let V3 ax ay az = capA; V3 bx by bz = capB ]
       in geo ++ drive ++ caps
     tfErrs f t
       | not (all finite (toRows t)) = [fe f (show (toRows t)) "" "every entry must be a finite number"]
+      | e : _ <- concat [ tooLarge (f ++ ".xyz") v "m" | (k, v) <- zip [0 :: Int ..] (toRows t), k `mod` 4 == 3 ] = [e]
       | not (isRigid 1e-6 t) = [fe (f ++ ".rotation") (show (take 3 (toRows t))) "" "must be orthonormal with determinant +1"]
       | otherwise = []
 

@@ -212,6 +212,10 @@ link conv lenU angU names joints radius i v = do
     ((k, _) : _) -> Right (Just (jointKind (joints !! k)))
   let u = if kind == Just Prismatic then lenU else angU
   off <- maybe 0 (* u) <$> optNum p o "offset"
+  -- the other convention's keys are an error, not ignored (a dh table under urdf moved nothing)
+  case [ k | k <- if conv == "urdf" then ["dh"] else ["origin", "axis"], KM.member (K.fromString k) o ] of
+    [] -> Right ()
+    ks -> Left [ p ++ "." ++ k ++ ": not a key of the " ++ conv ++ " convention (" ++ (if conv == "urdf" then "a urdf link gives origin and axis" else "a DH link gives dh: {theta, d, a, alpha}") ++ ")" | k <- ks ]
   geom <- case conv of
     "urdf" -> do
       org <- field p o "origin" >>= maybe (Right identity) (frame (p ++ ".origin") lenU angU)
