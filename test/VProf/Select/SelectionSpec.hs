@@ -5,6 +5,7 @@
 -- table.
 module VProf.Select.SelectionSpec (spec) where
 
+import Control.Monad (forM_)
 import Data.List (isInfixOf, sort)
 import Data.Maybe (isJust, isNothing)
 import qualified Data.Vector.Unboxed as U
@@ -176,6 +177,24 @@ spec = do
       let short = task {taskPathStep = 0.5}
       sequence_ [ sgFailure sg `shouldSatisfy` maybe True (not . ("about 0.5 m along" `isInfixOf`))
                 | (k, r) <- robots, sg <- rrSegments (evaluateRobot defaultSelectOptions short bvh k r) ]
+    it "starts a path on a branch that can follow its first segment, with or without the cell (an elbow-down UR5 self-collided 7 cm into a 10 cm move without it)" $ do
+      let tooled poses env = (pathTask poses)
+            { taskTool = trans 0 0 0.12, taskToolCapsule = Just (Capsule (V3 0 0 (-0.12)) (V3 0 0 (-0.02)) 0.03)
+            , taskEnvironment = if env then taskEnvironment (pathTask poses) else [] }
+          placed = placeRobot (tooled [] False) ur5
+          cm = collisionModel defaultCollisionOptions {coTool = Just (Capsule (V3 0 0 (-0.12)) (V3 0 0 (-0.02)) 0.03), coSceneIgnore = [1]} placed
+      forM_ [(0.4, -0.2, 0.23), (0.4, -0.15, 0.23), (0.4, -0.2, 0.2)] $ \(x, y, z) -> do
+        let poses = [down x y z, down (x + 0.1) y z]
+        forM_ [False, True] $ \env -> do
+          let res = evaluateRobot defaultSelectOptions (tooled poses env) bvh "ur5" ur5
+          (env, map sgFailure (rrSegments res)) `shouldBe` (env, [Nothing])
+          rrReached res `shouldBe` 2
+          -- checked apart from the selection: the start is clear of itself, the end reproduces its pose
+          case map trJoints (rrTargets res) of
+            [Just q0, Just q1] -> do
+              selfCollides cm 0 q0 `shouldBe` False
+              v3Norm (v3Sub (translation (forward (compile placed) q1)) (V3 (x + 0.1) y z)) `shouldSatisfy` (< 1e-6)
+            other -> expectationFailure (show other)
     it "stops a segment that dives through the table top at the table, saying where" $ do
       let poses = [down 0.5 (-0.3) 0.3, down 1.2 (-0.3) (-0.2)]
           res = evaluateRobot defaultSelectOptions (pathTask poses) bvh "ur5" ur5

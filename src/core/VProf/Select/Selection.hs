@@ -25,7 +25,8 @@ module VProf.Select.Selection
 
 import Data.Containers.ListUtils (nubOrdOn)
 import Data.List (find, minimumBy, sortBy, sortOn)
-import Data.Maybe (catMaybes, isJust, isNothing, mapMaybe)
+import Data.Either (isRight)
+import Data.Maybe (catMaybes, isJust, isNothing, listToMaybe, mapMaybe)
 import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
@@ -173,6 +174,7 @@ evaluateRobot opts task bvh key robot0
                   Left (k, why) ->
                     ( solveTarget (Just q0) t
                     , Just (SegmentResult j k (Just ("segment " ++ show j ++ " -> " ++ show i ++ " " ++ why)) i) )
+                (True, Nothing) | (_, t1) : _ <- rest -> (solveFirst t t1, Nothing)
                 _ -> (solveTarget (if soSeeded opts then (\(_, q, _) -> q) <$> prev else Nothing) t, Nothing)
               next = case trJoints res of
                 Just q -> Just (i, q, tgPose t)
@@ -212,12 +214,24 @@ evaluateRobot opts task bvh key robot0
       Just _ -> case solveIkDistinct (soIk opts) kin pose seed of
         Right sols -> (\s -> Candidate s Nothing Nothing) <$> find (clearOk . solJoints) sols
         Left _ -> Nothing
-      Nothing -> case solveIkDistinct (soIk opts) { ikMaxRestarts = soRestarts opts } kin pose Nothing of
-        Right sols ->
-          let geometries = nubOrdOn (canonical . solJoints) sols
-              byDexterity = sortOn (negate . dexterity . solJoints) geometries
-          in (\s -> Candidate s Nothing Nothing) <$> find (clearOk . solJoints) byDexterity
-        Left _ -> Nothing
+      Nothing -> (\s -> Candidate s Nothing Nothing) <$> listToMaybe (clearByDexterity pose)
+
+    -- the distinct geometries that keep the clearance, the most dexterous first
+    clearByDexterity pose = case solveIkDistinct (soIk opts) { ikMaxRestarts = soRestarts opts } kin pose Nothing of
+      Right sols -> filter (clearOk . solJoints) (sortOn (negate . dexterity . solJoints) (nubOrdOn (canonical . solJoints) sols))
+      Left _ -> []
+
+    -- a path's first target: the most dexterous clear geometry from which the first segment
+    -- can be followed. The most dexterous alone can be one whose gap to itself closes along the
+    -- segment (a UR5 elbow-down, 9 mm from self-collision at the target, failed a straight
+    -- 10 cm move at its 15th sample without the cell, which ruled that branch out, and passed
+    -- with it). When no geometry follows it, the target is solved as any other (the segment's
+    -- failure then says why).
+    solveFirst t t1
+      | distanceOf t > bound + 1e-9 || isJust fixedHit = solveTarget Nothing t
+      | otherwise = case [ s | s <- clearByDexterity (tgPose t), isRight (walk (solJoints s) (tgPose t) (tgPose t1)) ] of
+          s : _ -> describe t (solJoints s) (solBranch s)
+          [] -> solveTarget Nothing t
 
     canonical q = [ if rev then round (1e6 * (x - 2 * pi * fromIntegral (round (x / (2 * pi)) :: Int))) else round (1e6 * x) :: Int
                   | (rev, x) <- zip (U.toList (chainRevoluteJoint ch)) (U.toList q) ]
