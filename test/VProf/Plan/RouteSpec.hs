@@ -14,6 +14,7 @@ import VProf.Geometry.Vec (Q4 (..))
 import VProf.Kinematics.Transform (V3 (..), v3Dot, v3Norm, v3Sub)
 import VProf.Plan
 import VProf.Units
+import VProf.Validation (renderFieldError)
 
 data Case = Case [((Double, Double, Double), (Double, Double, Double, Double))] Double
   deriving (Show)
@@ -107,5 +108,9 @@ spec = describe "VProf.Plan.Route" $ do
   it "refuses waypoints closer than 0.1 mm, naming the waypoint" $ do
     let r = mkRoute [Fine, Fine] [waypoint (0, 0, 0) (1, 0, 0, 0), waypoint (0, 0, 0.00005) (1, 0, 0, 0)]
     case r of
-      Left [e] -> show e `shouldContain` "waypoints[1]"
+      Left [e] -> do
+        show e `shouldContain` "waypoints[1]"
+        -- the distance is said as a distance, the position as a position (was "position = 0.05 mm")
+        renderFieldError e `shouldContain` "is 0.05 mm from waypoint 0"
+        renderFieldError e `shouldContain` "(0.0, 0.0, 0.00005) m"
       _ -> expectationFailure "expected one error"

@@ -28,6 +28,7 @@ module VProf.Plan.Route
   , reversalAngle
   ) where
 
+import Data.List (intercalate)
 import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
 import qualified Linear as L
@@ -129,9 +130,11 @@ mkRoute zones wps = validated [errors] route
                       "the quaternion's norm must be about 1")
                | (i, Q4 w a b c) <- zip [0 :: Int ..] qs, let nq = sqrt (w*w + a*a + b*b + c*c) ]
       , concat [ ensure (not (all finite (nums p ++ nums p')) || d >= minWaypointGap)
-                   (fieldError ("waypoints[" ++ show i ++ "].position") (d * 1000) "mm"
-                      ("is this close to waypoint " ++ show (i - 1) ++ "; consecutive waypoints must be at least "
-                       ++ showNumber (minWaypointGap * 1000) ++ " mm apart (a pure re-orientation has no route length)"))
+                   (literalError ("waypoints[" ++ show i ++ "].position")
+                      ("(" ++ intercalate ", " (map showNumber (nums p)) ++ ") m")
+                      ("is " ++ showNumber (fromIntegral (round (d * 1e6) :: Integer) / 1000) ++ " mm from waypoint " ++ show (i - 1)
+                       ++ "; consecutive waypoints must be at least " ++ showNumber (minWaypointGap * 1000)
+                       ++ " mm apart (a pure re-orientation has no route length)"))
                | (i, p', p) <- zip3 [1 :: Int ..] pts (drop 1 pts), let d = v3Norm (v3Sub p p') ]
       , take 1 [ fieldError "zone" (z * 1000) "mm" "must be a finite number >= 0"
                | Blend zq <- zs, let z = zq /~ metre, not (finite z && z >= 0) ]

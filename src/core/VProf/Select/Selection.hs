@@ -259,9 +259,15 @@ evaluateRobot opts task bvh key robot0
         samples = segmentSamples (taskPathStep task) p0 p1
         n = length samples
         segLen = v3Norm (v3Sub (translation p1) (translation p0))
+        turn = rotationAngle (inverse p0 `compose` p1)
         go' k q _ [] = Right (k, q)
         go' k q prev (p : ps) =
-          let at = showM (fromIntegral (k + 1) / fromIntegral n * segLen)
+          let f = fromIntegral (k + 1) / fromIntegral n
+              -- along the move and the turn: a segment that only turns the tool said "0.0 m"
+              deg = show (roundTo 1 (f * turn * 180 / pi)) ++ "°"
+              at | segLen < 1e-9 = deg
+                 | turn > 1e-3 = showM (f * segLen) ++ " and " ++ deg
+                 | otherwise = showM (f * segLen)
               nearest from pose = case solveIk (soIk opts) { ikAllSolutions = False, ikMaxRestarts = 0 } kin pose (Just from) of
                 Left f -> Left (Just f)
                 Right [] -> Left Nothing
