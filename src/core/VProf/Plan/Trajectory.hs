@@ -377,19 +377,30 @@ planPath rq@PlanRequest{..} = do
             -- Each part's profile assumes no acceleration just past its end and just before its
             -- start; joined on one sample, a part braking into a cut and the next speeding up out
             -- of it can jump from one acceleration to the other, up to twice the jerk. Where the
-            -- streamed speeds across such a join break the jerk limit ('joinKeepsJerk'), the part
-            -- after the cut (speed v) starts one time step later, at u + v·dt: the step between is
-            -- driven at v with no acceleration, as both profiles assume ('assemble' keeps both
-            -- samples). Where the next part's first zone at that start is below v, the cut's speed
-            -- is lowered to it (and that join is always shifted); where the next part would be
-            -- left shorter than half 'minPartLength', the cut stays joined on one sample. The
-            -- joins that keep the limit on one sample stay so: a shifted part is one time step
-            -- shorter only on average (its samples fall elsewhere; its first step no longer holds
-            -- the corner, so its acceleration can differ), and shifting every join cost the
-            -- README's workflow 1.2 s of 28.1 (4 %). Shifting a part re-times it, which can change
-            -- the speeds at its end, so the joins are checked again until none breaks the limit.
+            -- streamed speeds across such a join break the jerk limit ('joinKeepsJerk'), the join
+            -- is moved by one time step: the part after the cut (speed v) starts at u + v·dt, or
+            -- the part before it ends at u − v·dt, whichever makes the parts faster, and the step
+            -- between is driven at v with no acceleration, as both profiles assume ('assemble'
+            -- keeps both samples). Where the next part's first zone at u + v·dt is below v, the
+            -- cut's speed is lowered to it for that way; a way that would leave a part shorter
+            -- than half 'minPartLength' (or, ending early, below its zone) is not taken. The joins
+            -- that keep the limit on one sample stay so: a moved part is one time step shorter
+            -- only on average (its samples fall elsewhere; its first step no longer holds the
+            -- corner, so its acceleration can differ), and moving every join cost the README's
+            -- workflow 1.2 s of 28.1 (4 %). Moving a join re-times a part, which can change the
+            -- speeds at its other end, so the joins are checked again, one at a time, until none
+            -- breaks the limit.
             timeParts bounds vx vy cap =
-              let spanned (x, y) = let st = stepLimitsAt lo route pb 0 x y in ((x, y), st, limitZones top st x y)
+              let -- a part's steps and zones: those of the route's grid samples around it, the zones
+                  -- cut to the part (a part moved by a time step starts or ends between samples;
+                  -- from the samples inside it alone, its zones missed the sliver beyond them, and
+                  -- its profile then ran a length other than its zones')
+                  spanned (x, y) =
+                    let gx = maybe (U.last grid) (\k -> grid U.! max 0 (k - 1)) (U.findIndex (> x + 1e-12) grid)
+                        gy = maybe (U.last grid) (grid U.!) (U.findIndex (>= y - 1e-12) grid)
+                        st = stepLimitsAt lo route pb 0 gx gy
+                    in ((x, y), st, [ z { lzStart = max x (lzStart z), lzEnd = min y (lzEnd z) }
+                                    | z <- limitZones top st gx gy, lzEnd z > x, lzStart z < y ])
                   parts0 = map spanned (zip bounds (drop 1 bounds))
                   speeds = vx : [ minimum (cap u : map lzSpeed (take 1 (reverse zl) ++ take 1 zr))
                                 | ((_, _, zl), ((u, _), _, zr)) <- zip parts0 (drop 1 parts0) ] ++ [vy]
@@ -406,27 +417,50 @@ planPath rq@PlanRequest{..} = do
                       lowered = case dropWhile (\z -> lzEnd z <= u + v * dt) zs0 of
                         z : _ -> min v (lzSpeed z)
                         [] -> 0
-                  -- join j (between parts j and j+1, j = 0 … n−2): part j+1 shifted, and its speed
+                  -- join j (between parts j and j+1, j = 0 … n−2), moved one way: part j+1 starts
+                  -- one time step later (and the speed at the cut)
                   shiftedAll = zipWith shiftAt (drop 1 parts0) (drop 1 (init speeds))
-                  nJoins = length shiftedAll
+                  nParts = length parts0
                   lowers = [ j | (j, (_, w), v) <- zip3 [0 :: Int ..] shiftedAll (drop 1 speeds), w < v ]
-                  -- part i timed with its start shifted or not and its end speed lowered or not,
-                  -- each variant once (lazily)
-                  variants = [ [ [ part (if sh && i > 0 then fst (shiftedAll !! (i - 1)) else p)
-                                        (if sh && i > 0 then snd (shiftedAll !! (i - 1)) else speeds !! i)
-                                        (if lo' && i < nJoins then snd (shiftedAll !! i) else speeds !! (i + 1))
-                                 | lo' <- [False, True] ]
-                               | sh <- [False, True] ]
-                             | (i, p) <- zip [0 :: Int ..] parts0 ]
-                  layout js = [ variants !! i !! fromEnum (i > 0 && (i - 1) `elem` js) !! fromEnum (i < nJoins && i `elem` js && i `elem` lowers)
-                              | i <- [0 .. length parts0 - 1] ]
-                  settle js =
-                    let rs = layout js
-                        breaking = [ j | (j, (r1, r2)) <- zip [0 :: Int ..] (zip rs (drop 1 rs)), j `notElem` js, not (joinKeepsJerk r1 r2) ]
-                    in if null breaking then (js, rs) else settle (js ++ breaking)
-                  (shiftedJoins, results) = settle lowers
-                  parts = [ if i > 0 && (i - 1) `elem` shiftedJoins then fst (shiftedAll !! (i - 1)) else p | (i, p) <- zip [0 :: Int ..] parts0 ]
-              in (all (\(_, _, zs) -> not (null zs)) parts, sparkEach (score False) results)
+                  -- or the other way: part j ends one time step before the cut, at u − v·dt (its
+                  -- zones cut there), where its zone there keeps v and it keeps half a part's length
+                  endEarly ((x, u), st, zs0) v =
+                    let u' = u - v * dt
+                        keep = [ z | z <- zs0, lzStart z < u' ]
+                    in case reverse keep of
+                         zl : _ | u' >= x + 0.5 * minPartLength, lzSpeed zl >= v -> Just ((x, u'), st, init keep ++ [zl { lzEnd = u' }])
+                         _ -> Nothing
+                  -- part i with its start moved or not, and its end as cut (0), at the moved
+                  -- join's lowered speed (1) or one step early (2): each variant timed once (lazily)
+                  geometryOf i sh e =
+                    let (p, vStart) = if sh && i > 0 then shiftedAll !! (i - 1) else (parts0 !! i, speeds !! i)
+                    in case e of
+                         0 -> Just (p, vStart, speeds !! (i + 1))
+                         1 -> Just (p, vStart, snd (shiftedAll !! i))
+                         _ -> (\p' -> (p', vStart, speeds !! (i + 1))) <$> endEarly p (speeds !! (i + 1))
+                  table = [ [ [ (\(p, va, vb) -> part p va vb) <$> geometryOf i sh e | e <- [0, 1, 2 :: Int] ] | sh <- [False, True] ]
+                          | i <- [0 .. nParts - 1] ]
+                  -- the joins moved so far: True when the part after starts later, False when the
+                  -- part before ends early
+                  choice m i = ( i > 0 && lookup (i - 1) m == Just True
+                               , case lookup i m of
+                                   Just True | i `elem` lowers -> 1
+                                   Just False -> 2
+                                   _ -> 0 )
+                  layout m = sequence [ let (sh, e) = choice m i in table !! i !! fromEnum sh !! e | i <- [0 .. nParts - 1] ]
+                  -- the first join that breaks the jerk limit is moved the way that makes the
+                  -- parts faster; again until none breaks it
+                  settle m rs = case [ j | (j, (r1, r2)) <- zip [0 :: Int ..] (zip rs (drop 1 rs)), j `notElem` map fst m, not (joinKeepsJerk r1 r2) ] of
+                    [] -> (m, rs)
+                    j : _ -> case [ (sum (map timeOf rs'), (m', rs')) | way <- [True | startMoves j] ++ [False], let m' = (j, way) : m, Just rs' <- [layout m'] ] of
+                      [] -> (m, rs)
+                      opts -> uncurry settle (snd (foldr1 (\a b -> if fst a <= fst b then a else b) opts))
+                  startMoves j = let (((a', _), _, _), _) = shiftedAll !! j; ((a, _), _, _) = parts0 !! (j + 1) in a' /= a
+                  (moved, results) = case layout [] of
+                    Just rs0 -> settle [] (sparkEach (score False) rs0)
+                    Nothing -> ([], [])
+                  parts = [ maybe p (\(g, _, _) -> g) (let (sh, e) = choice moved i in geometryOf i sh e) | (i, p) <- zip [0 :: Int ..] parts0 ]
+              in (all (\(_, _, zs) -> not (null zs)) parts, results)
             -- two parts joined on one sample (the second's first dropped) keep the jerk limit in
             -- the streamed speeds: the second difference across the join, (v⁺ − 2v + v⁻)/dt², at
             -- most the TCP jerk (speeds as streamed, each part stretched to its length)
