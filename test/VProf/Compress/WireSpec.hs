@@ -13,6 +13,7 @@ import VProf.Compress
 import VProf.Compress.Clean
 import VProf.Geometry.Vec (P3 (..), pifilter, pindex, ptoList)
 import Support.Recordings
+import Support.WireError (errorShouldBe)
 import VProf.Service.Compress (serveCompress, serveCompressWithin)
 import VProf.Wire.Compress
 import VProf.Wire.Messages
@@ -93,17 +94,11 @@ spec = describe "serveCompress" $ do
     -- fitted, not pinned: the first waypoint is not the first sample
     fmap head xs `shouldNotBe` Just (let P3 x _ _ = pindex (tPos tr) 0 in x)
     bad <- serveCompress (request tr 12) { crqFreeEnds = putField (Just True), crqMethod = putField (Just CompressRdp) }
-    let Just err = getField (cpError bad)
-    getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
-    getField (errField err) `shouldBe` Just (T.pack "free_ends")
-    fmap (T.isInfixOf (T.pack "free_ends = true")) (getField (errMessage err)) `shouldBe` Just True
+    errorShouldBe (getField (cpError bad)) ErrInvalidArgument "free_ends" "free_ends = true"
   it "answers NOT_CONVERGED naming search_rounds when the compression outlasts the time limit (was the server's INTERNAL)" $ do
     Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
     rsp <- serveCompressWithin 0.05 (request tr 90) { crqSearchRounds = putField (Just 50) }
-    let Just err = getField (cpError rsp)
-    getEnum (getField (errCode err)) `shouldBe` ErrNotConverged
-    getField (errField err) `shouldBe` Just (T.pack "search_rounds")
-    fmap (T.isInfixOf (T.pack "0.05 s")) (getField (errMessage err)) `shouldBe` Just True
+    errorShouldBe (getField (cpError rsp)) ErrNotConverged "search_rounds" "0.05 s"
   it "refuses a method number it does not know (7, -1 as sent) naming method, instead of running the default" $ do
     Recording tr0 <- loadTum "freiburg1_xyz-groundtruth.txt"
     let tr = Track (U.take 300 (tTime tr0)) (pifilter (< 300) (tPos tr0)) (pifilter (< 300) (tRot tr0))
@@ -111,10 +106,7 @@ spec = describe "serveCompress" $ do
         withMethod bytes = either error id (decodeBare (encodeBare (request tr 12) <> B.pack (0x18 : bytes))) :: CompressRequestMsg
     mapM_ (\(bytes, shown) -> do
              bad <- serveCompress (withMethod bytes)
-             let Just err = getField (cpError bad)
-             getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
-             getField (errField err) `shouldBe` Just (T.pack "method")
-             fmap (T.isInfixOf (T.pack shown)) (getField (errMessage err)) `shouldBe` Just True
+             errorShouldBe (getField (cpError bad)) ErrInvalidArgument "method" shown
              getField (cpPath bad) `shouldBe` Nothing)
           [([7], "7"), (replicate 9 0xff ++ [0x01], "-1")]
     -- a known number still runs

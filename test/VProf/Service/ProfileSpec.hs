@@ -4,11 +4,11 @@ module VProf.Service.ProfileSpec (spec) where
 
 import qualified Data.ByteString as B
 import Data.ProtocolBuffers (getField)
-import qualified Data.Text as T
 import Data.Word (Word8)
 import Test.Hspec
 
 import Support.TestHandler (simpleProfileRequest)
+import Support.WireError (errorShouldBe)
 import VProf.Service.Profile (serveProfile)
 import VProf.Wire.Messages
 
@@ -21,10 +21,7 @@ spec = describe "serveProfile" $ do
   it "refuses an algorithm number it does not know (99, -1 as sent) naming algorithm, instead of running the default" $
     mapM_ (\(bytes, shown) -> do
              rsp <- serveProfile (withAlgorithm bytes)
-             let Just err = getField (prsError rsp)
-             getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
-             getField (errField err) `shouldBe` Just (T.pack "algorithm")
-             fmap (T.isInfixOf (T.pack shown)) (getField (errMessage err)) `shouldBe` Just True
+             errorShouldBe (getField (prsError rsp)) ErrInvalidArgument "algorithm" shown
              getField (prsVelocity rsp) `shouldBe` [])
           [([99], "99"), (replicate 9 0xff ++ [0x01], "-1")]
   it "runs a known one (2: thesis) and says so" $ do

@@ -19,7 +19,6 @@ import System.Timeout (timeout)
 import VProf.Compress
 import VProf.Compress.Clean (renderCleanWarning)
 import VProf.Wire.Compress
-import VProf.Validation (showNumber)
 import VProf.Wire.Messages
 
 -- | Seconds a compression may take before the server's grace: a compress request carries
