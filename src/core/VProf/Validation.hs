@@ -10,6 +10,7 @@ module VProf.Validation
   , renderFieldErrors
   , renderValue
   , showNumber
+  , showBound
     -- * Checks
   , fieldError
   , literalError
@@ -19,12 +20,17 @@ module VProf.Validation
   , validated
   , maxCoordinate
   , tooFarRule
+  , tooLongRule
   , maxAngleDeg
+  , minTimeStep
+  , maxTimeStep
+  , timeStepRule
     -- * Speaking the user's language
   , UserField (..)
   , inUserTerms
   ) where
 
+import Data.List (intercalate)
 import Numeric (showEFloat, showFFloat)
 
 -- | The farthest a coordinate may lie from the origin (m; an OBJ scene's file units): a
@@ -37,7 +43,21 @@ maxCoordinate = 1e9
 
 -- | The rule a position beyond 'maxCoordinate' breaks, in the words every reader uses.
 tooFarRule :: String
-tooFarRule = "is more than " ++ showNumber maxCoordinate ++ " m from the origin (is the unit right?)"
+tooFarRule = "is more than " ++ showBound maxCoordinate ++ " m from the origin (is the unit right?)"
+
+-- | The rule a length beyond 'maxCoordinate' breaks (a radius, a clearance, a link).
+tooLongRule :: String
+tooLongRule = "is more than " ++ showBound maxCoordinate ++ " m (is the unit right?)"
+
+-- | The range of a controller's time step (s), the same for a profile and a plan: below a
+-- microsecond no controller samples, above a second the profile says nothing between samples.
+minTimeStep, maxTimeStep :: Double
+minTimeStep = 1e-6
+maxTimeStep = 1
+
+-- | The rule a time step outside ['minTimeStep', 'maxTimeStep'] breaks.
+timeStepRule :: String
+timeStepRule = "must be from 1e-6 s (1 µs) to 1 s"  -- 'minTimeStep' and 'maxTimeStep' in words
 
 -- | The largest angle taken in degrees (a pose's roll, pitch or yaw): a million degrees is
 -- some 2,800 turns; beyond, the angle is taken for a wrong unit (the sine of 1e300 is noise).
@@ -66,6 +86,13 @@ showNumber x
   | otherwise = showEFloat Nothing x ""
   where a = abs x
 
+-- | A bound as people write it: a power of ten from 1e5 up as "1e9" (showNumber writes
+-- "1000000000.0"), any other number as 'showNumber' does.
+showBound :: Double -> String
+showBound x
+  | x >= 1e5, x < 1e300, let e = round (logBase 10 x) :: Int, 10 ^^ e == x = "1e" ++ show e
+  | otherwise = showNumber x
+
 renderValue :: FieldValue -> String
 renderValue = \case
   Number x -> showNumber x
@@ -76,9 +103,8 @@ renderValue = \case
 -- all).
 renderFieldErrors :: [FieldError] -> String
 renderFieldErrors es = case splitAt 20 es of
-  (shown, []) -> join (map renderFieldError shown)
-  (shown, rest) -> join (map renderFieldError shown) ++ "; and " ++ show (length rest) ++ " more"
-  where join = foldr1 (\a b -> a ++ "; " ++ b) . (\xs -> if null xs then [""] else xs)
+  (shown, []) -> intercalate "; " (map renderFieldError shown)
+  (shown, rest) -> intercalate "; " (map renderFieldError shown) ++ "; and " ++ show (length rest) ++ " more"
 
 -- | "field = value unit: rule", or "field: rule" when the rule is about the field as a
 -- whole (an empty literal value).

@@ -206,7 +206,7 @@ cleanSamples loc opts raw
           [literalError (lcField loc "orientation") (show (w, a, b, c)) ("at " ++ lcAt loc l ++ ": must be finite numbers (w, x, y, z)")]
       | any ((> maxCoordinate) . abs) [x, y, z] =
           [literalError (lcField loc "position") (show (x, y, z))
-             ("at " ++ lcAt loc l ++ ": more than " ++ showNumber maxCoordinate ++ " m from the origin, beyond any place a robot or a vehicle records (is the unit right?)")]
+             ("at " ++ lcAt loc l ++ ": more than " ++ showBound maxCoordinate ++ " m from the origin, beyond any place a robot or a vehicle records (is the unit right?)")]
       | otherwise = []
     backwards = capped
       [ fieldError (lcField loc "time") (smTime s) "s"

@@ -213,7 +213,7 @@ validate rq =
       , checkFinite "end_acceleration" aE "m/s²" $
           check (not (finite aMin && finite aMax) || (aE >= aMin && aE <= aMax)) "end_acceleration" aE "m/s²"
             ("must lie within [min_acceleration, max_acceleration] = [" ++ num aMin ++ ", " ++ num aMax ++ "] m/s²")
-      , checkFinite "time_step" dt "s" $ check (dt >= 1e-6 && dt <= 1) "time_step" dt "s" "must be from 1e-6 s (1 µs) to 1 s"
+      , checkFinite "time_step" dt "s" $ check (dt >= minTimeStep && dt <= maxTimeStep) "time_step" dt "s" timeStepRule
       , case dvGiven of
           Nothing -> []
           Just d -> checkFinite "velocity_step" d "m/s" $ concat
@@ -261,7 +261,7 @@ validate rq =
     -- limit (no legal profile is faster anywhere), so the time is at least the sum of the
     -- zones' lengths over their limits.
     sizeErrors
-      | all finite [len, dt] && len > 0 && dt >= 1e-6 && dt <= 1 && not (null zones)
+      | all finite [len, dt] && len > 0 && dt >= minTimeStep && dt <= maxTimeStep && not (null zones)
       , all (\(st, v) -> finite st && finite v && v > 0) zones =
           let lower = leastSamples len dt sorted
               -- one zone of several that alone needs more than the cap is named: its speed is the

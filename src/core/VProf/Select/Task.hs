@@ -75,10 +75,10 @@ checkTask Task{..} = concat
                (ensure (mpScale m > 0) (fieldError ("environment[" ++ show i ++ "].scale") (mpScale m) "" "must be > 0"))
            | (i, m) <- zip [0 :: Int ..] taskEnvironment ]
   , concat [ ensure (r > 0) (fieldError "tool_capsule.radius" r "m" "must be > 0")
-             ++ ensure (r <= maxCoordinate) (fieldError "tool_capsule.radius" r "m" ("is more than " ++ showNumber maxCoordinate ++ " m (is the unit right?)"))
+             ++ ensure (r <= maxCoordinate) (fieldError "tool_capsule.radius" r "m" tooLongRule)
            | Just (Capsule _ _ r) <- [taskToolCapsule] ]
   , ensure (not (finite taskClearance) || taskClearance <= maxCoordinate)
-      (fieldError "clearance" taskClearance "m" ("is more than " ++ showNumber maxCoordinate ++ " m (is the unit right?)"))
+      (fieldError "clearance" taskClearance "m" tooLongRule)
   , [ literalError "targets" "[]" "at least one target is needed" | null taskTargets ]
   , [ literalError "ignore_bodies" (show b) "body numbers are >= 1" | b <- taskIgnoreBodies, b < 1 ]
   ]

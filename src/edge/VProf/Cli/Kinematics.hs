@@ -41,7 +41,7 @@ import VProf.Geometry.Bvh (buildBvh)
 import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
 import VProf.Kinematics.Collision (Clearance (..), CollisionOptions (..), collisionModel, defaultCollisionOptions, unknownBody)
 import VProf.Select.Ik
-import VProf.Validation (maxCoordinate, showNumber)
+import VProf.Validation (maxCoordinate, showBound, showNumber)
 import VProf.Plot.Robot (plotRobot)
 
 data Format = Table | Json deriving (Eq)
@@ -307,7 +307,7 @@ runIk o = do
       [x, y, z, w, qx', qy', qz']
         | any ((> maxCoordinate) . abs) [x, y, z] ->
             failWith ("--pose: the position (" ++ unwords (map show [x, y, z]) ++ ") m is more than "
-                      ++ showNumber maxCoordinate ++ " m from the robot's base, beyond any reach (is the unit right?)")
+                      ++ showBound maxCoordinate ++ " m from the robot's base, beyond any reach (is the unit right?)")
         | abs (sqrt (w * w + qx' * qx' + qy' * qy' + qz' * qz') - 1) > 1e-6 ->
             failWith ("--pose: the quaternion (" ++ unwords (map show [w, qx', qy', qz']) ++ ") is not a unit quaternion")
         | otherwise -> do
