@@ -161,6 +161,15 @@ spec = do
     it "a mimic of an unknown joint" $
       errs (wrap "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><limit lower=\"0\" upper=\"1\"/><mimic joint=\"ghost\"/></joint>")
         `shouldSatisfy` any ("ghost" `isInfixOf`)
+    it "model errors speak of the URDF's elements, not the robot file's links[i] (a 0 multiplier said links[1].drive[0].coefficient); a multiplier of 1e300 is refused" $ do
+      let two extra = wrap ("<joint name=\"j1\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/><axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\"/></joint>"
+                            ++ "<joint name=\"j2\" type=\"revolute\"><parent link=\"b\"/><child link=\"c\"/>" ++ extra ++ "</joint>")
+          says frags = (`shouldSatisfy` (\es -> any (\e -> all (`isInfixOf` e) frags) es))
+      says ["the joint into link \"c\" <mimic multiplier> = 0.0", "non-zero"] (errs (two "<limit lower=\"-1\" upper=\"1\"/><mimic joint=\"j1\" multiplier=\"0\"/>"))
+      says ["the joint into link \"c\" <mimic multiplier> = 1.0e300", "at most 1e6"] (errs (two "<limit lower=\"-1\" upper=\"1\"/><mimic joint=\"j1\" multiplier=\"1e300\"/>"))
+      says ["the joint into link \"c\" <origin xyz> = 1.0e12", "1e9 m"] (errs (two "<origin xyz=\"1e12 0 0\"/><limit lower=\"-1\" upper=\"1\"/>"))
+      -- a ratio of a few couples as before
+      fmap (length . robotJoints) (readUrdf defaultUrdfOptions (two "<limit lower=\"-1\" upper=\"1\"/><mimic joint=\"j1\" multiplier=\"-3\"/>")) `shouldBe` Right 1
     it "the base is the root of the tip's tree: a link no joint touches and a second tree do not stop it" $ do
       let arm = "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"c\"/><axis xyz=\"0 0 1\"/><limit lower=\"0\" upper=\"1\"/></joint>"
           other = "<link name=\"d\"/><link name=\"e\"/><joint name=\"k\" type=\"revolute\"><parent link=\"d\"/><child link=\"e\"/><axis xyz=\"0 0 1\"/><limit lower=\"0\" upper=\"1\"/></joint>"

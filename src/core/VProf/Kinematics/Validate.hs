@@ -27,9 +27,15 @@ fe f v = FieldError f (Literal v)
 -- or NaN; the sine of 1e300 rad is noise).
 tooLarge :: String -> Double -> String -> [FieldError]
 tooLarge f v u
-  | u == "m", abs v > maxCoordinate = [fe f (show v) u ("is more than " ++ showNumber maxCoordinate ++ " m (is the unit right?)")]
-  | u == "rad", abs v > maxAngleDeg * pi / 180 = [fe f (show v) u ("is more than " ++ showNumber maxAngleDeg ++ "° (is the unit right?)")]
+  | u == "m", abs v > maxCoordinate = [fe f (show v) u tooLongRule]
+  | u == "rad", abs v > maxAngleDeg * pi / 180 = [fe f (show v) u ("is more than " ++ showBound maxAngleDeg ++ "° (is the unit right?)")]
   | otherwise = []
+
+-- | The largest coupling of a link to a joint (a drive coefficient, a URDF mimic multiplier):
+-- gearings and linkages couple by ratios of a few; 1e300 froze the joint (its limits shrank
+-- to ±1e-300) and made the Jacobian's entries 1e300.
+maxCoupling :: Double
+maxCoupling = 1e6
 
 unitOf :: JointKind -> (String, String, String)
 unitOf Revolute = ("rad", "rad/s", "rad/s^2")
@@ -84,6 +90,8 @@ validateRobot Robot{..} =
                    | (t, (k, _)) <- zip [0 :: Int ..] (driveTerms linkDrive), k < 0 || k >= n ]
                 ++ [ fe (p ++ ".drive[" ++ show t ++ "].coefficient") (show c) "" "must be a finite, non-zero number"
                    | (t, (_, c)) <- zip [0 :: Int ..] (driveTerms linkDrive), not (finite c) || c == 0 ]
+                ++ [ fe (p ++ ".drive[" ++ show t ++ "].coefficient") (show c) "" ("must be at most " ++ showBound maxCoupling ++ " in magnitude (a ratio of a million is taken for a wrong value)")
+                   | (t, (_, c)) <- zip [0 :: Int ..] (driveTerms linkDrive), finite c, abs c > maxCoupling ]
           caps = concat
             [ [fe (p ++ ".capsules[" ++ show c ++ "].radius") (show capRadius) "m" "must be a finite number > 0 (a link without a body gives capsules: [])" | not (finite capRadius && capRadius > 0)]
                 ++ (if finite capRadius then tooLarge (p ++ ".capsules[" ++ show c ++ "].radius") capRadius "m" else [])

@@ -18,7 +18,7 @@ import Control.Exception (IOException, try)
 import VProf.Format.IOError (ioReason)
 import qualified Data.ByteString.Lazy as BL
 import Data.Either (lefts, rights)
-import Data.List (find, isPrefixOf, nub, stripPrefix)
+import Data.List (find, isPrefixOf, isSuffixOf, nub, stripPrefix)
 import qualified Data.Map.Strict as Map
 import Data.Maybe (fromMaybe, listToMaybe, mapMaybe)
 import qualified Data.Text as T
@@ -79,8 +79,21 @@ inUrdfTerms r fe = case stripPrefix "joints[" (feField fe) of
   Just rest | (ds, ']' : '.' : key) <- span isDigit rest, not (null ds)
             , [j] <- take 1 (drop (read ds) (robotJoints r)) ->
       fe { feField = "joint " ++ show (jointName j) ++ " " ++ urdfKey key, feRule = limitWords (feRule fe) }
+  -- a link of the model is the joint into a URDF link (its child)
+  _ | Just rest <- stripPrefix "links[" (feField fe), (ds, ']' : key) <- span isDigit rest, not (null ds)
+    , [l] <- take 1 (drop (read ds) (robotLinks r)) ->
+      fe { feField = "the joint into link " ++ show (linkName l) ++ linkKey (dropWhile (== '.') key) }
   _ -> fe
   where
+    linkKey k
+      | Just t <- stripPrefix "drive[" k, "].coefficient" `isSuffixOf` t = " <mimic multiplier>"
+      | k == "drive.offset" = " <mimic offset>"
+      | k `elem` ["origin.xyz", "transform.xyz"] = " <origin xyz>"
+      | k `elem` ["origin.rotation", "transform.rotation"] = " <origin rpy>"
+      | k `elem` ["origin", "transform"] = " <origin>"
+      | k == "axis" = " <axis xyz>"
+      | null k = ""
+      | otherwise = " (" ++ k ++ ")"
     urdfKey = \case
       "limits.max" -> "<limit upper>"
       "limits.min" -> "<limit lower>"
