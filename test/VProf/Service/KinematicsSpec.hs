@@ -223,6 +223,24 @@ spec = do
         [ (ErrInvalidArgument, "environment[0].scale"), (ErrInvalidArgument, "environment[0].vertices[3]")
         , (ErrInvalidArgument, "target.z"), (ErrInvalidArgument, "ignore_bodies[0]") ]
       T.unpack m4 `shouldContain` "1 to 6"
+    it "FK joints outside their limits, by index, in rad and degrees (the contract asks them within; 7 was computed as 7 rad)" $ do
+      (code, field, msg) <- fkErr (fkReq (named "ur5") [0, 0, 0, 0, 0, 7])
+      (code, field) `shouldBe` (ErrInvalidArgument, "joints[5]")
+      T.unpack msg `shouldContain` "7.0 rad"
+      T.unpack msg `shouldContain` "401.07 in [-360.0, 360.0] degrees"
+      -- at a limit exactly is within it
+      (c0, _, _) <- fkErr (fkReq (named "ur5") [0, 0, 0, 0, 0, 2 * pi])
+      c0 `shouldBe` ErrUnspecified
+    it "clearance and ignore_bodies without an environment, base_link and tip_link without a URDF (each was dropped without a word)" $ do
+      (c1, f1, m1) <- ikErr (ikReq (named "ur5") target) { ikqClearance = putField (Just 0.01) }
+      (c2, f2, _) <- ikErr (ikReq (named "ur5") target) { ikqIgnoreBodies = putField [1] }
+      (c3, f3, m3) <- fkErr (fkReq (named "ur5") { robBaseLink = putField (Just "base_link") } [0, 0, 0, 0, 0, 0])
+      (c4, f4, _) <- fkErr (fkReq noRobot { robRobotFile = putField (Just "name: x"), robTipLink = putField (Just "tool0") } [0])
+      [(c1, f1), (c2, f2), (c3, f3), (c4, f4)] `shouldBe`
+        [ (ErrInvalidArgument, "clearance"), (ErrInvalidArgument, "ignore_bodies")
+        , (ErrInvalidArgument, "robot.base_link"), (ErrInvalidArgument, "robot.tip_link") ]
+      T.unpack m1 `shouldContain` "without an environment"
+      T.unpack m3 `shouldContain` "URDF only"
     it "a request with no body and one with two bodies" $ do
       let both = envelope (Just (fkReq (named "ur5") [0, 0, 0, 0, 0, 0])) (Just (ikReq (named "ur5") target))
       classify both `shouldSatisfy` either (T.isInfixOf "fk, ik" . orDefault . getField . errMessage) (const False)

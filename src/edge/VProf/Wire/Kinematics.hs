@@ -47,7 +47,7 @@ import VProf.Kinematics.Format.RobotFile (readRobotYaml)
 import VProf.Kinematics.Format.Urdf (UrdfOptions (..), readUrdf)
 import VProf.Kinematics.Library (libraryRobots, lookupRobot)
 import VProf.Select.Ik (SelectIkFailure (..), SelectIkOptions (..), describeSelectIkFailure)
-import VProf.Validation (FieldValue (..), finite, literalError, maxCoordinate, showNumber, tooFarRule)
+import VProf.Validation (FieldValue (..), finite, literalError, maxCoordinate, showBound, showNumber, tooFarRule)
 import VProf.Wire.Messages
 
 -- | A validated FK request.
@@ -88,6 +88,9 @@ err f v rule = literalError f v rule
 robotFromMsg :: Maybe RobotMsg -> Either [FieldError] (Robot, Kinematics)
 robotFromMsg Nothing = Left [err "robot" "" "is missing: give a library name, a robot file or a URDF"]
 robotFromMsg (Just m) = case [ k | (k, True) <- [("name", has name), ("robot_file", has file), ("urdf", has urdf)] ] of
+  [k] | k /= "urdf", links@(_ : _) <- [ f | (f, t) <- [("base_link", baseLink), ("tip_link", tipLink)], has t ] ->
+    Left [ err ("robot." ++ f) (show (T.unpack t)) ("is for a URDF only; the robot is given by " ++ k ++ ", whose chain is fixed")
+         | f <- links, let t = if f == "base_link" then baseLink else tipLink ]
   ["name"] -> case Map.lookup (norm (T.unpack name)) libraryCache of
     Just e -> Right e
     Nothing -> Left [err "robot.name" (show (T.unpack name)) (either id (const "is not in the library") (lookupRobot (T.unpack name)))]
@@ -144,6 +147,19 @@ jointsFromMsg field r qs
           | (i, x, j) <- zip3 [0 :: Int ..] qs (robotJoints r), not (finite x) ]
     unit j = if jointKind j == Revolute then "rad" else "m"
 
+-- | The entries of a joint vector outside their joints' limits, each naming @field[i]@, the
+-- value and the limits in rad (revolute) or m (prismatic), with degrees beside radians.
+outsideLimits :: String -> Robot -> U.Vector Double -> [FieldError]
+outsideLimits field r q =
+  [ FieldError (field ++ "[" ++ show i ++ "]") (Number x) u
+      ("is outside the limits of joint " ++ jointName j ++ ", [" ++ showNumber lo ++ ", " ++ showNumber hi ++ "] " ++ u
+       ++ (if jointKind j == Revolute then " (" ++ deg x ++ " in [" ++ deg lo ++ ", " ++ deg hi ++ "] degrees)" else ""))
+  | (i, x, j) <- zip3 [0 :: Int ..] (U.toList q) (robotJoints r)
+  , let Limits lo hi = jointLimits j
+        u = if jointKind j == Revolute then "rad" else "m"
+  , x < lo - 1e-12 || x > hi + 1e-12 ]
+  where deg v = showNumber (fromIntegral (round (v * 180 / pi * 1000) :: Integer) / 1000)
+
 -- | A non-negative finite option; 0 (absent) takes the default.
 positiveOr :: String -> String -> Double -> Double -> Either [FieldError] Double
 positiveOr field unit def v
@@ -162,7 +178,11 @@ fkFromMsg :: FkRequestMsg -> Either [FieldError] FkQuery
 fkFromMsg m = do
   (r, k) <- robotFromMsg (getField (fkqRobot m))
   q <- jointsFromMsg "joints" r (getField (fkqJoints m))
-  pure (FkQuery r k q (orDefault (getField (fkqLinkFrames m))))
+  -- the contract asks joints within the limits: a pose of a configuration the robot cannot
+  -- take is refused, not answered as if it could (90 meant as degrees is 90 rad)
+  case outsideLimits "joints" r q of
+    [] -> pure (FkQuery r k q (orDefault (getField (fkqLinkFrames m))))
+    es -> Left es
 
 ikFromMsg :: IkRequestMsg -> Either [FieldError] IkQuery
 ikFromMsg m = do
@@ -178,6 +198,12 @@ ikFromMsg m = do
       envs = getField (ikqEnvironment m)
       clearance = let c = orDefault (getField (ikqClearance m)) :: Double in
         if finite c && c >= 0 then Right c else Left [FieldError "clearance" (Number c) "m" "must be a finite number >= 0"]
+      -- clearance and ignore_bodies act on the environment: without one they would be dropped
+      withoutEnv = null envs
+      unused = [ FieldError "clearance" (Number c) "m" "is given without an environment: send the cell's meshes in environment, or leave clearance 0"
+               | withoutEnv, let c = orDefault (getField (ikqClearance m)) :: Double, finite c, c > 0 ]
+               ++ [ err "ignore_bodies" (show (getField (ikqIgnoreBodies m))) "is given without an environment: the bodies are left out of the check against environment only"
+                  | withoutEnv, not (null (getField (ikqIgnoreBodies m))) ]
       ignores = [ if b == 0 then Left [FieldError ("ignore_bodies[" ++ show i ++ "]") (Literal "0") "" "bodies count from 1"]
                   else maybe (Right (fromIntegral b :: Int)) (\e -> Left [FieldError ("ignore_bodies[" ++ show i ++ "]") (Literal (show b)) "" e])
                              (unknownBody r False (fromIntegral b))
@@ -186,7 +212,7 @@ ikFromMsg m = do
   -- every problem at once
   case concat [ either id (const []) target, either id (const []) seed, either id (const []) tolP
               , either id (const []) tolR, either id (const []) budget, either id (const []) clearance
-              , concat [ e | Left e <- ignores ], either id (const []) meshes ] of
+              , concat [ e | Left e <- ignores ], either id (const []) meshes, unused ] of
     errs@(_ : _) -> Left errs
     [] -> do
       t <- target; s <- seed; tp <- tolP; tr <- tolR; b <- budget; c <- clearance; parts <- meshes
@@ -219,9 +245,9 @@ meshFromMsg prefix m = do
         -- a scale that puts a vertex beyond the bound of every coordinate is a wrong unit (1e308
         -- made the vertices infinite and every IK solution 'collide')
         ++ [ FieldError (prefix ++ ".scale") (Number sc) ""
-               ("puts vertex " ++ show (i `div` 3) ++ " more than " ++ showNumber maxCoordinate ++ " m from the origin (is the unit right?)")
+               ("puts vertex " ++ show (i `div` 3) ++ " more than " ++ showBound maxCoordinate ++ " m from the origin (is the unit right?)")
            | finite sc, sc > 0, i <- take 1 [ j | (j, v) <- zip [0 :: Int ..] vs, finite v, abs (v * sc) > maxCoordinate ] ]
-        ++ [ FieldError (prefix ++ ".vertices[" ++ show i ++ "]") (Number v) "" ("is more than " ++ showNumber maxCoordinate ++ " from the origin (is the unit right?)")
+        ++ [ FieldError (prefix ++ ".vertices[" ++ show i ++ "]") (Number v) "" ("is more than " ++ showBound maxCoordinate ++ " from the origin (is the unit right?)")
            | (i, v) <- take 1 [ iv | iv@(_, v) <- zip [0 :: Int ..] vs, finite v, abs v > maxCoordinate ] ]
       pose = maybe (Right identity) (poseFromMsg (prefix ++ ".pose")) (getField (meshPose m))
   case e1 ++ either id (const []) pose of
