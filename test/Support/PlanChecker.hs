@@ -15,6 +15,8 @@
 --   speeds it starts and ends at; the first part starting and the last part ending at rest, the
 --   motion at rest at every stop of the route, and each part starting at the speed the previous
 --   one ends at (to 0.1 %);
+-- * the speed limit as listed to the user ('planZoneList'): the route from 0 to its end without
+--   gap or overlap, and every sample's speed within the limit at its distance (to 0.1 %);
 -- * the TCP stream itself, as a controller follows it across the parts' joins: accelerations
 --   and jerks from the velocity samples alone (at rest before the first and after the last)
 --   within the plan's ranges, and the acceleration column equal to those differences (to
@@ -34,7 +36,7 @@ import qualified Data.Vector.Unboxed as U
 import Support.FkOracle
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform (toRows4)
-import VProf.Plan (LimitZone (..), Plan (..), Route (..), Trajectory (..))
+import VProf.Plan (LimitZone (..), Plan (..), Route (..), Trajectory (..), planZoneList)
 import VProf.Profile (Request (..), SpeedZone (..), check, defaultRequest, renderViolation, resProfile, validate)
 import VProf.Profile.Sampled (Columns (..), columns)
 import VProf.Units
@@ -119,6 +121,17 @@ checkTrajectory r wps zone acc jerk dt plan = concat
   , [ "part " ++ show (i + 1) ++ " starts at " ++ show v1 ++ " m/s, part " ++ show i ++ " ends at " ++ show v0 ++ " m/s"
     | (i, (_, v0), (v1, _)) <- zip3 [0 :: Int ..] ends (drop 1 ends), abs (v1 - v0) > 1e-3 * max v0 v1 + 1e-12 ]
   , [ "the trajectory is empty" | m == 0 ]
+    -- the listed speed limit (the plan's zones, as the CLI and the wire give them): the route
+    -- from 0 to its end without gap or overlap, and every sample's speed within it where it is
+  , take 1 [ "the zone listing starts at " ++ show (lzStart z) ++ " m" | z : _ <- [listed], abs (lzStart z) > 1e-9 ]
+  , take 1 [ "the zone listing ends at " ++ show (lzEnd z) ++ " m of " ++ show len | z <- take 1 (reverse listed), abs (lzEnd z - len) > 1e-6 * max 1 len ]
+  , take 5 [ "the zone listing jumps from " ++ show (lzEnd z0) ++ " m to " ++ show (lzStart z1) ++ " m"
+           | (z0, z1) <- zip listed (drop 1 listed), abs (lzStart z1 - lzEnd z0) > 1e-9 ]
+  , take 5 [ "sample " ++ show k ++ ": " ++ show v ++ " m/s at " ++ show s ++ " m, above the listed limit " ++ show lim
+           | k <- [0 .. m - 1], let s = trS tr U.! k; v = trV tr U.! k
+             -- on a boundary between two zones, the higher (a profile's sample there keeps the next one's)
+           , let lim = maximum ((-1 / 0) : [ lzSpeed z | z <- listed, lzStart z - 1e-9 <= s, s <= lzEnd z + 1e-9 ])
+           , v > lim * (1 + speedTolerance) + 1e-9 ]
     -- the TCP stream as a controller follows it, sample by sample across the parts' joins:
     -- accelerations and jerks from the velocities alone, at rest before the first sample and
     -- after the last, and the acceleration column the same as those differences
@@ -139,6 +152,8 @@ checkTrajectory r wps zone acc jerk dt plan = concat
     q k i = trQ tr U.! (k * n + i)
     t k = trTime tr U.! k
     take1 xs = case xs of { (x : _) -> Just x; [] -> Nothing }
+    listed = planZoneList plan
+    len = rtLength (planRoute plan)
     streamA = let v = trV tr in if U.length v < 2 then U.empty else U.zipWith (\v0 v1 -> (v1 - v0) / dt) v (U.tail v)
     -- each part's first and last speed
     ends = [ (U.head vs, U.last vs) | res <- planProfiles plan, Just p <- [resProfile res]

@@ -169,7 +169,7 @@ spec = do
           getField (plrStops p) `shouldBe` rtStops (planRoute core)
           [ (dbl (getField (pzStartDistance z)), dbl (getField (pzEndDistance z)), dbl (getField (pzVelocity z)), txt (getField (pzBinding z)))
             | z <- getField (plrZones p) ]
-            `shouldBe` [ (lzStart z, lzEnd z, lzSpeed z, describeBinding placedUr5 (lzBinding z)) | z <- concat (planZones core) ]
+            `shouldBe` [ (lzStart z, lzEnd z, lzSpeed z, describeBinding placedUr5 (lzBinding z)) | z <- planZoneList core ]
           -- a closed square with z10: no stops between the ends; the zones cover the route
           getField (plrStops p) `shouldBe` []
           let zs = getField (plrZones p)

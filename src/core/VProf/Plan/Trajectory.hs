@@ -26,6 +26,7 @@ module VProf.Plan.Trajectory
   , trajectoryQd
   , Plan (..)
   , planDuration
+  , planZoneList
   , PlanFailure (..)
   , describePlanFailure
   , planPath
@@ -123,6 +124,19 @@ data Plan = Plan
 planDuration :: Plan -> Double
 planDuration p = let t = trTime (planTrajectory p) in if U.null t then 0 else U.last t
 
+-- | The speed limit along the whole route, the parts' zones in turn, without gaps: a join
+-- moved a step ('timeParts') leaves the sliver [u, u + v·dt] (or [u − v·dt, u]) to neither
+-- part; the motion crosses it at the join's speed v, which the zones either side both allow,
+-- and it is listed at the lower of them (with that one's binding).
+planZoneList :: Plan -> [LimitZone]
+planZoneList p = concat (zipWith fill (Nothing : map lastZone zss) zss)
+  where
+    zss = planZones p
+    lastZone zs = if null zs then Nothing else Just (last zs)
+    fill (Just z0) zs@(z1 : _)
+      | lzStart z1 - lzEnd z0 > 1e-9 = (if lzSpeed z0 <= lzSpeed z1 then z0 else z1) { lzStart = lzEnd z0, lzEnd = lzStart z1 } : zs
+    fill _ zs = zs
+
 data PlanFailure
   = InvalidPlan [FieldError]
   | Stopped PlanStop
@@ -159,14 +173,17 @@ boostBetas = [0, 0.5]
 startFraction :: Int
 startFraction = 4
 
+-- | The factor that stretches a profile's columns (distance, speed, acceleration, jerk) for a
+-- part of length l to end exactly on l (the generator ends within its end tolerance of it).
+stretchFactor :: Double -> Columns -> Double
+stretchFactor l c =
+  let e = if U.null (colDistance c) then 0 else U.last (colDistance c)
+  in if e > 0 then l / e else 1
+
 -- | The distance along the route of a profile's samples for the part [a, b]: its own distance
--- stretched to end exactly on b (the generator ends within its end tolerance of it).
+-- stretched to end exactly on b.
 stretchedS :: Double -> Double -> Columns -> U.Vector Double
-stretchedS a b c =
-  let ss = colDistance c
-      e = if U.null ss then 0 else U.last ss
-      f = if e > 0 then (b - a) / e else 1
-  in U.map (\x -> a + f * x) ss
+stretchedS a b c = let f = stretchFactor (b - a) c in U.map (\x -> a + f * x) (colDistance c)
 
 -- | The sampled joint motion at the route distances ss (one every dt) keeps the joints' limits:
 -- joint speeds by forward differences within q̇max_i, joint accelerations by second differences
@@ -251,7 +268,7 @@ validateRequest PlanRequest{..} = concat
   [ positive "speed" (si prSpeed) "m/s"
   , positive "acceleration" (si prAcceleration) "m/s²"
   , positive "jerk" (si prJerk) "m/s³"
-  , ensureFinite "dt" dt "s" $ ensure (dt >= 1e-6 && dt <= 1) (fieldError "dt" dt "s" "must be from 1e-6 s (1 µs) to 1 s")
+  , ensureFinite "dt" dt "s" $ ensure (dt >= minTimeStep && dt <= maxTimeStep) (fieldError "dt" dt "s" timeStepRule)
   , positive "end_tolerance" (si prEndTolerance) "m"
   , case prStart of
       Nothing -> []
@@ -470,9 +487,7 @@ planPath rq@PlanRequest{..} = do
               _ -> True
             streamedSpeeds ((a, b), _, _, _, r) = case resProfile r of
               Nothing -> U.empty
-              Just p -> let c = columns p
-                            e = if U.null (colDistance c) then 0 else U.last (colDistance c)
-                        in U.map (* (if e > 0 then (b - a) / e else 1)) (colVelocity c)
+              Just p -> let c = columns p in U.map (* stretchFactor (b - a) c) (colVelocity c)
             splitAt' bounds = snd (timeParts bounds 0 0 (const (1 / 0)))
             -- a part's acceleration: the fastest rung of the ladder whose joint motion keeps the
             -- limits, then refined ('refine')
@@ -758,8 +773,7 @@ planPath rq@PlanRequest{..} = do
     assemble jp parts =
       let cols = [ (a, stretchTo (b - a) (columns p)) | ((a, b), r) <- parts, Just p <- [resProfile r] ]
           stretchTo l c =
-            let e = if U.null (colDistance c) then 0 else U.last (colDistance c)
-                f = if e > 0 then l / e else 1
+            let f = stretchFactor l c
             in c { colDistance = U.map (* f) (colDistance c), colVelocity = U.map (* f) (colVelocity c)
                  , colAcceleration = U.map (* f) (colAcceleration c), colJerk = U.map (* f) (colJerk c) }
           nParts = length cols

@@ -139,7 +139,7 @@ planCommand = runPlan <$> (PlanOpts
       Right xs | any ((> maxCoordinate) . abs) (take 3 xs) ->
                    Left (what ++ " " ++ show s ++ ": the position " ++ tooFarRule)
                | any ((> maxAngleDeg) . abs) (drop 3 xs) ->
-                   Left (what ++ " " ++ show s ++ ": an angle beyond " ++ showNumber maxAngleDeg ++ " degrees (is the unit right?)")
+                   Left (what ++ " " ++ show s ++ ": an angle beyond " ++ showBound maxAngleDeg ++ " degrees (is the unit right?)")
                | length xs `elem` [3, 6] -> Right xs
       Right _ -> Left (what ++ " " ++ show s ++ ": expected 3 numbers X Y Z (m) or 6, X Y Z (m) RX RY RZ (degrees)")
       Left e -> Left e
@@ -333,7 +333,7 @@ renderSummary r p secs = unlines $
     rt = planRoute p
     tr = planTrajectory p
     dt = if trajectoryCount tr > 1 then trTime tr U.! 1 - trTime tr U.! 0 else 0
-    zs = concat (planZones p)
+    zs = planZoneList p
     shown = take 30 zs
     pad n s = s ++ replicate (max 1 (n - length s)) ' '
 
@@ -360,7 +360,7 @@ planJson r p = A.object
                      | ((a, b), (brake, up)) <- zip (planStretches p) (planAccelerations p) ]
   , "zones" A..= [ A.object [ "start_m" A..= lzStart z, "end_m" A..= lzEnd z, "speed_mps" A..= lzSpeed z
                             , "binding" A..= describeBinding r (lzBinding z) ]
-                 | z <- concat (planZones p) ]
+                 | z <- planZoneList p ]
   , "samples" A..= [ A.object [ "t" A..= (trTime tr U.! k), "s" A..= (trS tr U.! k), "v" A..= (trV tr U.! k)
                               , "a" A..= (trA tr U.! k), "j" A..= (trJ tr U.! k)
                               , "q" A..= U.toList (trajectoryQ tr k), "qd" A..= U.toList (trajectoryQd tr k) ]

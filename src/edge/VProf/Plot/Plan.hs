@@ -31,7 +31,7 @@ plotPlan file r p = void (renderableToFile opts file (gridToRenderable grid))
     stepLimit = concat [ [(mm a, mm v), (mm b, mm v)]
                        | k <- [0 .. U.length (slLimit st) - 1]
                        , let a = slS st U.! k; b = slS st U.! (k + 1); v = min (slLimit st U.! k) 10 ]
-    zoneLimit = concat [ [(mm (lzStart z), mm (lzSpeed z)), (mm (lzEnd z), mm (lzSpeed z))] | z <- concat (planZones p) ]
+    zoneLimit = concat [ [(mm (lzStart z), mm (lzSpeed z)), (mm (lzEnd z), mm (lzSpeed z))] | z <- planZoneList p ]
     speed = zip (map mm (U.toList (trS tr))) (map mm (U.toList (trV tr)))
     line name c w pts = toPlot (def & plot_lines_title .~ name
                                     & plot_lines_style .~ solidLine w (opaque c)

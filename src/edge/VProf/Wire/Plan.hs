@@ -200,7 +200,7 @@ planToMsg rid secs q p = (withRoute q (bare rid secs PlanStatusOk))
   , plrDuration = putField (nonDefault (planDuration p))
   , plrZones = putField [ PlanZoneMsg (putField (nonDefault (lzStart z))) (putField (nonDefault (lzSpeed z)))
                                       (putField (nonDefault (lzEnd z))) (putField (txt (describeBinding r (lzBinding z))))
-                        | z <- concat (planZones p) ]
+                        | z <- planZoneList p ]
   }
   where
     tr = planTrajectory p
