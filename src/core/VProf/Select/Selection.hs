@@ -26,7 +26,7 @@ module VProf.Select.Selection
 import Data.Containers.ListUtils (nubOrdOn)
 import Data.List (find, minimumBy, sortBy, sortOn)
 import Data.Either (isRight)
-import Data.Maybe (catMaybes, isJust, isNothing, listToMaybe, mapMaybe)
+import Data.Maybe (catMaybes, fromMaybe, isJust, isNothing, listToMaybe, mapMaybe)
 import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
@@ -164,22 +164,24 @@ evaluateRobot opts task bvh key robot0
       cs -> Just (minimumBy (comparing clrDistance) cs)
 
     -- targets in order; in a path task each target after the first comes with its segment
-    solveAll = go Nothing (zip [0 :: Int ..] targets)
+    -- (the first segment already walked when the first target was chosen by it)
+    solveAll = go Nothing Nothing (zip [0 :: Int ..] targets)
       where
-        go _ [] = []
-        go prev ((i, t) : rest) =
-          let (res, seg) = case (taskPath task, prev) of
-                (True, Just (j, q0, p0)) -> case walk q0 p0 (tgPose t) of
-                  Right (k, qEnd) -> (describe t qEnd Nothing, Just (SegmentResult j k Nothing i))
+        go _ _ [] = []
+        go prev walked ((i, t) : rest) =
+          let (res, seg, walkedNext) = case (taskPath task, prev) of
+                (True, Just (j, q0, p0)) -> case fromMaybe (walk q0 p0 (tgPose t)) walked of
+                  Right (k, qEnd) -> (describe t qEnd Nothing, Just (SegmentResult j k Nothing i), Nothing)
                   Left (k, why) ->
                     ( solveTarget (Just q0) t
-                    , Just (SegmentResult j k (Just ("segment " ++ show j ++ " -> " ++ show i ++ " " ++ why)) i) )
-                (True, Nothing) | (_, t1) : _ <- rest -> (solveFirst t t1, Nothing)
-                _ -> (solveTarget (if soSeeded opts then (\(_, q, _) -> q) <$> prev else Nothing) t, Nothing)
+                    , Just (SegmentResult j k (Just ("segment " ++ show j ++ " -> " ++ show i ++ " " ++ why)) i)
+                    , Nothing )
+                (True, Nothing) | (_, t1) : _ <- rest -> let (r, w) = solveFirst t t1 in (r, Nothing, w)
+                _ -> (solveTarget (if soSeeded opts then (\(_, q, _) -> q) <$> prev else Nothing) t, Nothing, Nothing)
               next = case trJoints res of
                 Just q -> Just (i, q, tgPose t)
                 Nothing -> prev
-          in (res, seg) : go next rest
+          in (res, seg) : go next walkedNext rest
 
     distanceOf t = v3Norm (v3Sub (translation (tgPose t)) centre)
     solveTarget seed t
@@ -226,12 +228,13 @@ evaluateRobot opts task bvh key robot0
     -- segment (a UR5 elbow-down, 9 mm from self-collision at the target, failed a straight
     -- 10 cm move at its 15th sample without the cell, which ruled that branch out, and passed
     -- with it). When no geometry follows it, the target is solved as any other (the segment's
-    -- failure then says why).
+    -- failure then says why). With the target, the walk of the first segment from it, when
+    -- it was walked here.
     solveFirst t t1
-      | distanceOf t > bound + 1e-9 || isJust fixedHit = solveTarget Nothing t
-      | otherwise = case [ s | s <- clearByDexterity (tgPose t), isRight (walk (solJoints s) (tgPose t) (tgPose t1)) ] of
-          s : _ -> describe t (solJoints s) (solBranch s)
-          [] -> solveTarget Nothing t
+      | distanceOf t > bound + 1e-9 || isJust fixedHit = (solveTarget Nothing t, Nothing)
+      | otherwise = case [ (s, w) | s <- clearByDexterity (tgPose t), let w = walk (solJoints s) (tgPose t) (tgPose t1), isRight w ] of
+          (s, w) : _ -> (describe t (solJoints s) (solBranch s), Just w)
+          [] -> (solveTarget Nothing t, Nothing)
 
     canonical q = [ if rev then round (1e6 * (x - 2 * pi * fromIntegral (round (x / (2 * pi)) :: Int))) else round (1e6 * x) :: Int
                   | (rev, x) <- zip (U.toList (chainRevoluteJoint ch)) (U.toList q) ]
