@@ -405,6 +405,22 @@ spec = do
           -- at rest: below the checker's slack at zero, not creeping on towards it
           abs (U.last (prVelocities p)) `shouldSatisfy` (<= 1e-9)
 
+  describe "lowering the limits" $
+    it "never makes a route that ends in motion faster (0.70 m to 0.136 m/s: 4.5 s as asked, 4.0 s with every zone lowered to the lowest; seed 8 of the wide property)" $ do
+      let rq = defaultRequest { rqRouteLength = 0.6957 *~ meter
+                              , rqZones = [SpeedZone (0 *~ meter) (0.2581 *~ mps), SpeedZone (0.05335 *~ meter) (0.5476 *~ mps)]
+                              , rqMinAcceleration = (-1.958) *~ mps2, rqMaxAcceleration = 2.474 *~ mps2
+                              , rqMinJerk = (-0.2312) *~ mps3, rqMaxJerk = 0.5991 *~ mps3
+                              , rqEndVelocity = 0.1356 *~ mps, rqEndAcceleration = 3.355e-3 *~ mps2
+                              , rqTimeStep = Just (0.25 *~ second) }
+          lowered = rq { rqZones = [SpeedZone (0 *~ meter) (0.2581 *~ mps)] }
+          r = generatePure rq
+          rl = generatePure lowered
+      resOutcome r `shouldBe` Generated
+      resOutcome rl `shouldBe` Generated
+      sound rq r `shouldBe` True
+      fmap duration (resProfile r) `shouldSatisfy` (\d -> d <= fmap duration (resProfile rl) && d /= Nothing)
+
   describe "coarse time steps (0.25-1 s) and strong jerk" $ do
     it "a 10 m route at 3 m/s with time_step 0.5 s lands (its greedy pass used to stop 5.2 mm short, stand still and be refused as over the 2^20-sample cap)" $ do
       let rq = defaultRequest { rqRouteLength = 10 *~ meter, rqZones = [SpeedZone (0 *~ meter) (3 *~ mps)]
