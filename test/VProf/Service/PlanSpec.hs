@@ -291,13 +291,21 @@ spec = do
         { plqZone = putField (Just (-0.01)), plqTimeStep = putField (Just 2), plqAcceleration = putField (Just (-1))
         , plqJerk = putField (Just (1 / 0)), plqTimeBudget = putField (Just (-1)), plqBase = putField (Just badBase)
         , plqIgnoreBodies = putField [0], plqClearance = putField (Just (-0.001)) }
-      sort (fieldsOf all') `shouldBe` sort ["zone", "time_step", "acceleration", "jerk", "time_budget", "base", "ignore_bodies[0]", "clearance"]
+      -- (and ignore_bodies as a whole: there is no environment to leave bodies out of)
+      sort (fieldsOf all') `shouldBe` sort ["zone", "time_step", "acceleration", "jerk", "time_budget", "base", "ignore_bodies[0]", "clearance", "ignore_bodies"]
       msg `shouldContain` "zone = -0.01 m"
       msg `shouldContain` "time_step = 2.0 s: must be at most 1"
     it "a body the robot does not have is refused naming ignore_bodies[0] (99 was ignored)" $ do
       ((code, field, msg), _) <- errs (squareReq rows) { plqIgnoreBodies = putField [99] }
       (code, field) `shouldBe` (ErrInvalidArgument, "ignore_bodies[0]")
       msg `shouldContain` "1 to 6"
+    it "a clearance or ignore_bodies without an environment is refused naming it (each went unused)" $ do
+      ((code, field, msg), all') <- errs (squareReq rows) { plqClearance = putField (Just 0.01) }
+      (code, field) `shouldBe` (ErrInvalidArgument, "clearance")
+      msg `shouldContain` "without an environment"
+      fieldsOf all' `shouldBe` ["clearance"]
+      ((_, field2, _), _) <- errs (squareReq rows) { plqIgnoreBodies = putField [1] }
+      field2 `shouldBe` "ignore_bodies"
     it "a zone between 0 and 0.1 mm is refused naming zone (a 0.1 µm zone planned for 12 s)" $ do
       ((code, field, msg), _) <- errs (squareReq rows) { plqZone = putField (Just 1e-7) }
       (code, field) `shouldBe` (ErrInvalidArgument, "zone")

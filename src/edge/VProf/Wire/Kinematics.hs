@@ -17,6 +17,7 @@ module VProf.Wire.Kinematics
   , poseFromMsg
   , jointsFromMsg
   , meshFromMsg
+  , withoutEnvironment
     -- * Responses
   , fkToMsg
   , ikToMsg
@@ -160,6 +161,15 @@ outsideLimits field r q =
   , x < lo - 1e-12 || x > hi + 1e-12 ]
   where deg v = showNumber (fromIntegral (round (v * 180 / pi * 1000) :: Integer) / 1000)
 
+-- | A request's clearance and ignore_bodies act on its environment: sent without one, they
+-- would go unused without a word, so they are errors naming the field.
+withoutEnvironment :: Bool -> Double -> [Word32] -> [FieldError]
+withoutEnvironment hasEnv c ignores =
+  [ FieldError "clearance" (Number c) "m" "is given without an environment: send the cell's meshes in environment, or leave clearance 0"
+  | not hasEnv, finite c, c > 0 ]
+  ++ [ err "ignore_bodies" (show ignores) "is given without an environment: the bodies are left out of the check against the environment only"
+     | not hasEnv, not (null ignores) ]
+
 -- | A non-negative finite option; 0 (absent) takes the default.
 positiveOr :: String -> String -> Double -> Double -> Either [FieldError] Double
 positiveOr field unit def v
@@ -198,12 +208,7 @@ ikFromMsg m = do
       envs = getField (ikqEnvironment m)
       clearance = let c = orDefault (getField (ikqClearance m)) :: Double in
         if finite c && c >= 0 then Right c else Left [FieldError "clearance" (Number c) "m" "must be a finite number >= 0"]
-      -- clearance and ignore_bodies act on the environment: without one they would be dropped
-      withoutEnv = null envs
-      unused = [ FieldError "clearance" (Number c) "m" "is given without an environment: send the cell's meshes in environment, or leave clearance 0"
-               | withoutEnv, let c = orDefault (getField (ikqClearance m)) :: Double, finite c, c > 0 ]
-               ++ [ err "ignore_bodies" (show (getField (ikqIgnoreBodies m))) "is given without an environment: the bodies are left out of the check against environment only"
-                  | withoutEnv, not (null (getField (ikqIgnoreBodies m))) ]
+      unused = withoutEnvironment (not (null envs)) (orDefault (getField (ikqClearance m))) (getField (ikqIgnoreBodies m))
       ignores = [ if b == 0 then Left [FieldError ("ignore_bodies[" ++ show i ++ "]") (Literal "0") "" "bodies count from 1"]
                   else maybe (Right (fromIntegral b :: Int)) (\e -> Left [FieldError ("ignore_bodies[" ++ show i ++ "]") (Literal (show b)) "" e])
                              (unknownBody r False (fromIntegral b))

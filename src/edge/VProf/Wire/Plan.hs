@@ -35,7 +35,7 @@ import VProf.Kinematics.Collision (CollisionOptions (..), collisionModel, defaul
 import VProf.Plan
 import VProf.Units
 import VProf.Validation
-import VProf.Wire.Kinematics (jointsFromMsg, meshFromMsg, mkError, poseFromMsg, poseToMsg, robotFromMsg)
+import VProf.Wire.Kinematics (jointsFromMsg, meshFromMsg, mkError, poseFromMsg, poseToMsg, robotFromMsg, withoutEnvironment)
 import VProf.Wire.Messages
 
 -- | A validated plan request: the core's request (its robot placed by base and tool), the route it
@@ -141,6 +141,7 @@ planFromMsg m =
       errs = lefts' waypoints ++ lefts' robot ++ lefts' base ++ lefts' tool ++ concatMap lefts' envs
           ++ lefts' clearance ++ concatMap lefts' ignores ++ lefts' speed ++ lefts' acc ++ lefts' jerk
           ++ lefts' zone ++ lefts' dt ++ lefts' start ++ lefts' budget
+          ++ withoutEnvironment (not (null envs)) clearanceM (getField (plqIgnoreBodies m))
   in case errs of
        _ : _ -> Left errs
        [] -> do
