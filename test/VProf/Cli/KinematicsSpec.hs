@@ -75,6 +75,12 @@ spec = describe "vprof robots / fk / ik" $ do
     let cell = dir </> "data" </> "cell" </> "cell.obj"
     mapM_ (\b -> run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--environment", cell, "--ignore-body", b] `shouldReturn` ExitFailure 2) ["7", "99"]
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--ignore-body", "99"] `shouldReturn` ExitFailure 2
+  it "--clearance or --ignore-body without --environment is exit 2 (each went unused); with it, exit 0" $ do
+    run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--clearance", "0.05"] `shouldReturn` ExitFailure 2
+    run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--ignore-body", "1"] `shouldReturn` ExitFailure 2
+    dir <- shared
+    let cell = dir </> "data" </> "cell" </> "cell.obj"
+    run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--environment", cell, "--clearance", "0.005", "--ignore-body", "1"] `shouldReturn` ExitSuccess
   it "--tip with a library robot is exit 2 (was ignored); --time-budget must be > 0 (0 and -5 were taken)" $ do
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--tip", "nosuch"] `shouldReturn` ExitFailure 2
     run fkCommand ["ur5", "0", "0", "0", "0", "0", "0", "--tip", "tool0"] `shouldReturn` ExitFailure 2

@@ -40,6 +40,9 @@ spec = do
       run ["examples/plan-square.csv", "--robot", "ur5", "--environment", cell, "--ignore-body", "7"] `shouldReturn` ExitFailure 2
       run ["examples/plan-square.csv", "--robot", "ur5", "--environment", cell, "--ignore-body", "99"] `shouldReturn` ExitFailure 2
       run ["examples/plan-square.csv", "--robot", "ur5", "--ignore-body", "99"] `shouldReturn` ExitFailure 2
+    it "--clearance or --ignore-body without an environment (no --environment, no task cell) is exit 2 (each went unused)" $ do
+      run ["examples/plan-square.csv", "--robot", "ur5", "--clearance", "0.05"] `shouldReturn` ExitFailure 2
+      run ["examples/plan-square.csv", "--robot", "ur5", "--ignore-body", "1"] `shouldReturn` ExitFailure 2
     it "an output (-o, --plot) that is the path itself is refused (exit 2) and the path left as it was; a path with a missing pose value is exit 2" $
       withSystemTempDirectory "vprof-plan" $ \tmp -> do
         src <- BL.readFile "examples/plan-square.csv"

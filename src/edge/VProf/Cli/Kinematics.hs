@@ -23,6 +23,7 @@ import qualified Data.ByteString.Lazy.Char8 as BLC
 import Data.Char (toLower)
 import Data.Containers.ListUtils (nubOrd)
 import Data.List (intercalate)
+import Data.Maybe (fromMaybe)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showEFloat, showFFloat)
 import Options.Applicative
@@ -252,7 +253,7 @@ outsideLimits deg r q =
 data IkOpts = IkOpts
   { ikRobotName :: String, ikPose :: [Double], ikSeedQ :: Maybe [Double], ikAll :: Bool
   , ikDeg :: Bool, ikTip :: Maybe String, ikFormat :: Format, ikBudget :: Double, ikBranchWanted :: Maybe String
-  , ikEnvironment :: Maybe FilePath, ikEnvScale :: Double, ikClearance :: Double, ikIgnoreBodies :: [Int] }
+  , ikEnvironment :: Maybe FilePath, ikEnvScale :: Double, ikClearanceGiven :: Maybe Double, ikIgnoreBodies :: [Int] }
 
 ikCommand :: Parser (IO ExitCode)
 ikCommand = runIk <$> (IkOpts
@@ -270,8 +271,8 @@ ikCommand = runIk <$> (IkOpts
         <> help "keep the robot clear of this Wavefront OBJ scene (in the robot's base frame)"))
   <*> option auto (long "scale" <> metavar "S" <> value 1 <> showDefault
         <> help "the scene's coordinates times S are metres (0.001 for millimetres)")
-  <*> option (eitherReader nonNegClearance) (long "clearance" <> metavar "M" <> value 0.01 <> showDefault
-        <> help "with --environment: the least distance between the robot's capsules and the scene, m")
+  <*> optional (option (eitherReader nonNegClearance) (long "clearance" <> metavar "M"
+        <> help "with --environment: the least distance between the robot's capsules and the scene, m (default: 0.01)"))
   <*> many (option (eitherReader bodyNumber) (long "ignore-body" <> metavar "N"
         <> help "with --environment: leave body N out of the scene check (1 = the first link, e.g. a base column on a table); repeatable")))
   where
@@ -296,6 +297,10 @@ ikCommand = runIk <$> (IkOpts
         then Right u else Left ("--branch: " ++ show b ++ " is not a branch label (R or L, U or D, N or F: e.g. RUN)")
     toUpper' c = if c >= 'a' && c <= 'z' then toEnum (fromEnum c - 32) else c
 
+-- | The clearance kept from the scene: as given, else 1 cm.
+ikClearance :: IkOpts -> Double
+ikClearance = fromMaybe 0.01 . ikClearanceGiven
+
 runIk :: IkOpts -> IO ExitCode
 runIk o = do
   er <- loadRobot (ikTip o) (ikRobotName o)
@@ -304,6 +309,11 @@ runIk o = do
     Right r -> case ikPose o of
       _ | e : _ <- [ e | b <- ikIgnoreBodies o, Just e <- [unknownBody r False b] ] ->
             failWith ("--ignore-body: " ++ e)
+      -- options that act on a scene, given without one, would go unused
+      _ | Nothing <- ikEnvironment o, Just c <- ikClearanceGiven o ->
+            failWith ("--clearance " ++ showNumber c ++ " m: needs --environment FILE.obj, the scene to keep clear of")
+      _ | Nothing <- ikEnvironment o, b : _ <- ikIgnoreBodies o ->
+            failWith ("--ignore-body " ++ show b ++ ": needs --environment FILE.obj, the scene to leave the body out of")
       [x, y, z, w, qx', qy', qz']
         | any ((> maxCoordinate) . abs) [x, y, z] ->
             failWith ("--pose: the position (" ++ unwords (map show [x, y, z]) ++ ") m is more than "

@@ -24,7 +24,7 @@ import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy.Char8 as BL
 import Data.Char (toLower)
 import Data.List (intercalate, isPrefixOf)
-import Data.Maybe (isJust)
+import Data.Maybe (isJust, isNothing)
 import qualified Data.Vector.Unboxed as U
 import GHC.Clock (getMonotonicTime)
 import Numeric (showFFloat)
@@ -252,8 +252,15 @@ runPlan o = do
                      , prTrack = defaultTrackOptions { toEnvironment = fmap (\(cm, bvh) -> Environment cm bvh clearance) (menv r) } }
               -- body numbers to leave out of the scene check that name none of the robot's bodies, and
               hasCapsule = isJust (mtask >>= taskToolCapsule)
+              noScene = isNothing (poEnv o) && null (maybe [] taskEnvironment mtask)
               unknown what bs = [ what ++ ": " ++ e | b <- bs, Just e <- [unknownBody r hasCapsule b] ]
               badOptions = unknown "--ignore-body" (poIgnore o) ++ unknown (poPath o ++ ": ignore_bodies") (maybe [] taskIgnoreBodies mtask)
+                -- options that act on a scene, given without one (neither --environment nor
+                -- the task's), would go unused
+                ++ [ "--clearance " ++ showNumber c ++ " m: needs an environment to keep clear of (--environment FILE.obj, or a task file's)"
+                   | Just c <- [poClearance o], noScene ]
+                ++ [ "--ignore-body " ++ show b ++ ": needs an environment to leave the body out of (--environment FILE.obj, or a task file's)"
+                   | b <- take 1 (poIgnore o), noScene ]
                 -- (a start of the wrong length, named as typed: in degrees with --deg)
                 ++ [ "--start \"" ++ unwords (map showNumber qs) ++ "\"" ++ (if poDeg o then " (deg)" else "") ++ ": expected "
                      ++ show (dof r) ++ " joint values for " ++ robotName r ++ ", got " ++ show (length qs)
