@@ -9,6 +9,7 @@ module VProf.Kinematics.Validate
   , renderFieldError
   , validateRobot
   , checkJointVector
+  , jointsOutsideLimits
   ) where
 
 import Data.List (nub, (\\))
@@ -111,8 +112,17 @@ checkJointVector limits Robot{..} q =
   [ fe "q" (show (U.length q) ++ " values") "" ("the robot has " ++ show (length robotJoints) ++ " joints") | U.length q /= length robotJoints ]
     ++ [ fe ("q[" ++ show i ++ "]") (show x) u "must be a finite number"
        | (i, x, j) <- zip3 [0 :: Int ..] (U.toList q) robotJoints, not (finite x), let (u, _, _) = unitOf (jointKind j) ]
-    ++ if not limits then [] else
-      [ fe ("q[" ++ show i ++ "]") (show x) u ("outside the limits of " ++ jointName j ++ " [" ++ show lo ++ ", " ++ show hi ++ "]")
-      | (i, x, j) <- zip3 [0 :: Int ..] (U.toList q) robotJoints, finite x
-      , let Limits lo hi = jointLimits j; (u, _, _) = unitOf (jointKind j)
-      , x < lo || x > hi ]
+    ++ (if limits then jointsOutsideLimits "q" Robot{..} q else [])
+
+-- | The entries of a joint vector outside their joints' limits, each naming @field[i]@, the
+-- value and the limits in rad (revolute, with degrees beside them) or m (prismatic).
+jointsOutsideLimits :: String -> Robot -> U.Vector Double -> [FieldError]
+jointsOutsideLimits field r q =
+  [ FieldError (field ++ "[" ++ show i ++ "]") (Number x) u
+      ("is outside the limits of joint " ++ jointName j ++ ", [" ++ showNumber lo ++ ", " ++ showNumber hi ++ "] " ++ u
+       ++ (if jointKind j == Revolute then " (" ++ deg x ++ " in [" ++ deg lo ++ ", " ++ deg hi ++ "] degrees)" else ""))
+  | (i, x, j) <- zip3 [0 :: Int ..] (U.toList q) (robotJoints r), finite x
+  , let Limits lo hi = jointLimits j
+        (u, _, _) = unitOf (jointKind j)
+  , x < lo - 1e-12 || x > hi + 1e-12 ]
+  where deg v = showNumber (fromIntegral (round (v * 180 / pi * 1000) :: Integer) / 1000)

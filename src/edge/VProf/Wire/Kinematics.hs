@@ -48,7 +48,7 @@ import VProf.Kinematics.Format.RobotFile (readRobotYaml)
 import VProf.Kinematics.Format.Urdf (UrdfOptions (..), readUrdf)
 import VProf.Kinematics.Library (libraryRobots, lookupRobot)
 import VProf.Select.Ik (SelectIkFailure (..), SelectIkOptions (..), describeSelectIkFailure)
-import VProf.Validation (FieldValue (..), finite, literalError, maxCoordinate, showBound, showNumber, tooFarRule)
+import VProf.Validation (FieldValue (..), finite, literalError, maxCoordinate, showBound, tooFarRule)
 import VProf.Wire.Messages
 
 -- | A validated FK request.
@@ -148,19 +148,6 @@ jointsFromMsg field r qs
           | (i, x, j) <- zip3 [0 :: Int ..] qs (robotJoints r), not (finite x) ]
     unit j = if jointKind j == Revolute then "rad" else "m"
 
--- | The entries of a joint vector outside their joints' limits, each naming @field[i]@, the
--- value and the limits in rad (revolute) or m (prismatic), with degrees beside radians.
-outsideLimits :: String -> Robot -> U.Vector Double -> [FieldError]
-outsideLimits field r q =
-  [ FieldError (field ++ "[" ++ show i ++ "]") (Number x) u
-      ("is outside the limits of joint " ++ jointName j ++ ", [" ++ showNumber lo ++ ", " ++ showNumber hi ++ "] " ++ u
-       ++ (if jointKind j == Revolute then " (" ++ deg x ++ " in [" ++ deg lo ++ ", " ++ deg hi ++ "] degrees)" else ""))
-  | (i, x, j) <- zip3 [0 :: Int ..] (U.toList q) (robotJoints r)
-  , let Limits lo hi = jointLimits j
-        u = if jointKind j == Revolute then "rad" else "m"
-  , x < lo - 1e-12 || x > hi + 1e-12 ]
-  where deg v = showNumber (fromIntegral (round (v * 180 / pi * 1000) :: Integer) / 1000)
-
 -- | A request's clearance and ignore_bodies act on its environment: sent without one, they
 -- would go unused without a word, so they are errors naming the field.
 withoutEnvironment :: Bool -> Double -> [Word32] -> [FieldError]
@@ -190,7 +177,7 @@ fkFromMsg m = do
   q <- jointsFromMsg "joints" r (getField (fkqJoints m))
   -- the contract asks joints within the limits: a pose of a configuration the robot cannot
   -- take is refused, not answered as if it could (90 meant as degrees is 90 rad)
-  case outsideLimits "joints" r q of
+  case jointsOutsideLimits "joints" r q of
     [] -> pure (FkQuery r k q (orDefault (getField (fkqLinkFrames m))))
     es -> Left es
 
