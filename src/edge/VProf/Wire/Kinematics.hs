@@ -89,9 +89,9 @@ err f v rule = literalError f v rule
 robotFromMsg :: Maybe RobotMsg -> Either [FieldError] (Robot, Kinematics)
 robotFromMsg Nothing = Left [err "robot" "" "is missing: give a library name, a robot file or a URDF"]
 robotFromMsg (Just m) = case [ k | (k, True) <- [("name", has name), ("robot_file", has file), ("urdf", has urdf)] ] of
-  [k] | k /= "urdf", links@(_ : _) <- [ f | (f, t) <- [("base_link", baseLink), ("tip_link", tipLink)], has t ] ->
+  [k] | k /= "urdf", links@(_ : _) <- filter (has . snd) [("base_link", baseLink), ("tip_link", tipLink)] ->
     Left [ err ("robot." ++ f) (show (T.unpack t)) ("is for a URDF only; the robot is given by " ++ k ++ ", whose chain is fixed")
-         | f <- links, let t = if f == "base_link" then baseLink else tipLink ]
+         | (f, t) <- links ]
   ["name"] -> case Map.lookup (norm (T.unpack name)) libraryCache of
     Just e -> Right e
     Nothing -> Left [err "robot.name" (show (T.unpack name)) (either id (const "is not in the library") (lookupRobot (T.unpack name)))]
