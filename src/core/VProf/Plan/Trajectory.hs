@@ -127,15 +127,18 @@ planDuration p = let t = trTime (planTrajectory p) in if U.null t then 0 else U.
 -- | The speed limit along the whole route, the parts' zones in turn, without gaps: a join
 -- moved a step ('timeParts') leaves the sliver [u, u + v·dt] (or [u − v·dt, u]) to neither
 -- part; the motion crosses it at the join's speed v, which the zones either side both allow,
--- and it is listed at the lower of them (with that one's binding).
+-- and the lower of them is stretched over it.
 planZoneList :: Plan -> [LimitZone]
-planZoneList p = concat (zipWith fill (Nothing : map lastZone zss) zss)
+planZoneList = go . planZones
   where
-    zss = planZones p
-    lastZone zs = if null zs then Nothing else Just (last zs)
-    fill (Just z0) zs@(z1 : _)
-      | lzStart z1 - lzEnd z0 > 1e-9 = (if lzSpeed z0 <= lzSpeed z1 then z0 else z1) { lzStart = lzEnd z0, lzEnd = lzStart z1 } : zs
-    fill _ zs = zs
+    go (zs0@(_ : _) : zs1@(z1 : more) : rest)
+      | lzStart z1 - lzEnd z0 > 1e-9 =
+          if lzSpeed z0 <= lzSpeed z1
+            then init zs0 ++ z0 { lzEnd = lzStart z1 } : go (zs1 : rest)
+            else zs0 ++ go ((z1 { lzStart = lzEnd z0 } : more) : rest)
+      where z0 = last zs0
+    go (zs : rest) = zs ++ go rest
+    go [] = []
 
 data PlanFailure
   = InvalidPlan [FieldError]
