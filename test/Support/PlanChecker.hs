@@ -17,12 +17,16 @@
 --   one ends at (to 0.1 %);
 -- * the speed limit as listed to the user ('planZoneList'): the route from 0 to its end without
 --   gap or overlap, and every sample's speed within the limit at its distance (to 0.1 %);
+-- * ('checkWaypointPoses') every waypoint the motion rests at with its own orientation — the
+--   first, the last, and both ends of every turn in place — held by some sample: the TCP
+--   within 0.1 mm of its position and 1e-4 rad of its orientation;
 -- * the TCP stream itself, as a controller follows it across the parts' joins: accelerations
 --   and jerks from the velocity samples alone (at rest before the first and after the last)
 --   within the plan's ranges, and the acceleration column equal to those differences (to
 --   'streamTolerance').
 module Support.PlanChecker
   ( checkTrajectory
+  , checkWaypointPoses
   , oracleTcp
   , polylineDistance
   , speedTolerance
@@ -62,11 +66,49 @@ jointAccelerationLimit j = case (jointMaxAcceleration j, jointMaxVelocity j) of
   _ -> Nothing
 tcpTolerance = 1e-4
 
+-- | At rest: a speed within 1e-9 m/s of 0, the rounding slack the profile legality checker
+-- allows an end velocity (a 0.66 mm turn in place ended at 2.9e-10 m/s).
+restSlack :: Double
+restSlack = 1e-9
+
 -- | The TCP position (m) at joint values q by the textbook matrices.
 oracleTcp :: Robot -> [Double] -> (Double, Double, Double)
-oracleTcp r qs =
-  let m = foldl mmul (rows4 (robotBase r)) [ linkMat l (var (linkDrive l)) | l <- robotLinks r ] `mmul` rows4 (robotTool r)
-  in (m !! 0 !! 3, m !! 1 !! 3, m !! 2 !! 3)
+oracleTcp r qs = let m = oracleTcpMatrix r qs in (m !! 0 !! 3, m !! 1 !! 3, m !! 2 !! 3)
+
+-- | The waypoints the motion rests at with their own orientation — the first, the last, and
+-- both ends of every turn in place (consecutive waypoints within 0.1 mm) — each held by some
+-- sample of the trajectory: the TCP (the textbook matrices) within 'tcpTolerance' of its
+-- position and 1e-4 rad of its orientation (quaternions w, x, y, z).
+checkWaypointPoses :: Robot -> [((Double, Double, Double), (Double, Double, Double, Double))] -> Plan -> [String]
+checkWaypointPoses r wps plan =
+  [ "waypoint " ++ show i ++ " is not reached: the nearest sample is " ++ show (d * 1000) ++ " mm and "
+      ++ show (a * 180 / pi) ++ "° from its pose"
+  | i <- rests
+  , let (p, q) = wps !! i
+        near = [ (dist3 p (m !! 0 !! 3, m !! 1 !! 3, m !! 2 !! 3), rotAngle (quatMat q) m) | m <- poses ]
+        (d, a) = foldr1 (\x y -> if fst x + snd x <= fst y + snd y then x else y) ((1 / 0, 1 / 0) : near)
+  , d > tcpTolerance || a > 1e-4 ]
+  where
+    tr = planTrajectory plan
+    n = trDof tr
+    m = U.length (trTime tr)
+    poses = [ oracleTcpMatrix r [ trQ tr U.! (k * n + j) | j <- [0 .. n - 1] ] | k <- [0 .. m - 1] ]
+    nw = length wps
+    turnSeg j = dist3 (fst (wps !! j)) (fst (wps !! (j + 1))) < 1e-4
+    rests = [ i | i <- [0 .. nw - 1], i == 0 || i == nw - 1 || turnSeg (i - 1) || (i < nw - 1 && turnSeg i) ]
+    dist3 (a, b, c) (x, y, z) = sqrt ((a - x) ^ (2 :: Int) + (b - y) ^ (2 :: Int) + (c - z) ^ (2 :: Int))
+    quatMat (w, x, y, z) =
+      let k = sqrt (w * w + x * x + y * y + z * z); [qw, qx, qy, qz] = map (/ k) [w, x, y, z]
+      in [ [1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)]
+         , [2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)]
+         , [2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)] ]
+    -- the angle of R_aᵀ·R_b from its trace
+    rotAngle ra mb = let t = sum [ ra !! i !! j * mb !! i !! j | i <- [0 .. 2], j <- [0 .. 2] ]
+                     in acos (max (-1) (min 1 ((t - 1) / 2)))
+
+-- | The TCP's 4×4 matrix in the world: the base, every link, then the tool, by the textbook matrices.
+oracleTcpMatrix :: Robot -> [Double] -> [[Double]]
+oracleTcpMatrix r qs = foldl mmul (rows4 (robotBase r)) [ linkMat l (var (linkDrive l)) | l <- robotLinks r ] `mmul` rows4 (robotTool r)
   where
     rows4 t = let xs = toRows4 t in [take 4 xs, take 4 (drop 4 xs), take 4 (drop 8 xs), drop 12 xs]
     var (Drive off terms) = off + sum [ c * (qs !! j) | (j, c) <- terms ]
@@ -113,13 +155,13 @@ checkTrajectory r wps zone acc jerk dt plan = concat
            , d > zone + tcpTolerance ]
   , [ "the time step is " ++ show (t (k + 1) - t k) ++ " s at sample " ++ show k | k <- take 1 [ k | k <- [0 .. m - 2], abs (t (k + 1) - t k - dt) > 1e-9 ] ]
   , concat [ profileProblems i zs res | (i, zs, res) <- zip3 [0 :: Int ..] (planZones plan) (planProfiles plan) ]
-  , [ "the first part starts at " ++ show v ++ " m/s, not at rest" | Just v <- [take1 (map fst ends)], v /= 0 ]
-  , [ "the last part ends at " ++ show v ++ " m/s, not at rest" | Just v <- [take1 (reverse (map snd ends))], v /= 0 ]
+  , [ "the first part starts at " ++ show v ++ " m/s, not at rest" | Just v <- [take1 (map fst ends)], abs v > restSlack ]
+  , [ "the last part ends at " ++ show v ++ " m/s, not at rest" | Just v <- [take1 (reverse (map snd ends))], abs v > restSlack ]
   , [ "the motion does not stop at the stop " ++ show st ++ " m: " ++ show v ++ " m/s there"
     | st <- rtStops (planRoute plan), (zs, (_, v)) <- zip (planZones plan) ends, not (null zs)
-    , abs (lzEnd (last zs) - st) < 1e-9, v /= 0 ]
+    , abs (lzEnd (last zs) - st) < 1e-9, abs v > restSlack ]
   , [ "part " ++ show (i + 1) ++ " starts at " ++ show v1 ++ " m/s, part " ++ show i ++ " ends at " ++ show v0 ++ " m/s"
-    | (i, (_, v0), (v1, _)) <- zip3 [0 :: Int ..] ends (drop 1 ends), abs (v1 - v0) > 1e-3 * max v0 v1 + 1e-12 ]
+    | (i, (_, v0), (v1, _)) <- zip3 [0 :: Int ..] ends (drop 1 ends), abs (v1 - v0) > 1e-3 * max v0 v1 + restSlack ]
   , [ "the trajectory is empty" | m == 0 ]
     -- the listed speed limit (the plan's zones, as the CLI and the wire give them): the route
     -- from 0 to its end without gap or overlap, and every sample's speed within it where it is

@@ -68,6 +68,25 @@ genPlan name = do
     small rx ry rz = let th = sqrt (rx * rx + ry * ry + rz * rz); s = if th < 1e-12 then 0.5 else sin (th / 2) / th
                      in Q4 (cos (th / 2)) (s * rx) (s * ry) (s * rz)
 
+-- | A path of 'genPlan' with turns in place: after one or more waypoints, the same position
+-- with the orientation turned by 0.06°–23° about a random axis.
+genTurnPlan :: String -> Gen ([Waypoint], Zone, Double)
+genTurnPlan name = do
+  (wps, zone, v) <- genPlan name
+  flags <- vectorOf (length wps) (frequency [(2, pure False), (1, pure True)]) `suchThat` or
+  wps' <- concat <$> sequence [ if f then (\t -> [w, t]) <$> turned w else pure [w] | (w, f) <- zip wps flags ]
+  pure (wps', zone, v)
+  where
+    turned (Waypoint p (L.Quaternion w (L.V3 a b c))) = do
+      ax <- vectorOf 3 (choose (-1, 1)) `suchThat` (\xs -> sum (map (^ (2 :: Int)) xs) > 1e-2)
+      th <- oneof [choose (1.1e-3, 0.01), choose (0.01, 0.4)]
+      let k = sqrt (sum (map (^ (2 :: Int)) ax)); [x, y, z] = map (* (sin (th / 2) / k)) ax
+          Q4 qw qx qy qz = qmul (Q4 w a b c) (Q4 (cos (th / 2)) x y z)
+      pure (Waypoint p (L.Quaternion qw (L.V3 qx qy qz)))
+
+poses :: [Waypoint] -> [((Double, Double, Double), (Double, Double, Double, Double))]
+poses wps = [ ((si x, si y, si z), (w, a, b, c)) | Waypoint (L.V3 x y z) (L.Quaternion w (L.V3 a b c)) <- wps ]
+
 positions :: [Waypoint] -> [(Double, Double, Double)]
 positions wps = [ (si x, si y, si z) | Waypoint (L.V3 x y z) _ <- wps ]
 
@@ -93,6 +112,32 @@ spec = describe "VProf.Plan" $ do
   describe "random fast paths keep every joint's speed and acceleration (the checker's second differences)" $
     mapM_ (\name -> it name $ withMaxSuccess 15 $ forAll (genPlan name) $ \(wps, zone, _) -> planAndCheckWith 20 400 (robot name) wps zone 3)
       ["ur5", "abb-irb140"]
+
+  -- a turn in place is a stretch of its own, from rest to rest, its s the arc of a point 0.1 m
+  -- from the TCP: the checker's limits hold on it as on a move, and it reaches its orientation
+  describe "random paths with turns in place pass the independent checker and reach every turn's orientation" $
+    mapM_ (\name -> it name $ withMaxSuccess 15 $ forAll (genTurnPlan name) $ \(wps, zone, v) ->
+             let r = robot name
+             in case planPath ((planRequest r wps) { prZone = zone, prSpeed = v *~ mps }) of
+                  Left f -> counterexample (describePlanFailure f) False
+                  Right plan ->
+                    let problems = checkTrajectory r (positions wps) (zoneRadius zone) defaultAcceleration defaultJerk defaultTimeStep plan
+                                   ++ checkWaypointPoses r (poses wps) plan
+                    in counterexample (unlines problems) (null problems && planLegal plan && planDuration plan > 0))
+      ["ur5", "abb-irb140", "franka-panda"]
+
+  it "a tool turned in place by 90° about its axis: 0.157 m of s, a plan from rest to rest that holds the position and ends at the turned orientation" $ do
+    let r = robot "ur5"
+        Pose (V3 x y z) (Quat w a b c) = forwardPose (compile r) (U.fromList (comfortable "ur5"))
+        Q4 qw qx qy qz = qmul (Q4 w a b c) (Q4 (cos (pi / 4)) 0 0 (sin (pi / 4)))
+        wps = [waypoint (x, y, z) (w, a, b, c), waypoint (x, y, z) (qw, qx, qy, qz)]
+    case planPath (planRequest r wps) of
+      Left f -> expectationFailure (describePlanFailure f)
+      Right plan -> do
+        routeLength (planRoute plan) `shouldSatisfy` (\l -> abs (l - 0.1 * pi / 2) < 1e-12)
+        checkTrajectory r (positions wps) 0 defaultAcceleration defaultJerk defaultTimeStep plan `shouldBe` []
+        checkWaypointPoses r (poses wps) plan `shouldBe` []
+        planDuration plan `shouldSatisfy` (> 0)
 
   it "stops with out of reach, at the distance where the route leaves the workspace" $ do
     let r = robot "ur5"

@@ -1,6 +1,8 @@
 -- | The route: arc length, continuity of position and tangent through blends, deviation from
 -- the waypoint polyline within the zone, and exact passage through the waypoints of @fine@,
--- over random waypoints and zones.
+-- over random waypoints and zones; turns in place (two waypoints at one position): the position
+-- held, the orientation turned from one waypoint's to the next, 0.1 m of s per rad, a stop on
+-- either side.
 module VProf.Plan.RouteSpec (spec) where
 
 import qualified Data.Vector as V
@@ -36,6 +38,36 @@ genCase = do
       let k = sqrt (w * w + x * x + y * y + z * z)
       pure (if k < 1e-3 then (1, 0, 0, 0) else (w / k, x / k, y / k, z / k))
     g = choose (-1, 1)
+
+-- | A case of 'genCase' with turns in place: after some waypoints a copy of its position (or one
+-- moved by less than 0.1 mm) with another orientation, turned by 0.06°–180° from it.
+genTurnCase :: Gen Case
+genTurnCase = do
+  Case wps z <- genCase
+  let turnAfter (p@(x, y, zc), q) = do
+        extra <- frequency [(2, pure False), (1, pure True)]
+        if not extra then pure [(p, q)] else do
+          shift <- oneof [pure (0, 0, 0), (,,) <$> tiny <*> tiny <*> tiny]
+          q' <- rotated q
+          let (dx, dy, dz) = shift
+          pure [(p, q), ((x + dx, y + dy, zc + dz), q')]
+  wps' <- concat <$> mapM turnAfter wps
+  -- at least one turn
+  wps'' <- if length wps' > length wps then pure wps' else do
+             q' <- rotated (snd (head wps))
+             pure (head wps : (fst (head wps), q') : tail wps)
+  pure (Case wps'' z)
+  where
+    tiny = choose (-0.00003, 0.00003)
+    -- q turned about a random axis by 0.06°–180°
+    rotated (w, x, y, zq) = do
+      ax <- vectorOf 3 (choose (-1, 1)) `suchThat` (\v -> sum (map (^ (2 :: Int)) v) > 1e-2)
+      th <- oneof [choose (1.05e-3, 0.02), choose (0.02, pi)]
+      let k = sqrt (sum (map (^ (2 :: Int)) ax)); [a, b, c] = map (* (sin (th / 2) / k)) ax
+          Q4 w' x' y' z' = qmulT (Q4 w x y zq) (Q4 (cos (th / 2)) a b c)
+      pure (w', x', y', z')
+    qmulT (Q4 a b c d) (Q4 e f g h) =
+      Q4 (a * e - b * f - c * g - d * h) (a * f + b * e + c * h - d * g) (a * g - b * h + c * e + d * f) (a * h + b * g - c * f + d * e)
 
 dist :: (Double, Double, Double) -> (Double, Double, Double) -> Double
 dist (a, b, c) (x, y, z) = sqrt ((a - x) ^ (2 :: Int) + (b - y) ^ (2 :: Int) + (c - z) ^ (2 :: Int))
@@ -105,6 +137,52 @@ spec = describe "VProf.Plan.Route" $ do
           grid = U.toList (routeGrid 1e-3 (0.5 * pi / 180) rt)
           qs = map (snd . routeAt rt) grid
       in conjoin [ counterexample (show d) (d <= 0.5 * pi / 180 + 1e-9) | (a, b) <- zip qs (drop 1 qs), let d = qangle a b ]
+  describe "turns in place" $ do
+    it "hold the position, turn from one waypoint's orientation to the next's, take 0.1 m of s per rad, and stop on either side" $
+      property $ forAll genTurnCase $ \cs@(Case wps _) ->
+        let rt = routeOf cs
+            turns = [ p | p <- V.toList (rtPieces rt), pcKind p == Turn ]
+            toQ (w, x, y, zq) = Q4 w x y zq
+            stopAt s = any (\x -> abs (x - s) < 1e-9) (0 : routeLength rt : rtStops rt)
+        in counterexample (show (length turns) ++ " turns") (not (null turns))
+           .&&. conjoin
+             [ counterexample ("turn " ++ show i) $
+                 let (pa, qa) = wps !! i; (pb, qb) = wps !! (i + 1)
+                     th = qangle (toQ qa) (toQ qb)
+                     at f = routeAt rt (pcStart p + f * pcLength p)
+                     moved = dist pa pb
+                 in abs (pcLength p - 0.1 * th) < 1e-12
+                    .&&. conjoin [ counterexample (show f) (dist (tup (fst (at f))) pa <= moved + 1e-12) | f <- [0, 0.25, 0.5, 0.75, 1] ]
+                    .&&. qangle (snd (at 0)) (toQ qa) < 1e-9 .&&. qangle (snd (at 1)) (toQ qb) < 1e-9
+                    .&&. counterexample "turns on the short way at a steady rate"
+                           (conjoin [ abs (qangle (snd (at f)) (toQ qa) - f * th) < 1e-6 | f <- [0.25, 0.5, 0.75] ])
+                    .&&. counterexample "a stop before and after" (stopAt (pcStart p) && stopAt (pcStart p + pcLength p))
+             | p <- turns, let i = pcIndex p ]
+    it "with them, the route still passes every waypoint in position and orientation, stays within the zone, and turns by at most the grid's step" $
+      property $ forAll genTurnCase $ \cs@(Case wps z) ->
+        let rt = routeOf cs
+            l = routeLength rt
+            grid = U.toList (routeGrid 1e-3 (0.5 * pi / 180) rt)
+            qs = map (snd . routeAt rt) grid
+            fine = routeOf (Case wps 0)
+        in conjoin [ counterexample ("waypoint " ++ show i) $ dist (tup p) pos < 1e-9 && qangle o (Q4 w x y zq) < 1e-6
+                   | (i, (pos, (w, x, y, zq))) <- zip [0 :: Int ..] wps, let (p, o) = routeAt fine (rtWaypointS fine U.! i) ]
+           .&&. conjoin [ counterexample ("s = " ++ show s) (polylineDistance (map fst wps) (tup (fst (routeAt rt s))) <= z + 1e-9)
+                        | i <- [0 .. 500 :: Int], let s = l * fromIntegral i / 500 ]
+           .&&. conjoin [ counterexample (show d) (d <= 0.5 * pi / 180 + 1e-9) | (a, b) <- zip qs (drop 1 qs), let d = qangle a b ]
+    it "a repeated pose (a turn below 0.06°) is refused, naming the waypoint; 0.05 mm apart with a 10° turn is a turn" $ do
+      let q10 = (cos (5 * pi / 180), sin (5 * pi / 180), 0, 0)
+      case mkRoute [Fine, Fine] [waypoint (0.3, 0, 0.2) (1, 0, 0, 0), waypoint (0.3, 0, 0.2) (cos 2.5e-4, sin 2.5e-4, 0, 0)] of
+        Left [e] -> do
+          show e `shouldContain` "waypoints[1]"
+          renderFieldError e `shouldContain` "is 0.0 mm from waypoint 0 and turns by 0.0286° from it"
+          renderFieldError e `shouldContain` "or turn by at least 0.0573° (a turn in place)"
+        r -> expectationFailure ("expected one error, got " ++ show (fmap routeLength r))
+      case mkRoute [Fine, Fine] [waypoint (0.3, 0, 0.2) (1, 0, 0, 0), waypoint (0.3, 0, 0.20005) q10] of
+        Right rt -> do
+          map pcKind (V.toList (rtPieces rt)) `shouldBe` [Turn]
+          routeLength rt `shouldSatisfy` (\l -> abs (l - 0.1 * 10 * pi / 180) < 1e-12)
+        Left es -> expectationFailure (show es)
   it "refuses waypoints closer than 0.1 mm, naming the waypoint" $ do
     let r = mkRoute [Fine, Fine] [waypoint (0, 0, 0) (1, 0, 0, 0), waypoint (0, 0, 0.00005) (1, 0, 0, 0)]
     case r of

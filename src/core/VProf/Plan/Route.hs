@@ -5,7 +5,10 @@
 -- coordinate. A blend is the circular arc tangent to both segments whose tangent points lie at
 -- distance t = min(zone, half of each adjacent segment) from the corner; it never leaves the
 -- zone's sphere around the waypoint, and its deviation from the corner is t·tan(θ/4) for the
--- turning angle θ (derivation in docs/plan.md). Positions in m, angles in rad.
+-- turning angle θ (derivation in docs/plan.md). Two waypoints at one position (closer than
+-- 0.1 mm) with different orientations are a turn in place: the motion stops before and after
+-- it, and s counts the arc of a point 'turnRadius' (0.1 m) from the TCP, so that the speed
+-- limit and the profile apply to the turn as to a move. Positions in m, angles in rad.
 module VProf.Plan.Route
   ( Zone (..)
   , zoneRadius
@@ -24,6 +27,8 @@ module VProf.Plan.Route
   , pieceAngle
   , routeGrid
   , minWaypointGap
+  , turnRadius
+  , minTurnAngle
   , minZone
   , reversalAngle
   ) where
@@ -60,13 +65,16 @@ waypoint :: (Double, Double, Double) -> (Double, Double, Double, Double) -> Wayp
 waypoint (x, y, z) (w, a, b, c) =
   Waypoint (L.V3 (x *~ metre) (y *~ metre) (z *~ metre)) (L.Quaternion w (L.V3 a b c))
 
-data PieceKind = Straight | Arc
+-- | A straight move, a corner's blend, or a turn in place (the position fixed, or moving less
+-- than 'minWaypointGap' in a straight line, while the orientation turns).
+data PieceKind = Straight | Arc | Turn
   deriving (Eq, Show)
 
 -- | One piece of the route. A straight piece runs from 'pcA' along the unit 'pcU'; an arc has
 -- centre 'pcA', radius 'pcRadius', and its point at angle φ is A + r·(cos φ·U + sin φ·W)
--- (U from the centre to the start, W the direction of travel at the start). The orientation
--- runs by slerp from 'pcQa' to 'pcQb' linearly in s.
+-- (U from the centre to the start, W the direction of travel at the start). A turn in place
+-- runs from 'pcA' by the whole (tiny, possibly zero) displacement 'pcU', its length the
+-- 'turnRadius' times its angle. The orientation runs by slerp from 'pcQa' to 'pcQb' linearly in s.
 data Piece = Piece
   { pcKind    :: !PieceKind
   , pcStart   :: !Double   -- ^ s at the start (m)
@@ -93,9 +101,20 @@ data Route = Route
 routeLength :: Route -> Double
 routeLength = rtLength
 
--- | Consecutive waypoints closer than this (m) are refused: s would not advance.
+-- | Consecutive waypoints closer than this (m) are a turn in place, or refused when their
+-- orientations differ by less than 'minTurnAngle' (s would not advance).
 minWaypointGap :: Double
 minWaypointGap = 1e-4
+
+-- | On a turn in place, s is the arc of a point this far from the TCP (m): a turn of θ rad is
+-- 0.1·θ m of route, and the TCP speed limit v holds that point to v (the tool turns at most
+-- v / 0.1 rad/s: 286°/s at v500).
+turnRadius :: Double
+turnRadius = 0.1
+
+-- | The least turn in place (rad): 'minWaypointGap' of route, 1e-3 rad (0.057°).
+minTurnAngle :: Double
+minTurnAngle = minWaypointGap / turnRadius
 
 -- | The smallest blend radius (m; RAPID's smallest predefined zone, z0, is 0.3 mm): a corner
 -- blended within less is driven no faster than a stop, and its tiny pieces cost a long plan
@@ -129,13 +148,16 @@ mkRoute zones wps = validated [errors] route
                    (fieldError ("waypoints[" ++ show i ++ "].orientation") nq ""
                       "the quaternion's norm must be about 1")
                | (i, Q4 w a b c) <- zip [0 :: Int ..] qs, let nq = sqrt (w*w + a*a + b*b + c*c) ]
-      , concat [ ensure (not (all finite (nums p ++ nums p')) || d >= minWaypointGap)
+      , concat [ ensure (not (all finite (nums p ++ nums p')) || d >= minWaypointGap || turnOk q q' th)
                    (literalError ("waypoints[" ++ show i ++ "].position")
                       ("(" ++ intercalate ", " (map showNumber (nums p)) ++ ") m")
                       ("is " ++ showNumber (fromIntegral (round (d * 1e6) :: Integer) / 1000) ++ " mm from waypoint " ++ show (i - 1)
+                       ++ " and turns by " ++ showNumber (fromIntegral (round (th * 180 / pi * 1e4) :: Integer) / 1e4) ++ "° from it"
                        ++ "; consecutive waypoints must be at least " ++ showNumber (minWaypointGap * 1000)
-                       ++ " mm apart (a pure re-orientation has no route length)"))
-               | (i, p', p) <- zip3 [1 :: Int ..] pts (drop 1 pts), let d = v3Norm (v3Sub p p') ]
+                       ++ " mm apart, or turn by at least " ++ showNumber (fromIntegral (round (minTurnAngle * 180 / pi * 1e4) :: Integer) / 1e4)
+                       ++ "° (a turn in place)"))
+               | (i, (p', q'), (p, q)) <- zip3 [1 :: Int ..] (zip pts qs) (drop 1 (zip pts qs))
+               , let d = v3Norm (v3Sub p p'); th = angleOf q' q ]
       , take 1 [ fieldError "zone" (z * 1000) "mm" "must be a finite number >= 0"
                | Blend zq <- zs, let z = zq /~ metre, not (finite z && z >= 0) ]
       , take 1 [ fieldError "zone" (z * 1000) "mm"
@@ -145,6 +167,12 @@ mkRoute zones wps = validated [errors] route
     route = buildRoute (U.fromList (map zoneRadius zs))
                        (V.fromList pts) (V.fromList (map norm4 qs))
     norm4 (Q4 w a b c) = let k = sqrt (w*w + a*a + b*b + c*c) in Q4 (w/k) (a/k) (b/k) (c/k)
+    -- the angle between two orientations (rad; NaN-safe: 0 when a quaternion is not finite)
+    angleOf a b = let v = qangle (norm4 a) (norm4 b) in if finite v then v else 0
+    -- a valid quaternion pair that turns by at least the least turn (the quaternions' own
+    -- errors are named above)
+    turnOk a b th = all finiteQ [a, b] && th >= minTurnAngle
+    finiteQ (Q4 w a b c) = all finite [w, a, b, c]
 
 buildRoute :: U.Vector Double -> V.Vector V3 -> V.Vector Q4 -> Route
 buildRoute zs pts qs = Route (V.fromList pieces) (U.fromList (map pcStart pieces)) total wpS stops (V.toList pts) tUsedZone
@@ -153,21 +181,27 @@ buildRoute zs pts qs = Route (V.fromList pieces) (U.fromList (map pcStart pieces
     nseg = n - 1
     segLen i = v3Norm (v3Sub (pts V.! (i + 1)) (pts V.! i))
     segDir i = v3Scale (1 / segLen i) (v3Sub (pts V.! (i + 1)) (pts V.! i))
-    -- the turning angle at interior waypoint i
+    -- segment i turns in place (its waypoints at one position, validated to turn enough)
+    isTurn i = i >= 0 && i < nseg && segLen i < minWaypointGap
+    -- the turning angle at interior waypoint i (neither neighbour a turn in place)
     turn i = let c = max (-1) (min 1 (v3Dot (segDir (i - 1)) (segDir i))) in acos c
+    -- the motion stops at a stop zone, a reversal, and before and after a turn in place
+    isStop i = i > 0 && i < n - 1 && (zs U.! i <= 0 || isTurn (i - 1) || isTurn i || turn i >= reversalAngle)
     -- tangent length at each waypoint: 0 at the ends, at stops and where the path is straight
     tan' = U.generate n $ \i ->
-      if i == 0 || i == n - 1 then 0
+      if i == 0 || i == n - 1 || isStop i then 0
       else let z = zs U.! i; th = turn i
-           in if z <= 0 || th >= reversalAngle || th < 1e-9 then 0
-              else minimum [z, segLen (i - 1) / 2, segLen i / 2]
-    isStop i = i > 0 && i < n - 1 && (zs U.! i <= 0 || turn i >= reversalAngle)
-    tUsedZone = U.imap (\i t -> if isStop i then 0 else t) tan'
+           in if th < 1e-9 then 0 else minimum [z, segLen (i - 1) / 2, segLen i / 2]
+    tUsedZone = tan'
     slerpSeg i u = slerpShort (qs V.! i) (qs V.! (i + 1)) u
     -- pieces, built segment by segment: the straight part of segment i, then the arc at
     -- waypoint i+1 (if any)
     go !s i acc
       | i >= nseg = (reverse acc, s)
+      | isTurn i =
+          let qa = qs V.! i; qb = qs V.! (i + 1)
+              l = turnRadius * qangle qa qb
+          in go (s + l) (i + 1) (Piece Turn s l (pts V.! i) (v3Sub (pts V.! (i + 1)) (pts V.! i)) (V3 0 0 0) 0 qa qb i : acc)
       | otherwise =
           let l = segLen i
               d = segDir i
@@ -196,7 +230,7 @@ buildRoute zs pts qs = Route (V.fromList pieces) (U.fromList (map pcStart pieces
     wpS = U.fromList (0 : [ cornerS i | i <- [1 .. n - 2] ] ++ [total | n >= 2])
     cornerS i = case [ p | p <- pieces, pcKind p == Arc, pcIndex p == i ] of
       (p : _) -> pcStart p + pcLength p / 2
-      [] -> case [ p | p <- pieces, pcKind p == Straight, pcIndex p == i ] of
+      [] -> case [ p | p <- pieces, pcKind p /= Arc, pcIndex p == i ] of
               (p : _) -> pcStart p
               [] -> total
     stops = [ wpS U.! i | i <- [1 .. n - 2], isStop i ]
@@ -223,6 +257,7 @@ pieceLocal Piece{..} s =
       q = slerpShort pcQa pcQb f
   in case pcKind of
        Straight -> (v3Add pcA (v3Scale x pcU), q)
+       Turn -> (v3Add pcA (v3Scale f pcU), q)
        Arc -> let ph = x / pcRadius
               in (v3Add pcA (v3Add (v3Scale (pcRadius * cos ph) pcU) (v3Scale (pcRadius * sin ph) pcW)), q)
 
@@ -230,13 +265,15 @@ pieceLocal Piece{..} s =
 routeTfAt :: Route -> Double -> Tf
 routeTfAt rt s = let (p, Q4 w a b c) = routeAt rt s in fromQuat p (Quat w a b c)
 
--- | The unit tangent (direction of travel) at s.
+-- | The unit tangent (direction of travel) at s; on a turn in place the direction of its
+-- tiny displacement, or 0 when there is none.
 routeTangentAt :: Route -> Double -> V3
 routeTangentAt rt s0 =
   let s = max 0 (min (rtLength rt) s0)
       Piece{..} = rtPieces rt V.! pieceAt rt s
   in case pcKind of
        Straight -> pcU
+       Turn -> let d = v3Norm pcU in if d > 0 then v3Scale (1 / d) pcU else V3 0 0 0
        Arc -> let ph = max 0 (min pcLength (s - pcStart)) / pcRadius
               in v3Add (v3Scale (negate (sin ph)) pcU) (v3Scale (cos ph) pcW)
 

@@ -46,6 +46,7 @@ import VProf.Plan.Track
 import VProf.Profile (Request (..), Result (..), SpeedZone (..), Outcome (..), defaultRequest, generatePure, resultLegal, renderFailure)
 import VProf.Profile.Request (maxSamples)
 import VProf.Profile.Sampled (Columns (..), columns, duration)
+import VProf.Profile.Legality (slack)
 import VProf.Units
 import VProf.Validation
 
@@ -791,7 +792,9 @@ planPath rq@PlanRequest{..} = do
           nextStarts = map fst (drop 1 spans) ++ [1 / 0]
           trimmed = [ (a, if i < nParts - 1 && not (atRest c) && a' == b then dropLast c else c)
                     | (i, (a, c), (_, b), a') <- zip4 [0 :: Int ..] cols spans nextStarts ]
-          atRest c = not (U.null (colVelocity c)) && U.last (colVelocity c) == 0
+          -- at rest: the generator ends a part asked to stop within the legality slack of 0
+          -- (1e-9 m/s; a 0.66 mm turn in place ended at 2.9e-10 m/s)
+          atRest c = not (U.null (colVelocity c)) && abs (U.last (colVelocity c)) <= slack 0
           dropLast c = Columns (U.init (colTime c)) (U.init (colDistance c)) (U.init (colVelocity c))
                                (U.init (colAcceleration c)) (U.init (colJerk c))
           offsets = scanl (+) 0 [ fromIntegral (U.length (colTime c)) * dt | (_, c) <- trimmed ]

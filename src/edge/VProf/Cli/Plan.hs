@@ -25,6 +25,7 @@ import qualified Data.ByteString.Lazy.Char8 as BL
 import Data.Char (toLower)
 import Data.List (intercalate, isPrefixOf)
 import Data.Maybe (isJust, isNothing)
+import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
 import GHC.Clock (getMonotonicTime)
 import Numeric (showFFloat)
@@ -324,6 +325,9 @@ renderSummary r p secs = unlines $
   [ "robot:         " ++ robotName r
   , "route:         " ++ num 1 (routeLength rt * 1000) ++ " mm through " ++ show (length (rtPoints rt)) ++ " waypoints, "
       ++ show (length (rtStops rt)) ++ " stop(s) between the ends"
+      ++ (case length [ () | pc <- V.toList (rtPieces rt), pcKind pc == Turn ] of
+            0 -> ""
+            k -> ", " ++ show k ++ " turn(s) in place (" ++ showNumber (turnRadius * 1000) ++ " mm of route per rad)")
   , "duration:      " ++ num 3 (planDuration p) ++ " s"
   , "samples:       " ++ show (trajectoryCount tr) ++ " (dt " ++ showNumber dt ++ " s)"
   , "IK samples:    " ++ show (trackedCount (planTracked p)) ++ " along the route"
