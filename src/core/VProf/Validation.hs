@@ -22,6 +22,8 @@ module VProf.Validation
   , tooFarRule
   , tooLongRule
   , maxAngleDeg
+  , tooWideRule
+  , tooWideInRule
   , minTimeStep
   , maxTimeStep
   , timeStepRule
@@ -63,6 +65,11 @@ timeStepRule = "must be from 1e-6 s (1 µs) to 1 s"  -- 'minTimeStep' and 'maxTi
 -- some 2,800 turns; beyond, the angle is taken for a wrong unit (the sine of 1e300 is noise).
 maxAngleDeg :: Double
 maxAngleDeg = 1e6
+
+-- | The rule an angle beyond 'maxAngleDeg' breaks; 'tooWideInRule' for a triple holding one.
+tooWideRule, tooWideInRule :: String
+tooWideRule = "is more than " ++ showBound maxAngleDeg ++ " degrees (is the unit right?)"
+tooWideInRule = "holds an angle beyond " ++ showBound maxAngleDeg ++ " degrees (is the unit right?)"
 
 -- | A value as the user gave it: a number (rendered in full precision) or any text.
 data FieldValue

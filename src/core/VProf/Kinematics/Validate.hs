@@ -29,7 +29,7 @@ fe f v = FieldError f (Literal v)
 tooLarge :: String -> Double -> String -> [FieldError]
 tooLarge f v u
   | u == "m", abs v > maxCoordinate = [fe f (show v) u tooLongRule]
-  | u == "rad", abs v > maxAngleDeg * pi / 180 = [fe f (show v) u ("is more than " ++ showBound maxAngleDeg ++ "° (is the unit right?)")]
+  | u == "rad", abs v > maxAngleDeg * pi / 180 = [fe f (show v) u tooWideRule]
   | otherwise = []
 
 -- | The largest coupling of a link to a joint (a drive coefficient, a URDF mimic multiplier):

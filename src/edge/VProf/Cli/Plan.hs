@@ -140,7 +140,7 @@ planCommand = runPlan <$> (PlanOpts
       Right xs | any ((> maxCoordinate) . abs) (take 3 xs) ->
                    Left (what ++ " " ++ show s ++ ": the position " ++ tooFarRule)
                | any ((> maxAngleDeg) . abs) (drop 3 xs) ->
-                   Left (what ++ " " ++ show s ++ ": an angle beyond " ++ showBound maxAngleDeg ++ " degrees (is the unit right?)")
+                   Left (what ++ " " ++ show s ++ ": " ++ tooWideInRule)
                | length xs `elem` [3, 6] -> Right xs
       Right _ -> Left (what ++ " " ++ show s ++ ": expected 3 numbers X Y Z (m) or 6, X Y Z (m) RX RY RZ (degrees)")
       Left e -> Left e

@@ -136,6 +136,7 @@ renderTable :: Task -> [RobotResult] -> String
 renderTable task rs = unlines $
   [ show (length (taskTargets task)) ++ " targets" ++ (if taskPath task then " (and the segments between them, every " ++ num 1 (1000 * taskPathStep task) ++ " mm)" else "")
     ++ ", payload " ++ num 2 (taskPayload task) ++ " kg, clearance " ++ num 1 (1000 * taskClearance task) ++ " mm"
+    ++ (if null (taskEnvironment task) then " (no environment: nothing to keep clear of)" else "")
   , ""
   , pad 5 "rank" ++ pad wRobot "robot" ++ pad 10 "reached" ++ pad 24 "min clearance" ++ pad 12 "min manip." ++ pad 12 "cycle" ++ "score" ]
   ++ [ pad 5 (show i) ++ pad wRobot (rrKey r)

@@ -43,7 +43,7 @@ import VProf.Kinematics.Model (Capsule (..))
 import VProf.Kinematics.Transform
 import VProf.Format.DuplicateKeys (duplicateKeyErrors)
 import VProf.Select.Task
-import VProf.Validation (maxAngleDeg, maxCoordinate, renderFieldError, showBound, showNumber, tooFarRule)
+import VProf.Validation (maxAngleDeg, maxCoordinate, renderFieldError, showNumber, tooFarRule, tooWideInRule)
 
 type P a = Either [String] a
 
@@ -197,7 +197,7 @@ pose p v = do
       xs <- nums 3 (p ++ ".rpy_deg") r
       case xs of
         [a, b, c] | any ((> maxAngleDeg) . abs) xs ->
-                      Left [p ++ ".rpy_deg: " ++ show xs ++ " holds an angle beyond " ++ showBound maxAngleDeg ++ " degrees (is the unit right?)"]
+                      Left [p ++ ".rpy_deg: " ++ show xs ++ " " ++ tooWideInRule]
                   | otherwise -> Right (fromRpy pos (V3 (rad a) (rad b) (rad c)))
         _ -> Left [p ++ ".rpy_deg: expected 3 numbers"]
     (Nothing, Nothing) -> Right (fromQuat pos (Quat 1 0 0 0))
