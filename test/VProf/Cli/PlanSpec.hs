@@ -83,19 +83,17 @@ spec = do
       run ["examples/plan-square.csv", "--robot", "ur5", "--start", "0 -90 90 -90 -90 0", "--deg"] `shouldReturn` ExitSuccess
     it "--start of the wrong length is exit 2, named as typed (was in radians with --deg)" $
       run ["examples/plan-square.csv", "--robot", "ur5", "--start", "0 -90 -90 -90 90", "--deg"] `shouldReturn` ExitFailure 2
-    it "a turn in place (two waypoints at one position) plans from rest to rest, 0.1 m of s per rad; a repeated pose is exit 2" $
+    it "examples/plan-turn.csv (two turns in place) plans from rest to rest, 0.1 m of s per rad, stopping before and after each turn; a repeated pose is exit 2" $
       withSystemTempDirectory "vprof-plan" $ \tmp -> do
-        let p = tmp </> "turn.csv"; out = tmp </> "turn.json"
-            r = sqrt 0.5 :: Double
-        writeFile p (unlines [ "time,x,y,z,qw,qx,qy,qz", "0,0.40,-0.10,0.30,0,1,0,0", "1,0.50,-0.10,0.30,0,1,0,0"
-                             , "2,0.50,-0.10,0.30,0," ++ show r ++ "," ++ show (negate r) ++ ",0", "3,0.50,0.10,0.30,0," ++ show r ++ "," ++ show (negate r) ++ ",0" ])
-        run [p, "--robot", "ur5", "--format", "json", "-o", out] `shouldReturn` ExitSuccess
+        let out = tmp </> "turn.json"; p = tmp </> "repeat.csv"
+        run ["examples/plan-turn.csv", "--robot", "ur5", "--format", "json", "-o", out] `shouldReturn` ExitSuccess
         Just o <- A.decode <$> BL.readFile out
         let num k = case KM.lookup k o of { Just (A.Number x) -> toRealFloat x; _ -> 0 / 0 } :: Double
-        num "route_length_m" `shouldSatisfy` (\l -> abs (l - (0.3 + 0.1 * pi / 2)) < 1e-9)
+            turn = 0.1 * pi / 2
+        num "route_length_m" `shouldSatisfy` (\l -> abs (l - (0.4 + 2 * turn)) < 1e-9)
         case KM.lookup "stops_m" o of
           Just (A.Array xs) -> [ toRealFloat x | A.Number x <- V.toList xs ] `shouldSatisfy`
-                                 (\ss -> length ss == 2 && and (zipWith (\a b -> abs (a - b) < 1e-9) ss [0.1, 0.1 + 0.1 * pi / 2 :: Double]))
+                                 (\ss -> length ss == 4 && and (zipWith (\a b -> abs (a - b) < 1e-9) ss [0.1, 0.1 + turn, 0.3 + turn, 0.3 + 2 * turn :: Double]))
           other -> expectationFailure ("stops_m: " ++ show other)
         writeFile p (unlines [ "time,x,y,z,qw,qx,qy,qz", "0,0.40,-0.10,0.30,0,1,0,0", "1,0.50,-0.10,0.30,0,1,0,0", "2,0.50,-0.10,0.30,0,1,0,0" ])
         run [p, "--robot", "ur5"] `shouldReturn` ExitFailure 2
