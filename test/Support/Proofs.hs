@@ -10,7 +10,11 @@ module Support.Proofs
   , stateGapProof
   , floorBound
   , certificateHolds
+  , certificateHoldsIn
   , certificateTerms
+  , certificateTermsIn
+  , zoneRowOf
+  , stepProofHolds
   , mirrored
   , startAccProof
   , sound
@@ -20,7 +24,7 @@ import qualified Data.Vector.Unboxed as U
 
 import VProf.Numeric.LinearProgram (Farkas (..))
 import VProf.Profile.Generate
-import VProf.Profile.Generate.Exact (proofCertificates)
+import VProf.Profile.Generate.Exact (StepProof (..), proofCertificates)
 import VProf.Profile.Legality
 import VProf.Profile.Request
 import VProf.Profile.Sampled
@@ -200,7 +204,7 @@ stateGapProof pb = case bound of
           dist v = U.sum (U.zipWith (\a b -> (a + b) * dt / 2) v (U.drop 1 v))
       in U.and (U.zipWith (<=) lower upper) && dist lower <= len + pbTol pb + eps len && dist upper >= len - pbTol pb - eps len
     certs = maybe [] snd (proofCertificates pb)
-    certified n = n >= 1 && maybe False (\(Farkas y) -> certificateHolds pb n y) (lookup n certs)
+    certified n = n >= 1 && maybe False (stepProofHolds pb n) (lookup n certs)
 
 -- | A speed u > 0 that every legal profile stays above, if the lower velocity bounds
 -- show one: a sample at u or below would be reached no sooner than the lower bound from
@@ -228,7 +232,12 @@ floorBound dt room fromStart fromEnd
 -- the order the generator documents: accelerations, the jerk into a_0, the jerks
 -- between, the jerk out of a_{N-1}, the route end.
 certificateHolds :: Problem -> Int -> U.Vector Double -> Bool
-certificateHolds pb n y = case certificateTerms pb n y of
+certificateHolds pb n = certificateHoldsIn pb n [] (const Nothing)
+
+-- | The same for the rows with some more appended (zone rows, 'zoneRowOf') and the boxes'
+-- upper ends capped where @cap k@ says (else the highest limit).
+certificateHoldsIn :: Problem -> Int -> [([(Int, Double)], Double, Double)] -> (Int -> Maybe Double) -> U.Vector Double -> Bool
+certificateHoldsIn pb n extra cap y = case certificateTermsIn pb n extra cap y of
   Just (least, _, combined, margin) -> least - combined > margin
   Nothing -> False
 
@@ -236,7 +245,41 @@ certificateHolds pb n y = case certificateTerms pb n y of
 -- the rounding margin (Nothing for a multiplier vector of the wrong length or one on an
 -- infinite side).
 certificateTerms :: Problem -> Int -> U.Vector Double -> Maybe (Double, U.Vector Double, Double, Double)
-certificateTerms pb n y
+certificateTerms pb n = certificateTermsIn pb n [] (const Nothing)
+
+-- | The row "sample k lies in zone z" of an N-step profile: its position over dt,
+-- v_0/2 + v_1 + … + v_{k−1} + v_k/2, between the zone's start and its end (the next zone's
+-- start; for the last zone a metre past the route end and its tolerance), each widened by
+-- 1e-9 of the route length.
+zoneRowOf :: Problem -> Int -> Int -> ([(Int, Double)], Double, Double)
+zoneRowOf pb k z = ((0, 0.5) : [ (j, 1) | j <- [1 .. k - 1] ] ++ [(k, 0.5)], (a - m) / dt, (b + m) / dt)
+  where
+    dt = pbDt pb
+    len = pbLength pb
+    m = 1e-9 * max 1 len
+    starts = U.toList (pbZoneStarts pb)
+    a = starts !! z
+    b = if z + 1 < length starts then starts !! (z + 1) else len + pbTol pb + 1
+
+-- | A proof of the generator for one step count, checked: every exclusion's certificate
+-- holds for the rows with its zone row appended (so in no profile of N steps does sample k
+-- lie in zone z), and the main certificate holds with every sample capped by the highest
+-- limit of the zones not excluded for it (a sample keeps the limit of the zone it lies in).
+stepProofHolds :: Problem -> Int -> StepProof -> Bool
+stepProofHolds pb n (StepProof excl (Farkas y)) =
+  and [ k >= 1 && k <= n - 1 && z >= 0 && z < nz && certificateHoldsIn pb n [zoneRowOf pb k z] (const Nothing) yz
+      | (k, z, Farkas yz) <- excl ]
+  && certificateHoldsIn pb n [] capOf y
+  where
+    nz = U.length (pbZoneSpeeds pb)
+    eps x = 1e-9 * max 1 (abs x)
+    capOf k = case [ z | (k', z, _) <- excl, k' == k ] of
+      [] -> Nothing
+      out -> Just (maximum (0 : [ lim + eps lim | (z, lim) <- zip [0 ..] (U.toList (pbZoneSpeeds pb)), z `notElem` out ]))
+
+certificateTermsIn :: Problem -> Int -> [([(Int, Double)], Double, Double)] -> (Int -> Maybe Double)
+                   -> U.Vector Double -> Maybe (Double, U.Vector Double, Double, Double)
+certificateTermsIn pb n extra cap y
   | U.length y == length rows && all finiteSide (zip (U.toList y) rows) = Just (least, r, combined, margin)
   | otherwise = Nothing
   where
@@ -254,11 +297,12 @@ certificateTerms pb n y
            ++ [ ([(n - 1, 1), (n, -1)], jLo * dt * dt - pbAEnd pb * dt, jHi * dt * dt - pbAEnd pb * dt) ]
            ++ [ ([ (k, if k == 0 || k == n then 0.5 else 1) | k <- [0 .. n] ]
                 , (pbLength pb - pbTol pb - eps (pbLength pb)) / dt, (pbLength pb + pbTol pb + eps (pbLength pb)) / dt) ]
+           ++ extra
     scale c (ts, l, h) = ([ (i, c * x) | (i, x) <- ts ], c * l, c * h)
     top = let m = U.maximum (pbZoneSpeeds pb) in m + eps m
     boxOf k | k == 0 = wide (pbV0 pb)
             | k == n = wide (pbVEnd pb)
-            | otherwise = (negate (eps 0), top)
+            | otherwise = (negate (eps 0), maybe top (min top) (cap k))
     r = U.accum (+) (U.replicate (n + 1) 0) [ (i, yi * x) | (yi, (ts, _, _)) <- zip (U.toList y) rows, (i, x) <- ts ]
     combined = sum [ if yi > 0 then yi * h else yi * l | (yi, (_, l, h)) <- zip (U.toList y) rows ]
     least = sum [ min (rk * l) (rk * h) | (k, rk) <- zip [0 ..] (U.toList r), let (l, h) = boxOf k ]

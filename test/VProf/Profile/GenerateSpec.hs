@@ -16,7 +16,7 @@ import Support.Proofs
 import Support.Wide (logUniform)
 import VProf.Profile.Generate
 import VProf.Profile.Generate.RubberBand
-import VProf.Profile.Generate.Exact (proofCertificates)
+import VProf.Profile.Generate.Exact (StepProof (..), proofCertificates)
 import VProf.Profile.Generate.Seed (mirror)
 import VProf.Profile.Generate.Seed.Brake (brakeStopDistance)
 import VProf.Numeric.LinearProgram (Farkas (..))
@@ -320,7 +320,7 @@ spec = do
       forM_ [ rq | (i, rq) <- shortRoutes, i `elem` [53, 4914, 8820] ] $ \rq -> do
         let pb = problemOf rq
         case proofCertificates pb of
-          Just (_, certs@(_ : _)) -> forM_ certs $ \(n, Farkas y) -> do
+          Just (_, certs@(_ : _)) -> forM_ certs $ \(n, StepProof _ (Farkas y)) -> do
             certificateHolds pb n y `shouldBe` True
             certificateHolds pb n (U.map negate y) `shouldBe` False
             certificateHolds pb n (U.map (const 0) y) `shouldBe` False
@@ -329,6 +329,35 @@ spec = do
             certificateHolds pb n (U.init y `U.snoc` 0) `shouldBe` False
             certificateHolds pb (n + 1) y `shouldBe` False
           other -> expectationFailure ("no certificates: " ++ show (fmap fst other))
+
+  it "a slow zone that leaves too little route to reach the moving end is infeasible, proven with the samples kept out of the faster zones (the band property's request at seed 101, not converged before)" $ do
+    -- 3.927 m/s over [5.476, 6.886) m, then 20.8 m to reach 9.208 m/s at a jerk of 0.787 m/s³:
+    -- with the highest limit everywhere a program of each step count is feasible; with each
+    -- sample capped by the zones it can lie in, none is
+    let rq = defaultRequest { rqRouteLength = 27.68 *~ meter
+                            , rqZones = [ SpeedZone (0 *~ meter) (4.764 *~ mps), SpeedZone (5.476 *~ meter) (3.927 *~ mps)
+                                        , SpeedZone (6.886 *~ meter) (9.485 *~ mps) ]
+                            , rqMinAcceleration = (-0.676) *~ mps2, rqMaxAcceleration = 2.482 *~ mps2
+                            , rqMinJerk = (-2.547) *~ mps3, rqMaxJerk = 0.787 *~ mps3
+                            , rqStartVelocity = 4.215 *~ mps, rqStartAcceleration = 1.032 *~ mps2
+                            , rqEndVelocity = 9.208 *~ mps }
+        pb = problemOf rq
+    case resOutcome (generatePure rq) of
+      Failed (InfeasibleRequest _ m) -> m `shouldContain` "the speed limits of the zones its samples cannot avoid"
+      other -> expectationFailure (show other)
+    stateGapProof pb `shouldBe` True
+    case proofCertificates pb of
+      Just (_, certs) -> do
+        let zoned = [ (n, sp) | (n, sp) <- certs, not (null (spExclusions sp)) ]
+        zoned `shouldSatisfy` (not . null)
+        forM_ zoned $ \(n, StepProof excl f) -> do
+          stepProofHolds pb n (StepProof excl f) `shouldBe` True
+          -- a spoiled exclusion, or one moved to another zone, or no exclusions at all: the check fails
+          let (k, z, Farkas yz) : rest = excl
+          stepProofHolds pb n (StepProof ((k, z, Farkas (U.map negate yz)) : rest) f) `shouldBe` False
+          stepProofHolds pb n (StepProof ((k, (z + 1) `mod` 3, Farkas yz) : rest) f) `shouldBe` False
+          stepProofHolds pb n (StepProof [] f) `shouldBe` False
+      Nothing -> expectationFailure "no proof"
 
   describe "a start that braking cannot save" $
     it "gets a legal profile when a faster first step leaves a short low zone behind (the lead-in)" $ do

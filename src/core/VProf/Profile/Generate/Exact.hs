@@ -7,7 +7,9 @@
 -- ("VProf.Numeric.LinearProgram") either builds a profile ('exactJoin': velocities capped
 -- by the lowest limit they might meet, then confirmed by the checker) or, with every rule
 -- widened by the checker's slack, proves with a Farkas certificate that none exists
--- ('noProfileFits'). The method is derived in docs/profile-generator.md.
+-- ('noProfileFits'); where the highest limit everywhere leaves a program feasible, further
+-- programs keep samples out of zones they cannot be in, and the lower caps that follow
+-- prove it. The method is derived in docs/profile-generator.md.
 --
 -- Invariant: 'exactJoin' returns only profiles the checker finds legal; 'noProfileFits'
 -- claims only what verified certificates (and the bound on N) prove.
@@ -15,8 +17,10 @@ module VProf.Profile.Generate.Exact
   ( exactJoin
   , noProfileFits
   , proofCertificates
+  , StepProof (..)
   ) where
 
+import Data.List (sortOn)
 import Data.Maybe (listToMaybe, mapMaybe)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
@@ -260,26 +264,82 @@ exactJoin pb = listToMaybe (mapMaybe build (take joinCandidates candidates))
       in if single then refine cautious 0
          else listToMaybe (mapMaybe (uncurry refine) [(cautious, 0), (U.replicate (n + 1) (U.maximum (pbZoneSpeeds pb)), capRereads)])
 
+-- | The proof for one step count N: the exclusions (sample k lies in zone z in no profile of
+-- N steps: the program with the row "s_k within zone z, widened by the slack" has this
+-- certificate) and the certificate of the program whose samples are capped by the highest
+-- limit of the zones left to them (by the highest limit of all where nothing is excluded).
+data StepProof = StepProof
+  { spExclusions :: [(Int, Int, Farkas)]   -- ^ (sample k, zone index z, certificate)
+  , spFarkas     :: Farkas
+  } deriving Show
+
+-- | The most exclusion programs one proof solves (over all its step counts).
+exclusionCap :: Int
+exclusionCap = 4000
+
 -- | The proof that no profile fits: N is bounded, and every N up to the bound either has
 -- boxes that cannot hold a profile or a program with a verified certificate. The bound
--- and the certificates, by N (the N the boxes rule out have none).
-proofCertificates :: Problem -> Maybe (Int, [(Int, Farkas)])
+-- and the proofs, by N (the N the boxes rule out have none).
+--
+-- Every sample keeps the limit of the zone it lies in, so where a sample cannot lie in the
+-- faster zones its velocity is capped by the slower ones: the program with the highest
+-- limit everywhere is tried first; when it is feasible, each sample is tested against the
+-- zones from the fastest down, each zone it cannot lie in excluded by a certificate, and
+-- the program with the caps left is tried again.
+proofCertificates :: Problem -> Maybe (Int, [(Int, StepProof)])
 proofCertificates pb = do
   nMax <- maxSteps pb env fl
   let open = [ n | n <- [0 .. nMax], boxFits pb env fl n ]
   -- a single sample (N = 0) has no program: it is left unproven
   if nMax > envCap || length open > proofOpenCap || any (\n -> n < 1 || n > lpCap) open then Nothing else do
-    certs <- mapM certificate open
+    let plains = map plain open
+        -- the zoned proofs only for the step counts the plain programs leave, and only as
+        -- many exclusion programs as the cap allows in all
+        work = sum [ (n - 1) * nz | (n, Nothing) <- zip open plains ]
+    certs <- sequence [ maybe (if work <= exclusionCap then zoned n else Nothing) (Just . StepProof []) p
+                      | (n, p) <- zip open plains ]
     pure (nMax, zip open certs)
   where
     env = envelopes pb
     fl = floorSpeed pb env
     top = widen 1 (U.maximum (pbZoneSpeeds pb))
-    certificate n =
-      let lp = joinLp pb True (pbTol pb + slack (pbLength pb)) n (U.replicate (n + 1) top)
-      in case solve lp of
-           Infeasible f | certifies lp f -> Just f
-           _ -> Nothing
+    room = pbTol pb + slack (pbLength pb)
+    nz = U.length (pbZoneSpeeds pb)
+    certified lp = case solve lp of
+      Infeasible f | certifies lp f -> Just f
+      _ -> Nothing
+    programWith n caps = joinLp pb True room n caps
+    plain n = certified (programWith n (U.replicate (n + 1) top))
+    -- zones from the fastest down (index, limit)
+    byLimit = map snd (reverse (sortOn fst [ (lim, (z, lim)) | (z, lim) <- zip [0 ..] (U.toList (pbZoneSpeeds pb)) ]))
+    excluded n k z =
+      let lp = programWith n (U.replicate (n + 1) top)
+      in certified lp { lpRows = lpRows lp ++ [zoneRow pb k z] }
+    zoned n
+      | nz < 2 = Nothing
+      | otherwise =
+          let perSample k = go byLimit
+                where go [] = ([], 0)
+                      go ((z, lim) : rest) = case excluded n k z of
+                        Just f -> let (es, c) = go rest in ((k, z, f) : es, c)
+                        Nothing -> ([], widen 1 lim)
+              tested = [ (k, perSample k) | k <- [1 .. n - 1] ]
+              caps = U.generate (n + 1) (\k -> maybe top (min top . snd) (lookup k tested))
+              exclusions = concatMap (fst . snd) tested
+          in StepProof exclusions <$> certified (programWith n caps)
+
+-- | The row "sample k of an N-step profile lies in zone z": s_k/dt = v_0/2 + v_1 + … +
+-- v_{k−1} + v_k/2 within the zone's start and end (the next zone's start; for the last,
+-- a metre past the route end and its tolerance), each widened by the checker's slack of the
+-- route length.
+zoneRow :: Problem -> Int -> Int -> Row
+zoneRow pb k z = Row ((0, 0.5) : [ (j, 1) | j <- [1 .. k - 1] ] ++ [(k, 0.5)]) ((a - m) / dt) ((b + m) / dt)
+  where
+    dt = pbDt pb
+    len = pbLength pb
+    m = slack len
+    a = pbZoneStarts pb U.! z
+    b = if z + 1 < U.length (pbZoneStarts pb) then pbZoneStarts pb U.! (z + 1) else len + pbTol pb + 1
 
 num :: Double -> String
 num x = showFFloat Nothing (fromIntegral (round (x * 1e6) :: Integer) / 1e6 :: Double) ""
@@ -295,4 +355,7 @@ noProfileFits pb = do
         ++ num (pbAMin pb) ++ "/" ++ num (pbAMax pb) ++ " m/s² and min/max_jerk " ++ num (pbJMin pb) ++ "/"
         ++ num (pbJMax pb) ++ " m/s³ no profile of up to " ++ show nMax ++ " steps of " ++ num (pbDt pb)
         ++ " s covers the route (and none can have more)"
-        ++ (if null certs then "" else "; for " ++ show (length certs) ++ " of these step counts a linear program proves it"))
+        ++ (if null certs then "" else "; for " ++ show (length certs) ++ " of these step counts a linear program proves it")
+        ++ (case length [ () | (_, sp) <- certs, not (null (spExclusions sp)) ] of
+              0 -> ""
+              z -> ", for " ++ show z ++ " of them with the speed limits of the zones its samples cannot avoid"))
