@@ -79,8 +79,11 @@ data PathA = PathA
 toPathA :: Path -> PathA
 toPathA (Path (Track t p q)) = PathA t p q
 
+-- | The path as written: its quaternions sign-aligned, each in the hemisphere of the one before
+-- (q and −q are one orientation and the fit interpolates the short way, so the path is the same;
+-- a reader that slerps without choosing the short way would otherwise turn the long way round).
 fromPathA :: PathA -> Path
-fromPathA (PathA t p q) = Path (Track t p q)
+fromPathA (PathA t p q) = Path (Track t p (alignHemisphere q))
 
 -- | Pose of a (possibly locally modified) path at a time.
 type Interp = Double -> (P3, Q4)
