@@ -281,7 +281,7 @@ evaluateRobot opts task bvh key robot0
                                 _ -> Left ())
                             (Right q) (segmentSamples (min (taskPathStep task / 8) defaultPathStep) prev p)
           in case nearest q p of
-               Left (Just f) -> Left (k + 1, "at sample " ++ show (k + 1) ++ " (about " ++ at ++ " along): " ++ describeFailure f)
+               Left (Just f) -> Left (k + 1, "at sample " ++ show (k + 1) ++ " (about " ++ at ++ " along): " ++ describeFailureFor robot f)
                Left Nothing -> Left (k + 1, "at sample " ++ show (k + 1) ++ ": no IK solution")
                Right q1 ->
                  let q' = if stepOf q q1 > maxJointStep then either (const Nothing) Just finer else Just q1
