@@ -11,7 +11,7 @@ import Test.Hspec
 import Test.QuickCheck
 
 import Support.PlanChecker (polylineDistance)
-import VProf.Geometry.Quaternion (qangle)
+import VProf.Geometry.Quaternion (qangle, qmul)
 import VProf.Geometry.Vec (Q4 (..))
 import VProf.Kinematics.Transform (V3 (..), v3Dot, v3Norm, v3Sub)
 import VProf.Plan
@@ -64,10 +64,8 @@ genTurnCase = do
       ax <- vectorOf 3 (choose (-1, 1)) `suchThat` (\v -> sum (map (^ (2 :: Int)) v) > 1e-2)
       th <- oneof [choose (1.05e-3, 0.02), choose (0.02, pi)]
       let k = sqrt (sum (map (^ (2 :: Int)) ax)); [a, b, c] = map (* (sin (th / 2) / k)) ax
-          Q4 w' x' y' z' = qmulT (Q4 w x y zq) (Q4 (cos (th / 2)) a b c)
+          Q4 w' x' y' z' = qmul (Q4 w x y zq) (Q4 (cos (th / 2)) a b c)
       pure (w', x', y', z')
-    qmulT (Q4 a b c d) (Q4 e f g h) =
-      Q4 (a * e - b * f - c * g - d * h) (a * f + b * e + c * h - d * g) (a * g - b * h + c * e + d * f) (a * h + b * g - c * f + d * e)
 
 dist :: (Double, Double, Double) -> (Double, Double, Double) -> Double
 dist (a, b, c) (x, y, z) = sqrt ((a - x) ^ (2 :: Int) + (b - y) ^ (2 :: Int) + (c - z) ^ (2 :: Int))

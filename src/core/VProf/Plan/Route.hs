@@ -148,7 +148,7 @@ mkRoute zones wps = validated [errors] route
                    (fieldError ("waypoints[" ++ show i ++ "].orientation") nq ""
                       "the quaternion's norm must be about 1")
                | (i, Q4 w a b c) <- zip [0 :: Int ..] qs, let nq = sqrt (w*w + a*a + b*b + c*c) ]
-      , concat [ ensure (not (all finite (nums p ++ nums p')) || d >= minWaypointGap || turnOk q q' th)
+      , concat [ ensure (not (all finite (nums p ++ nums p')) || d >= minWaypointGap || th >= minTurnAngle)
                    (literalError ("waypoints[" ++ show i ++ "].position")
                       ("(" ++ intercalate ", " (map showNumber (nums p)) ++ ") m")
                       ("is " ++ showNumber (fromIntegral (round (d * 1e6) :: Integer) / 1000) ++ " mm from waypoint " ++ show (i - 1)
@@ -167,12 +167,9 @@ mkRoute zones wps = validated [errors] route
     route = buildRoute (U.fromList (map zoneRadius zs))
                        (V.fromList pts) (V.fromList (map norm4 qs))
     norm4 (Q4 w a b c) = let k = sqrt (w*w + a*a + b*b + c*c) in Q4 (w/k) (a/k) (b/k) (c/k)
-    -- the angle between two orientations (rad; NaN-safe: 0 when a quaternion is not finite)
+    -- the angle between two orientations (rad; 0 when a quaternion is not finite or zero: its
+    -- own error is named above)
     angleOf a b = let v = qangle (norm4 a) (norm4 b) in if finite v then v else 0
-    -- a valid quaternion pair that turns by at least the least turn (the quaternions' own
-    -- errors are named above)
-    turnOk a b th = all finiteQ [a, b] && th >= minTurnAngle
-    finiteQ (Q4 w a b c) = all finite [w, a, b, c]
 
 buildRoute :: U.Vector Double -> V.Vector V3 -> V.Vector Q4 -> Route
 buildRoute zs pts qs = Route (V.fromList pieces) (U.fromList (map pcStart pieces)) total wpS stops (V.toList pts) tUsedZone

@@ -309,18 +309,18 @@ proofCertificates pb = do
       Infeasible f | certifies lp f -> Just f
       _ -> Nothing
     programWith n caps = joinLp pb True room n caps
-    plain n = certified (programWith n (U.replicate (n + 1) top))
+    topProgram n = programWith n (U.replicate (n + 1) top)
+    plain n = certified (topProgram n)
     -- zones from the fastest down (index, limit)
     byLimit = map snd (reverse (sortOn fst [ (lim, (z, lim)) | (z, lim) <- zip [0 ..] (U.toList (pbZoneSpeeds pb)) ]))
-    excluded n k z =
-      let lp = programWith n (U.replicate (n + 1) top)
-      in certified lp { lpRows = lpRows lp ++ [zoneRow pb k z] }
     zoned n
       | nz < 2 = Nothing
       | otherwise =
-          let perSample k = go byLimit
+          let lp0 = topProgram n
+              excluded k z = certified lp0 { lpRows = lpRows lp0 ++ [zoneRow pb k z] }
+              perSample k = go byLimit
                 where go [] = ([], 0)
-                      go ((z, lim) : rest) = case excluded n k z of
+                      go ((z, lim) : rest) = case excluded k z of
                         Just f -> let (es, c) = go rest in ((k, z, f) : es, c)
                         Nothing -> ([], widen 1 lim)
               tested = [ (k, perSample k) | k <- [1 .. n - 1] ]
