@@ -158,6 +158,16 @@ spec = do
       (code, field) `shouldBe` (ErrInfeasible, "target")
       T.unpack msg `shouldContain` "beyond reach"
       getField (ikrSolutions rsp) `shouldBe` []
+    it "reports a joint-limit failure with each miss in its joint's unit (a prismatic joint in mm, a revolute one in rad and degrees)" $ do
+      -- the Stanford arm's prismatic J3 cannot retract this close to its base
+      rsp <- serveIk (ikReq (named "stanford") (fromQuat (V3 0.2 0.1 0.3) (Quat 0 1 0 0)))
+      let (code, field, msg) = errorOf (getField (ikrError rsp))
+      (code, field) `shouldBe` (ErrInfeasible, "target")
+      T.unpack msg `shouldContain` "every solution breaks a joint limit: [J3 below its minimum by "
+      T.unpack msg `shouldContain` " mm"
+      T.unpack msg `shouldContain` "J5 above its maximum by "
+      T.unpack msg `shouldContain` "°)"
+      getField (ikrSolutions rsp) `shouldBe` []
 
   describe "bad requests: INVALID_ARGUMENT naming the field" $ do
     let fkErr req = errorOf . getField . fksError <$> serveFk req

@@ -79,13 +79,14 @@ serveIk m = do
     Right (Left (q, code, f, msg)) -> ikError rid secs (iqKinematics <$> q) code f msg
     Right (Right msg) -> msg { ikrComputeTime = putField (nonDefault secs) }
   where
+    robotOf = chainRobot . kinChain . iqKinematics
     solve q = case iqScene q of
       Nothing -> do
         res <- solveIkIO (iqBudget q) (iqOptions q) (iqKinematics q) (iqTarget q) (iqSeed q)
         pure $ case res of
-          Left f -> Left (ikFailureToError Nothing (IkFailed f))
-          Right [] -> Left (ikFailureToError Nothing (IkFailed (Unreachable "no solution" 0)))
+          Left f -> Left (ikFailureToError (robotOf q) Nothing (IkFailed f))
+          Right [] -> Left (ikFailureToError (robotOf q) Nothing (IkFailed (Unreachable "no solution" 0)))
           Right sols -> Right [ (s, Nothing) | s <- sols ]
       Just (bvh, cm, so) -> pure $ case solveCollisionFree so (iqKinematics q) cm bvh (iqTarget q) (iqSeed q) of
-        Left f -> Left (ikFailureToError (Just so) f)
+        Left f -> Left (ikFailureToError (robotOf q) (Just so) f)
         Right cs -> Right [ (cdSolution c, clrDistance <$> cdClearance c) | c <- cs ]

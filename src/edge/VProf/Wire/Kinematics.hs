@@ -336,11 +336,11 @@ ikError rid secs k code field msg = IkResponseMsg
 -- | Why there is no solution, as (code, field, message): a bad request is INVALID_ARGUMENT naming
 -- @target@ or @seed@; a budget run out NOT_CONVERGED; anything else (reach, limits, orientation,
 -- collisions) INFEASIBLE.
-ikFailureToError :: Maybe SelectIkOptions -> SelectIkFailure -> (ErrorCodeEnum, String, String)
-ikFailureToError so f = case f of
+ikFailureToError :: Robot -> Maybe SelectIkOptions -> SelectIkFailure -> (ErrorCodeEnum, String, String)
+ikFailureToError robot so f = case f of
   IkFailed (InvalidRequest es) -> (ErrInvalidArgument, fieldOf es, intercalate "; " es)
   IkFailed nc@(NotConverged _ _) -> (ErrNotConverged, "target", describeFailure nc)
-  IkFailed other -> (ErrInfeasible, "target", describeFailure other)
+  IkFailed other -> (ErrInfeasible, "target", describeFailureFor robot other)
   AllInCollision _ _ -> (ErrInfeasible, "environment", maybe "every solution collides" (`describeSelectIkFailure` f) so)
   where
     fieldOf (e : _) = takeWhile (\c -> c /= ':' && c /= '[') e
