@@ -3,11 +3,14 @@ module Support.Gen
   ( genQ
   , libraryChains
   , forAllQ
+  , turnedBy
   ) where
 
 import qualified Data.Vector.Unboxed as U
 import Test.QuickCheck
 
+import VProf.Geometry.Quaternion (qmul)
+import VProf.Geometry.Vec (Q4 (..))
 import VProf.Kinematics.Library
 import VProf.Kinematics.Model
 
@@ -27,3 +30,12 @@ libraryChains = [(k, compile <$> r) | (k, r) <- libraryRobots]
 
 forAllQ :: Testable p => Chain -> (U.Vector Double -> p) -> Property
 forAllQ ch = forAllShow (genQ ch) (show . U.toList)
+
+-- | A quaternion turned about a random axis (in its own frame) by an angle drawn from the
+-- generator.
+turnedBy :: Gen Double -> Q4 -> Gen Q4
+turnedBy angle q = do
+  ax <- vectorOf 3 (choose (-1, 1)) `suchThat` (\v -> sum (map (^ (2 :: Int)) v) > 1e-2)
+  th <- angle
+  let k = sqrt (sum (map (^ (2 :: Int)) ax)); [a, b, c] = map (* (sin (th / 2) / k)) ax
+  pure (qmul q (Q4 (cos (th / 2)) a b c))

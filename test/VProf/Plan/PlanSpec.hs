@@ -12,6 +12,7 @@ import Test.Hspec
 import Test.QuickCheck
 
 import Support.Arbitrary (shared)
+import Support.Gen (turnedBy)
 import Support.PlanChecker
 import Support.RobotOracle (oracleClearance)
 import Support.Recordings (loadTum)
@@ -78,10 +79,7 @@ genTurnPlan name = do
   pure (wps', zone, v)
   where
     turned (Waypoint p (L.Quaternion w (L.V3 a b c))) = do
-      ax <- vectorOf 3 (choose (-1, 1)) `suchThat` (\xs -> sum (map (^ (2 :: Int)) xs) > 1e-2)
-      th <- oneof [choose (1.1e-3, 0.01), choose (0.01, 0.4)]
-      let k = sqrt (sum (map (^ (2 :: Int)) ax)); [x, y, z] = map (* (sin (th / 2) / k)) ax
-          Q4 qw qx qy qz = qmul (Q4 w a b c) (Q4 (cos (th / 2)) x y z)
+      Q4 qw qx qy qz <- turnedBy (oneof [choose (1.1e-3, 0.01), choose (0.01, 0.4)]) (Q4 w a b c)
       pure (Waypoint p (L.Quaternion qw (L.V3 qx qy qz)))
 
 poses :: [Waypoint] -> [((Double, Double, Double), (Double, Double, Double, Double))]

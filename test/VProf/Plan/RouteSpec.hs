@@ -10,8 +10,9 @@ import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 import Test.QuickCheck
 
+import Support.Gen (turnedBy)
 import Support.PlanChecker (polylineDistance)
-import VProf.Geometry.Quaternion (qangle, qmul)
+import VProf.Geometry.Quaternion (qangle)
 import VProf.Geometry.Vec (Q4 (..))
 import VProf.Kinematics.Transform (V3 (..), v3Dot, v3Norm, v3Sub)
 import VProf.Plan
@@ -61,10 +62,7 @@ genTurnCase = do
     tiny = choose (-0.00003, 0.00003)
     -- q turned about a random axis by 0.06°–180°
     rotated (w, x, y, zq) = do
-      ax <- vectorOf 3 (choose (-1, 1)) `suchThat` (\v -> sum (map (^ (2 :: Int)) v) > 1e-2)
-      th <- oneof [choose (1.05e-3, 0.02), choose (0.02, pi)]
-      let k = sqrt (sum (map (^ (2 :: Int)) ax)); [a, b, c] = map (* (sin (th / 2) / k)) ax
-          Q4 w' x' y' z' = qmul (Q4 w x y zq) (Q4 (cos (th / 2)) a b c)
+      Q4 w' x' y' z' <- turnedBy (oneof [choose (1.05e-3, 0.02), choose (0.02, pi)]) (Q4 w x y zq)
       pure (w', x', y', z')
 
 dist :: (Double, Double, Double) -> (Double, Double, Double) -> Double
