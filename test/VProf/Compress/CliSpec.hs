@@ -3,7 +3,7 @@ module VProf.Compress.CliSpec (spec) where
 
 import Control.Exception (finally)
 import qualified Data.ByteString.Char8 as B
-import Data.List (intercalate, isInfixOf)
+import Data.List (intercalate, isInfixOf, zip4)
 import GHC.IO.Handle (hDuplicate, hDuplicateTo)
 import Options.Applicative
 import System.Exit (ExitCode (..))
@@ -183,6 +183,41 @@ spec = describe "vprof compress" $ do
       trackLength viaCsv `shouldBe` 40
       U.maximum (U.zipWith (\a b -> abs (a - b)) (tTime viaCsv) (tTime viaTum)) `shouldSatisfy` (< 1e-4)
       maximum (zipWith (\a b -> norm (a ^-^ b)) (ptoList (tPos viaCsv)) (ptoList (tPos viaTum))) `shouldSatisfy` (< 1e-3)
+  it "reads an OptiTrack Motive export (mm, quaternion x y z w, two rigid bodies) by --rigid-body and says so; the path is the TUM copy's; a lost frame is dropped with a warning" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      recF <- dataFile "V101_gt.txt"
+      Recording rec <- loadTum "V101_gt.txt"
+      let mot = dir </> "take.csv"
+          t0 = U.head (tTime rec)
+          cells = intercalate ","
+          header = [ "Format Version,1.23,Take Name,Take 1,Export Frame Rate,20,Rotation Type,Quaternion,Length Units,Millimeters,Coordinate Space,Global"
+                   , ""
+                   , ",Type," ++ cells (replicate 8 "Rigid Body" ++ replicate 8 "Rigid Body")
+                   , ",Name," ++ cells (replicate 8 "Cup" ++ replicate 8 "Tool")
+                   , ",ID," ++ cells (replicate 8 "1" ++ replicate 8 "2")
+                   , ",," ++ cells (concat (replicate 2 (replicate 4 "Rotation" ++ replicate 3 "Position" ++ ["Mean Marker Error"])))
+                   , "Frame,Time (Seconds)," ++ cells (concat (replicate 2 ["X", "Y", "Z", "W", "X", "Y", "Z", ""])) ]
+          -- the cup is lost every tenth frame; the tool never
+          cup i = if i `mod` 10 == (3 :: Int) then replicate 8 "" else ["0", "0", "0", "1", "10", "20", "30", "0.0001"]
+          tool (P3 x y z) (Q4 w a b c) = map show [a, b, c, w, x * 1000, y * 1000, z * 1000] ++ ["0.0001"]
+          frame i t p q = cells ([show i, show (t - t0)] ++ cup i ++ tool p q)
+      writeFile mot (unlines (header ++ [ frame i t p q | (i, t, p, q) <- zip4 [0 ..] (U.toList (tTime rec)) (ptoList (tPos rec)) (ptoList (tRot rec)) ]))
+      (code, e0) <- captureStderr (dir </> "e0.txt") (runCli [mot, "--points", "40"])
+      code `shouldBe` ExitFailure 2
+      e0 `shouldSatisfy` (\e -> "2 rigid bodies" `isInfixOf` e && "--rigid-body" `isInfixOf` e)
+      (_, e) <- captureStderr (dir </> "e.txt") (writtenTum dir "frommotive.txt" [mot, "--points", "40", "--rigid-body", "Tool"])
+      e `shouldSatisfy` ("note: " `isInfixOf`)
+      e `shouldSatisfy` ("OptiTrack Motive export" `isInfixOf`)
+      e `shouldSatisfy` ("in mm" `isInfixOf`)
+      e `shouldSatisfy` (not . ("warning" `isInfixOf`))
+      Right viaMotive <- parseTum <$> B.readFile (dir </> "frommotive.txt")
+      viaTum <- writtenTum dir "fromtum.txt" [recF, "--points", "40"]
+      trackLength viaMotive `shouldBe` 40
+      U.maximum (U.zipWith (\a b -> abs (a - (b - t0))) (tTime viaMotive) (tTime viaTum)) `shouldSatisfy` (< 1e-4)
+      maximum (zipWith (\a b -> norm (a ^-^ b)) (ptoList (tPos viaMotive)) (ptoList (tPos viaTum))) `shouldSatisfy` (< 1e-3)
+      -- the cup, lost every tenth frame: those frames dropped, with a warning
+      (_, ec) <- captureStderr (dir </> "ec.txt") (writtenTum dir "cup.txt" [mot, "--points", "10", "--rigid-body", "Cup"])
+      ec `shouldSatisfy` (\w -> "warning" `isInfixOf` w && "dropped" `isInfixOf` w && "line 11" `isInfixOf` w)
   it "reads KITTI poses (12 numbers a line) with the times file beside them or given by --times, and says so" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       pf <- dataFile "KITTI_00_gt.txt"

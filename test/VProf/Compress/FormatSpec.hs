@@ -15,6 +15,7 @@ import VProf.Compress.Clean (Sample (..))
 import VProf.Compress.Format.Csv
 import VProf.Compress.Format.Kitti
 import VProf.Compress.Format.Log
+import VProf.Compress.Format.Motive
 import VProf.Compress.Format.Rapid
 import VProf.Compress.Format.Tum
 import VProf.Geometry.Quaternion (qangle, qnormalize)
@@ -42,6 +43,54 @@ closeTo (et, ep, eo) a b =
                 .&&. distance (pindex (tPos a) i) (pindex (tPos b) i) <= ep
                 .&&. qangle (pindex (tRot a) i) (pindex (tRot b) i) <= eo
             | i <- [0 .. trackLength a - 1] ]
+
+-- | A Motive export of a track as the body "Tool", beside a body "Cup" and a marker, in one of
+-- the two header layouts (labelled rows, as Motive 1.2x and later write them, or unlabelled),
+-- positions in a random length unit, the columns of the two bodies in a random order.
+data Motive = Motive Track (String, Double) Bool Bool
+
+instance Show Motive where show = renderMotive
+
+genMotive :: Gen Motive
+genMotive = Motive <$> genTrack <*> elements [("Meters", 1), ("Centimeters", 100), ("Millimeters", 1000)] <*> arbitrary <*> arbitrary
+
+-- | Lines before the first frame.
+mHeaderLines :: Motive -> Int
+mHeaderLines _ = 7
+
+renderMotive :: Motive -> String
+renderMotive (Motive (Track ts ps qs) (unit, k) labelled toolFirst) = unlines (header ++ frames)
+  where
+    bodies = if toolFirst then ["Tool", "Cup"] else ["Cup", "Tool"]
+    label l = if labelled then l else ""
+    group f = concatMap f bodies
+    header =
+      [ "Format Version,1.23,Take Name,Take 2026-11-30 10.00.00 AM,Capture Frame Rate,120.000000,Export Frame Rate,120.000000,Total Exported Frames,"
+          ++ show (U.length ts) ++ ",Rotation Type,Quaternion,Length Units," ++ unit ++ ",Coordinate Space,Global"
+      , ""
+      , "," ++ label "Type" ++ "," ++ intercalate "," (group (replicate 8 . const "Rigid Body") ++ replicate 3 "Marker")
+      , "," ++ label "Name" ++ "," ++ intercalate "," (group (replicate 8) ++ replicate 3 "Tool:Marker1")
+      , "," ++ label "ID" ++ "," ++ intercalate "," (group (\b -> replicate 8 (if b == "Tool" then "1" else "2")) ++ replicate 3 "3")
+      , ",," ++ intercalate "," (group (const (replicate 4 "Rotation" ++ replicate 3 "Position" ++ ["Mean Marker Error"])) ++ replicate 3 "Position")
+      , "Frame,Time (Seconds)," ++ intercalate "," (group (const ["X", "Y", "Z", "W", "X", "Y", "Z", ""]) ++ ["X", "Y", "Z"]) ]
+    frames = [ intercalate "," ([show i, num t] ++ group (pose i) ++ ["0.1", "0.2", "0.3"]) | (i, t) <- zip [0 :: Int ..] (U.toList ts) ]
+    pose i b
+      | b == "Tool" = let P3 x y z = pindex ps i; Q4 w a bq c = pindex qs i in map num [a, bq, c, w, x * k, y * k, z * k] ++ ["0.000120"]
+      | otherwise = ["0.5", "0.5", "0.5", "0.5", "9", "9", "9", "0.000200"]
+    num v = showFFloat (Just 12) v ""
+
+-- | A Motive export with the given rigid bodies (8 columns each: rotation x y z w, position x y
+-- z, marker error) and frames.
+motiveText :: [String] -> String -> String -> [String] -> String
+motiveText bodies unit rot frames = unlines $
+  [ "Format Version,1.23,Take Name,Take 1,Rotation Type," ++ rot ++ ",Length Units," ++ unit ++ ",Coordinate Space,Global"
+  , ""
+  , ",Type," ++ intercalate "," (concatMap (const (replicate 8 "Rigid Body")) bodies)
+  , ",Name," ++ intercalate "," (concatMap (replicate 8) bodies)
+  , ",ID," ++ intercalate "," (concatMap (const (replicate 8 "1")) bodies)
+  , ",," ++ intercalate "," (concatMap (const (replicate 4 "Rotation" ++ replicate 3 "Position" ++ ["Mean Marker Error"])) bodies)
+  , "Frame,Time (Seconds)," ++ intercalate "," (concatMap (const ["X", "Y", "Z", "W", "X", "Y", "Z", ""]) bodies) ]
+  ++ frames
 
 spec :: Spec
 spec = do
@@ -175,6 +224,45 @@ spec = do
       hasCsvHeader (B.pack "# exported by a tracker\ntime,x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n") `shouldBe` True
       hasCsvHeader (B.pack "time;x;y;z;qw;qx;qy;qz\n0;0;0;0;1;0;0;0\n") `shouldBe` True
       hasCsvHeader (B.pack "1540012, 1e-3, -97.2, -480.8, -0.61, 0.12, -0.75, 0.22\n") `shouldBe` False
+  describe "OptiTrack Motive CSV export" $ do
+    it "reads the named rigid body's poses (quaternion x y z w, the file's length unit) among other bodies and markers, in either header layout" $
+      property $ forAll genMotive $ \m ->
+        case readMotive (Just "Tool") (B.pack (renderMotive m)) of
+          Left e -> counterexample e False
+          Right (lay, ss) ->
+            let Motive (Track ts ps qs) _ _ _ = m
+                got = Track (U.fromList (map smTime ss)) (pfromList (map smPos ss)) (pfromList (map smRot ss))
+            in counterexample (renderMotive m) $
+                 mlBody lay === "Tool" .&&. mlOthers lay === ["Cup"]
+                 .&&. map smLoc ss === [mHeaderLines m + 1 .. mHeaderLines m + U.length ts]
+                 .&&. closeTo (1e-6, 1e-8, 1e-8) (Track ts ps qs) got
+    it "takes the only rigid body without a name; with several, names them and asks for one; an unknown name lists them" $ do
+      let one = motiveText ["Tool"] "Meters" "Quaternion" ["0,0.0,0,0,0,1,1,2,3,0.0001", "1,0.01,0,0,0,1,1.1,2,3,0.0001"]
+          two = motiveText ["Tool", "Cup"] "Meters" "Quaternion" ["0,0.0,0,0,0,1,1,2,3,0.0001,0,0,0,1,4,5,6,0.0002"]
+      fmap (map smPos . snd) (readMotive Nothing (B.pack one)) `shouldBe` Right [P3 1 2 3, P3 1.1 2 3]
+      either id (const "no error") (readMotive Nothing (B.pack two))
+        `shouldSatisfy` (\e -> "2 rigid bodies" `isInfixOf` e && "\"Tool\", \"Cup\"" `isInfixOf` e && "--rigid-body" `isInfixOf` e)
+      fmap (map smPos . snd) (readMotive (Just "Cup") (B.pack two)) `shouldBe` Right [P3 4 5 6]
+      either id (const "no error") (readMotive (Just "Duck") (B.pack two))
+        `shouldSatisfy` (\e -> "\"Duck\"" `isInfixOf` e && "\"Cup\"" `isInfixOf` e)
+    it "reads a frame where the body was lost (empty cells) as NaN, for the cleaning to drop; a bad number names its line and column" $ do
+      let src = motiveText ["Tool"] "Millimeters" "Quaternion" ["0,0.0,0,0,0,1,1000,2000,3000,0.1", "1,0.01,,,,,,,,", "2,0.02,0,0,0,1,1000,2000,abc,0.1"]
+      either id (const "no error") (readMotive Nothing (B.pack src))
+        `shouldSatisfy` (\e -> "line 10, column 9" `isInfixOf` e && "abc" `isInfixOf` e)
+      let Right (_, ss) = readMotive Nothing (B.pack (motiveText ["Tool"] "Millimeters" "Quaternion" ["0,0.0,0,0,0,1,1000,2000,3000,0.1", "1,0.01,,,,,,,,"]))
+      map smLoc ss `shouldBe` [8, 9]
+      smPos (head ss) `shouldBe` P3 1 2 3
+      (\(P3 x _ _) -> isNaN x) (smPos (ss !! 1)) `shouldBe` True
+    it "refuses Euler angles and an unknown length unit, naming the setting and its value" $ do
+      either id (const "no error") (readMotive Nothing (B.pack (motiveText ["Tool"] "Meters" "XYZ" ["0,0.0,0,0,0,1,1,2,3,0"])))
+        `shouldSatisfy` (\e -> "Rotation Type is \"XYZ\"" `isInfixOf` e && "Quaternion" `isInfixOf` e)
+      either id (const "no error") (readMotive Nothing (B.pack (motiveText ["Tool"] "Inches" "Quaternion" ["0,0.0,0,0,0,1,1,2,3,0"])))
+        `shouldSatisfy` (\e -> "Length Units \"Inches\"" `isInfixOf` e && "line 1" `isInfixOf` e)
+    it "is told from other CSV by its settings line" $ do
+      isMotiveCsv (B.pack (motiveText ["Tool"] "Meters" "Quaternion" [])) `shouldBe` True
+      isMotiveCsv (B.pack "time,x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n") `shouldBe` False
+      hasCsvHeader (B.pack (motiveText ["Tool"] "Meters" "Quaternion" [])) `shouldBe` True
+
   describe "KITTI poses with a times file" $ do
     it "reads [R | t] rows (9 significant digits, as KITTI writes them) as the same poses, the times from the times file" $
       property $ forAll genTrack $ \tr ->

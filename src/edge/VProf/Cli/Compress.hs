@@ -32,6 +32,7 @@ import VProf.Format.Text (dropBom)
 import VProf.Compress.Format.Csv
 import VProf.Compress.Format.Kitti
 import VProf.Compress.Format.Log
+import VProf.Compress.Format.Motive
 import VProf.Compress.Format.Rapid
 import VProf.Compress.Format.Tum
 import VProf.Compress.Objective (prepareRecording, toPathA)
@@ -58,6 +59,7 @@ data CompressOptions = CompressOptions
   , coPlot         :: Maybe FilePath
   , coRapid        :: RapidOptions
   , coClean        :: CleanOptions
+  , coRigidBody    :: Maybe String
   }
 
 compressCommand :: Parser (IO ExitCode)
@@ -71,7 +73,7 @@ compressOptions = rejectFlag <$> switch (long "reject-outliers" <> help "reject 
 
 compressOptions' :: Parser CompressOptions
 compressOptions' = CompressOptions
-  <$> strArgument (metavar "RECORDING" <> help "recorded motion: TUM text, CSV with a header naming its columns (vprof's own, EuRoC, ROS), KITTI poses (with --times), Polhemus CSV log or RAPID .mod")
+  <$> strArgument (metavar "RECORDING" <> help "recorded motion: TUM text, CSV with a header naming its columns (vprof's own, EuRoC, ROS), an OptiTrack Motive CSV export, KITTI poses (with --times), Polhemus CSV log or RAPID .mod")
   <*> optional (option (eitherReader inFmt) (long "input-format" <> metavar "tum|csv|kitti|log|mod"
         <> help "format of RECORDING (default: from the extension; .csv is csv if its first line is a header, else a log; .log is a log, .mod RAPID; else TUM, or KITTI when a line holds 12 numbers)"))
   <*> optional (strOption (long "times" <> metavar "FILE"
@@ -93,6 +95,8 @@ compressOptions' = CompressOptions
   <*> optional (option (eitherReader (plotPath [".png", ".svg"])) (long "plot" <> metavar "FILE.png|.svg" <> help "plot raw and fitted position, orientation and speed"))
   <*> rapidP
   <*> cleanP
+  <*> optional (strOption (long "rigid-body" <> metavar "NAME"
+        <> help "OptiTrack Motive export only: the rigid body (or bone) to read, by the name in its header (default: the only one)"))
   where
     cleanP = CleanOptions
       <$> option (eitherReader dups) (long "duplicates" <> metavar "merge|drop" <> value MergeDuplicates
@@ -205,6 +209,9 @@ runCompress o = do
             -- a times file beside a recording that has its own times would be ignored
             Just tf | fmt /= InKitti -> pure (Left ("--times " ++ tf ++ ": only KITTI poses take a times file; " ++ file
                                                    ++ " is read as " ++ formatName fmt ++ ", whose times it holds itself"))
+            _ | Just b <- coRigidBody o, not (fmt == InCsv && isMotiveCsv bytes) ->
+                  pure (Left ("--rigid-body " ++ show b ++ ": only an OptiTrack Motive export names rigid bodies; " ++ file
+                              ++ " is read as " ++ formatName fmt))
             _ -> parseWith fmt bytes
           case parsed of
             Left e -> failInput e
@@ -227,7 +234,8 @@ runCompress o = do
       ".csv" | hasCsvHeader bytes -> InCsv
              | otherwise -> InLog
       ".mod" -> InMod
-      _ | looksLikeKitti bytes -> InKitti
+      _ | isMotiveCsv bytes -> InCsv
+        | looksLikeKitti bytes -> InKitti
         | otherwise -> InTum
     file = coInput o
     formatName = \case
@@ -248,7 +256,9 @@ runCompress o = do
                          ++ " for seconds and metres give the header time,x,y,z,qw,qx,qy,qz"]) (readLog b)
       | otherwise = plain (readLog b)
     parseWith InMod b = plain (readRapid b)
-    parseWith InCsv b = answered (\(l, ss) -> ([describeLayout l], ss)) (readCsv b)
+    parseWith InCsv b
+      | isMotiveCsv b = answered (\(l, ss) -> ([describeMotive l], ss)) (readMotive (coRigidBody o) b)
+      | otherwise = answered (\(l, ss) -> ([describeLayout l], ss)) (readCsv b)
     parseWith InKitti b = do
       let sibling = kittiTimesSibling file
       given <- timesFile

@@ -11,6 +11,7 @@ module VProf.Compress.Format.Common
   , missingToken
   , shownField
   , renderPoseLines
+  , unquote
   ) where
 
 import qualified Data.ByteString.Builder as BB
@@ -105,6 +106,12 @@ poseFields format i col0 = traverse field . zip [col0 ..]
     field (c, w)
       | missingToken w = Right (0 / 0)
       | otherwise = numberField format i c w
+
+-- | A field without the double quotes a spreadsheet's export puts around it.
+unquote :: B.ByteString -> B.ByteString
+unquote f
+  | B.length f >= 2, B.head f == '"', B.last f == '"' = B.strip (B.init (B.tail f))
+  | otherwise = f
 
 -- | Decimals that write every time of a track distinctly: 6 (1 µs), or up to 12 when
 -- waypoints are closer than that (times printed alike were read back as duplicates).

@@ -21,7 +21,7 @@ import Data.List (elemIndex, intercalate, sort)
 import Data.Maybe (isJust, isNothing)
 
 import VProf.Compress.Clean (Sample (..))
-import VProf.Compress.Format.Common (missingToken, numberField, poseFields, readDouble, renderPoseLines, trackFromRows)
+import VProf.Compress.Format.Common (missingToken, numberField, poseFields, readDouble, renderPoseLines, trackFromRows, unquote)
 import VProf.Compress.Types
 import VProf.Geometry.Vec
 
@@ -84,12 +84,6 @@ headerFields l0 =
       fs = map (B.unpack . unquote . B.strip) (B.split ',' l)
   in if length fs >= 4 && any (\f -> isNothing (readDouble (B.pack f)) && not (missingToken (B.pack f))) fs
        then Just fs else Nothing
-
--- | A field without the double quotes a spreadsheet's export puts around it.
-unquote :: B.ByteString -> B.ByteString
-unquote f
-  | B.length f >= 2, B.head f == '"', B.last f == '"' = B.strip (B.init (B.tail f))
-  | otherwise = f
 
 -- | The samples of a headed CSV (SI units), each with its line number (from 1), and the
 -- layout found. Lines before the header, blank lines and later lines starting with @#@
