@@ -95,16 +95,28 @@ hardBraking e st
   | atRest e st = []
   | otherwise = let st' = stepTo e st (brakeAcc e st) in st' : hardBraking e st'
 
--- | 'landing' with the terminal on the route end.
+-- | 'landing' with the terminal on the route end: by the pass that probes long manoeuvres
+-- only now and then ('forward'), or, when that one fails or breaks a rule (a landing that
+-- differs by the last bits can: a jerk 7e-8 beyond the limit at a 1 ms step), by the pass
+-- that probes at every step.
 landingOnEnd :: Int -> Problem -> Either SeedFailure (U.Vector Double)
-landingOnEnd limit pb = do
+landingOnEnd limit pb = case landingBy True limit pb of
+  Right v | legalSeed pb v -> Right v
+  _ -> landingBy False limit pb
+
+-- | Legal for its problem, a crawl aside (the generator cuts a profile at its arrival).
+legalSeed :: Problem -> U.Vector Double -> Bool
+legalSeed pb v = all (\(Violation r _ _ _) -> r == Crawl) (check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)))
+
+landingBy :: Bool -> Int -> Problem -> Either SeedFailure (U.Vector Double)
+landingBy scheduled limit pb = do
   let dt = pbDt pb
       st0 = St (pbV0 pb) (pbA0 pb) 0
       term = Term (pbLength pb) 0
       landTol = pbTol pb / 2
   e0 <- either (Left . startInfeasible pb (SeedEnv pb term True)) Right (policyFor pb term st0)
   -- the pass unboxed as it is made (a boxed list of states takes some 100 bytes a state)
-  let (vs, as, ss) = U.unzip3 (U.fromList [ (v, a, s) | St v a s <- forward e0 landTol limit st0 ])
+  let (vs, as, ss) = U.unzip3 (U.fromList [ (v, a, s) | St v a s <- forward scheduled e0 landTol limit st0 ])
       sEnd = if U.null ss then 0 else U.last ss
       aRest = if U.null as then pbA0 pb else U.last as
       -- at rest with an acceleration that cannot return to zero in one jerk step:
@@ -205,11 +217,8 @@ seedVariants pb
 -- of the seed's length.
 improveSeed :: Problem -> U.Vector Double -> Variant -> U.Vector Double
 improveSeed pb best variant = case variant (U.length best - 2) of
-  Just v | U.length v < U.length best, legalForProblem v -> v
+  Just v | U.length v < U.length best, legalSeed pb v -> v
   _ -> best
-  where
-    legalForProblem v =
-      all (\(Violation r _ _ _) -> r == Crawl) (check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)))
 
 -- | The hardest legal braking from the start state to a standstill within the route,
 -- v_0 .. 0 (just v_0 when the start is at rest): the thesis mode's way into its band,

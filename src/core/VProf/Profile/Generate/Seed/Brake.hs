@@ -25,6 +25,7 @@ module VProf.Profile.Generate.Seed.Brake
     -- * The brake policy
   , brakeAcc
   , brakeAccTo
+  , brakeTarget
   , atRest
   , brakeBound
     -- * The oracle

@@ -13,6 +13,8 @@ module VProf.Profile.Generate.Seed.Greedy
   , passCapMessage
   ) where
 
+import Data.Bits (popCount)
+
 import VProf.Profile.Generate.Seed.Brake
 import VProf.Profile.Generate.Seed.Explain (num)
 import VProf.Profile.Problem (Problem (..))
@@ -53,7 +55,12 @@ terminalSnap = 1e-11
 
 -- | One step of the forward pass: the largest safe acceleration.
 choose :: SeedEnv -> St -> St
-choose e st@(St v _ s) =
+choose e = fst . chooseStep e
+
+-- | 'choose', and whether the step is the brake policy's own because nothing above it
+-- was safe (the probe failed).
+chooseStep :: SeedEnv -> St -> (St, Bool)
+chooseStep e st@(St v _ s) =
   let dt = dtE e
       pb = ePb e
       (lo, hi0) = accRange e st
@@ -61,10 +68,7 @@ choose e st@(St v _ s) =
       capNow = if vt > 0 && s >= p then min vt (limitAt pb s) else limitAt pb s
       hi = max lo (min hi0 ((capNow - v) / dt))
       try a = let st' = snapTo (stepTo e st a) in if stepOk e st st' && safe e st' then Just st' else Nothing
-      -- land exactly on a cap the pass is told to hold (the terminal velocity)
-      snapTo st'@(St v' _ s')
-        | vt > 0 && abs (v' - vt) < terminalSnap && v' /= vt = St vt ((vt - v) / dt) (s + (v + vt) * dt / 2)
-        | otherwise = st' `seq` s' `seq` st'
+      snapTo = snapToTerminal e st
       aB = brakeAcc e st
       fallback = snapTo (stepTo e st aB)
       search a b bestSt 0 = a `seq` b `seq` bestSt
@@ -85,8 +89,68 @@ choose e st@(St v _ s) =
       creep = search aB probe fallback creepSteps
       unsafeProbe = if standing st then creep else fallback
   in if stA st < 0
-       then maybe fallback (\stP -> maybe (bisectFrom stP) id (try hi)) (try probe)
-       else maybe (maybe unsafeProbe bisectFrom (try probe)) id (try hi)
+       then maybe (fallback, True) (\stP -> (maybe (bisectFrom stP) id (try hi), False)) (try probe)
+       else maybe (maybe (unsafeProbe, True) (\stP -> (bisectFrom stP, False)) (try probe)) (\stH -> (stH, False)) (try hi)
+
+-- | A step that ends within 'terminalSnap' of the terminal velocity the pass is told to
+-- hold lands on it exactly.
+snapToTerminal :: SeedEnv -> St -> St -> St
+snapToTerminal e (St v _ s) st'@(St v' _ s')
+  | vt > 0 && abs (v' - vt) < terminalSnap && v' /= vt = St vt ((vt - v) / dt) (s + (v + vt) * dt / 2)
+  | otherwise = st' `seq` s' `seq` st'
+  where
+    Term _ vt = eTerm e
+    dt = dtE e
+{-# INLINE snapToTerminal #-}
+
+-- | The brake policy's own step from a state (what 'chooseStep' falls back on).
+brakeStep :: SeedEnv -> St -> St
+brakeStep e st = snapToTerminal e st (stepTo e st (brakeAcc e st))
+{-# INLINE brakeStep #-}
+
+-- | Steps of a pass with their count of brake-policy steps in a row ('chooseStep''s flag).
+--
+-- Every probe asks the oracle, which runs the brake policy from the probed state to its
+-- target, so where that braking is long a probe costs all of it, and probing at every one
+-- of the B steps of a braking costs B²/2 oracle steps (B = 6,500 at a 1 ms step: 1.7 s for
+-- one pass). So where the oracle's braking would take more than 'probeAllWithin' steps
+-- (its continuous-time estimate), after n brake-policy steps in a row the pass probes only
+-- when n is a power of two up to 'probeInterval' and at every multiple of it after; in
+-- between it takes the brake policy's step. That step is always safe (the policy from a
+-- state it keeps continues the same manoeuvre), so only the gain of a probe that would
+-- have passed is forgone; the last 'probeAllWithin' steps of a braking, where it lands on
+-- its target riding the oracle's edge, are probed at every step as before, and so is every
+-- step of a pass whose brakings are shorter (any pass at a coarse time step). A braking of
+-- B steps then costs O(B²/64 + 'probeAllWithin'²).
+scheduledStep :: SeedEnv -> (St, Int) -> (St, Int)
+scheduledStep e (st, n)
+  | n > 0, not due, not (standing st), longBraking = (brakeStep e st, n + 1)
+  | otherwise = let (st', fell) = chooseStep e st in (st', if fell then n + 1 else 0)
+  where
+    due = if n <= probeInterval then popCount n == 1 else n `mod` probeInterval == 0
+    pb = ePb e
+    St v a _ = st
+    am = negate (pbAMin pb)
+    j1 = negate (pbJMin pb)
+    j2 = pbJMax pb
+    -- the braking's duration in continuous time: a positive acceleration brought down,
+    -- then the velocity still above the policy's target shed by a ramp down to a peak
+    -- deceleration (the full one, or less for a small drop), a hold, and a ramp back
+    ap0 = max 0 a
+    drop = max 0 (v + ap0 * ap0 / (2 * j1) - brakeTarget e st)
+    ramps = 1 / j1 + 1 / j2
+    peak = min am (sqrt (2 * drop / ramps))
+    hold = if peak > 0 then max 0 (drop - peak * peak * ramps / 2) / peak else 0
+    left = ap0 / j1 + peak * ramps + hold
+    longBraking = left > fromIntegral probeAllWithin * dtE e
+
+-- | The longest run of brake-policy steps between probes of a long manoeuvre.
+probeInterval :: Int
+probeInterval = 64
+
+-- | A braking is probed at every step once fewer than this many of its steps are left.
+probeAllWithin :: Int
+probeAllWithin = 512
 
 -- | A velocity this low near the terminal is rest: the braking ends with a step to
 -- exactly zero (or, if that step is not allowed, here), instead of creeping on towards a
@@ -108,17 +172,21 @@ standing (St v a _) = v <= restVelocity && abs a <= restVelocity
 -- its reach touches the terminal, hold the lower speed once it no longer does, and so
 -- approach the terminal in a staircase of ever slower plateaus (a crawl of seconds on a
 -- route of centimetres). A hard step that a limit forbids falls back on the gentle one.
-forward :: SeedEnv -> Double -> Int -> St -> [St]
-forward e landTol limit = go 0
+--
+-- With @scheduled@ the pass probes a long manoeuvre only now and then ('scheduledStep');
+-- without, at every step.
+forward :: Bool -> SeedEnv -> Double -> Int -> St -> [St]
+forward scheduled e landTol limit st0 = go 0 (st0, 0)
   where
     p = tP (eTerm e)
     eStop = e { eHard = True }
-    go n st
+    step sk@(st, _) = if scheduled then scheduledStep e sk else (choose e st, 0)
+    go n sk@(st, _)
       | n >= limit = []
       | stS st >= p - landTol = finishBraking st (n :: Int)
       -- at rest and staying there: the pass cannot go on (the landing reports where it stopped)
-      | otherwise = let st' = choose e st
-                    in if standing st && standing st' then [] else st' : go (n + 1) st'
+      | otherwise = let sk'@(st', _) = step sk
+                    in if standing st && standing st' then [] else st' : go (n + 1) sk'
     finishBraking st n
       | atRest e st || n >= limit = []
       | stV st <= restVelocity =

@@ -1,0 +1,66 @@
+-- | The landing pass's probe schedule: on long brakings at a fine time step the pass that
+-- probes now and then lands as the pass that probes at every step does, legal and at most a
+-- hair longer, and the seed built on it is legal whenever the every-step pass is.
+module VProf.Profile.Generate.Seed.GreedySpec (spec) where
+
+import qualified Data.Vector.Unboxed as U
+import Test.Hspec
+import Test.QuickCheck
+
+import Support.Wide (logUniform)
+import VProf.Profile.Generate.Seed (seed)
+import VProf.Profile.Generate.Seed.Brake (St (..), Term (..), policyFor)
+import VProf.Profile.Generate.Seed.Greedy (forward)
+import VProf.Profile.Legality (Rule (..), Violation (..), check)
+import VProf.Profile.Problem (Algorithm (..), Problem (..))
+import VProf.Profile.Sampled (Profile (..))
+
+-- | A route from rest to rest of one to four zones whose brakings span some 600 to 2,000
+-- steps: the time step is the braking time from the highest limit over that many steps.
+genLongBraking :: Gen Problem
+genLongBraking = do
+  nz <- choose (1, 4 :: Int)
+  speeds <- vectorOf nz (logUniform 0.3 5)
+  len <- logUniform 5 200
+  cuts <- vectorOf (nz - 1) (choose (0.05, 0.95))
+  aMin <- logUniform 0.2 3
+  aMax <- logUniform 0.2 3
+  jMin <- logUniform 0.1 5
+  jMax <- logUniform 0.1 5
+  steps <- choose (600, 2000 :: Double)
+  let vTop = maximum speeds
+      tBrake = vTop / aMin + aMin / jMin + aMin / jMax
+      starts = 0 : map (* len) (foldr insertSorted [] cuts)
+  pure Problem
+    { pbLength = len, pbZoneStarts = U.fromList starts, pbZoneSpeeds = U.fromList speeds
+    , pbAMin = negate aMin, pbAMax = aMax, pbJMin = negate jMin, pbJMax = jMax
+    , pbV0 = 0, pbA0 = 0, pbVEnd = 0, pbAEnd = 0, pbDt = tBrake / steps, pbDv = 1e-9
+    , pbMaxIter = 100, pbBudget = 10, pbTol = 1e-3, pbAlgorithm = Band, pbSeedSearch = False }
+  where
+    insertSorted x xs = let (a, b) = span (< x) xs in a ++ x : b
+
+-- | The landing pass's velocities (v_0 first), probing on the schedule or at every step.
+landingPass :: Bool -> Problem -> Maybe (U.Vector Double)
+landingPass scheduled pb = case policyFor pb (Term (pbLength pb) 0) st0 of
+  Left _ -> Nothing
+  Right e -> Just (U.fromList (0 : map stV (forward scheduled e (pbTol pb / 2) 4000000 st0)))
+  where st0 = St 0 0 0
+
+-- | The checker's violations other than a crawl (the generator cuts a profile at its arrival).
+violations :: Problem -> U.Vector Double -> [Violation]
+violations pb v = [ x | x@(Violation r _ _ _) <- check pb (Profile (pbDt pb) v 0 0), r /= Crawl ]
+
+spec :: Spec
+spec = describe "the landing pass's probe schedule (long brakings at a fine time step)" $
+  it "lands within 1 % of the every-step pass's samples, and the seed is legal whenever the every-step pass is" $
+    withMaxSuccess 25 $ forAll genLongBraking $ \pb ->
+      case (landingPass False pb, landingPass True pb) of
+        (Just full, Just sched) ->
+          let legalFull = null (violations pb full)
+          in counterexample (show pb) $
+               counterexample ("samples: every step " ++ show (U.length full) ++ ", scheduled " ++ show (U.length sched)) $
+                 fromIntegral (U.length sched) <= 1.01 * fromIntegral (U.length full) + (2 :: Double)
+                 .&&. (if not legalFull then property True else case seed pb of
+                         Right v -> counterexample (show (take 3 (violations pb v))) (null (violations pb v))
+                         Left f -> counterexample (show f) False)
+        _ -> property Discard
