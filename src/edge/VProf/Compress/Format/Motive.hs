@@ -17,6 +17,7 @@ import qualified Data.ByteString.Char8 as B
 import Data.Char (isSpace, toLower)
 import Data.List (intercalate, nub)
 import Data.Maybe (listToMaybe)
+import qualified Data.Vector as V
 
 import VProf.Compress.Clean (Sample (..))
 import VProf.Compress.Format.Common (numberField, poseFields, shownField, unquote)
@@ -87,8 +88,8 @@ readMotive want src = do
   (axisLine, axes) <- case [ (i, cs) | (i, l) <- numbered, i > metaLine, let cs = cells l, isAxisRow cs ] of
     a : _ -> Right a
     [] -> Left ("Motive CSV: no column header row (Frame,Time (Seconds),X,Y,Z,…) after the settings of line " ++ show metaLine)
-  timeScale <- case map toLower (axes !! 1) of
-    t | t `elem` ["time (seconds)", "time (s)", "time"] -> Right (1 :: Double)
+  case map toLower (axes !! 1) of
+    t | t `elem` ["time (seconds)", "time (s)", "time"] -> Right ()
       | otherwise -> Left ("Motive CSV line " ++ show axisLine ++ ", column 2: unknown time column " ++ show (axes !! 1) ++ "; expected Time (Seconds)")
   let headerRows = [ (i, cells l) | (i, l) <- numbered, i > metaLine, i < axisLine, not (B.all isSpace l) ]
       labelled name = listToMaybe [ cs | (_, cs) <- headerRows, map toLower (filter (/= ':') (at cs 1)) == name ]
@@ -124,12 +125,12 @@ readMotive want src = do
   let body' = [ (i, s) | (i, l) <- numbered, i > axisLine, let s = B.strip l, not (B.null s) ]
       sc = fst unit
       row (i, l) = do
-        let cs = map (unquote . B.strip) (B.split ',' l)
-            cell c = if c <= length cs then cs !! (c - 1) else B.empty
+        let cs = V.fromList (map (unquote . B.strip) (B.split ',' l))
+            cell c = maybe B.empty id (cs V.!? (c - 1))
         t <- if B.null (cell 2) then Left ("Motive CSV line " ++ show i ++ ", column 2: no time") else numberField "Motive CSV" i 2 (cell 2)
         vs <- traverse (\c -> head <$> poseFields "Motive CSV" i c [cell c]) [qx, qy, qz, qw, px, py, pz]
         case vs of
-          [a, b, c, d, x, y, z] -> Right (Sample i (t * timeScale) (P3 (x * sc) (y * sc) (z * sc)) (Q4 d a b c))
+          [a, b, c, d, x, y, z] -> Right (Sample i t (P3 (x * sc) (y * sc) (z * sc)) (Q4 d a b c))
           _ -> Left ("Motive CSV line " ++ show i ++ ": " ++ shownField l)
   samples <- traverse row body'
   pure ( MotiveLayout version body (filter (/= body) bodies) axisLine 2 (qx, qy, qz, qw) (px, py, pz) unit (maybe "" id (setting "coordinate space"))
