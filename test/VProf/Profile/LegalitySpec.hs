@@ -87,6 +87,12 @@ spec = do
     [ (vValue v, vLimit v) | v <- check p (prof legalV) ] `shouldSatisfy` (\[(o, l)] -> abs (o + 0.02) < 1e-12 && l == pbTol p)
     map renderViolation (check p (prof legalV)) `shouldBe` ["route_end at sample 23: the profile ends 0.020000 m short of the route end, more than the end tolerance 0.010000 m"]
 
+  it "a value past its limit by less than six decimals show says by how much" $ do
+    renderViolation (Violation JerkRule 21904 0.50000008194 0.5)
+      `shouldBe` "jerk at sample 21904: 0.500000 m/s³ beyond the limit 0.500000 m/s³ (by 8.2e-8 m/s³)"
+    renderViolation (Violation AccelerationRule 17 5 1)
+      `shouldBe` "acceleration at sample 17: 5.000000 m/s² beyond the limit 1.000000 m/s²"
+
   it "a NaN or infinite velocity is a violation at its sample (every comparison with NaN is false)" $
     property $ forAll (choose (0, length legalV - 1)) $ \k -> forAll (elements [0 / 0, 1 / 0, -1 / 0]) $ \x ->
       let vs = [ if i == k then x else v | (i, v) <- zip [0 ..] legalV ]

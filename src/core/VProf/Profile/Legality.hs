@@ -37,7 +37,7 @@ module VProf.Profile.Legality
   ) where
 
 import qualified Data.Vector.Unboxed as U
-import Numeric (showFFloat)
+import Numeric (showEFloat, showFFloat)
 
 import VProf.Profile.Sampled
 import VProf.Profile.Request (Problem (..))
@@ -77,8 +77,14 @@ renderViolation (Violation RouteEnd k off tol) =
   ++ showFFloat (Just 6) tol "" ++ " m"
 renderViolation (Violation r k v l) =
   ruleName r ++ " at sample " ++ show k ++ ": " ++ num v ++ " " ++ unit ++ relation ++ num l ++ " " ++ unit
+    ++ excess
   where
     num x = showFFloat (Just 6) x ""
+    -- a value past the limit by less than the six decimals show (rounding at a fine time
+    -- step: a jerk 8e-8 over) would read "0.500000 beyond the limit 0.500000": say by how much
+    excess
+      | num v == num l && v /= l = " (by " ++ showEFloat (Just 1) (abs (v - l)) "" ++ " " ++ unit ++ ")"
+      | otherwise = ""
     unit = case r of
       AccelerationRule -> "m/s²"
       JerkRule -> "m/s³"
