@@ -30,7 +30,7 @@ import qualified Data.Vector.Unboxed as U
 
 import VProf.Profile.Generate.Seed.Brake
 import VProf.Profile.Generate.Seed.Explain
-import VProf.Profile.Generate.Seed.Greedy (forward, passCapMessage, passStepCap)
+import VProf.Profile.Generate.Seed.Greedy (forwardMarked, passCapMessage, passStepCap)
 import VProf.Profile.Generate.Seed.LeadIn (leadIn, startStuck)
 import VProf.Profile.Generate.Seed.Meet (meet)
 import VProf.Profile.Legality (Rule (..), Violation (..), check)
@@ -86,7 +86,7 @@ overrun pb = case brakeCheck e st0 of
     in if not (null sts) && abs (sEnd - pbLength pb) <= pbTol pb
          then Just (U.fromList (pbV0 pb : map stV sts)) else Nothing
   where
-    e = SeedEnv pb (Term (pbLength pb + pbTol pb) 0) True
+    e = seedEnv pb (Term (pbLength pb + pbTol pb) 0) True
     st0 = St (pbV0 pb) (pbA0 pb) 0
 
 -- | The states of the hard brake policy from a state until it is at rest.
@@ -95,42 +95,71 @@ hardBraking e st
   | atRest e st = []
   | otherwise = let st' = stepTo e st (brakeAcc e st) in st' : hardBraking e st'
 
--- | 'landing' with the terminal on the route end: by the pass that probes long manoeuvres
--- only now and then ('forward'), or, when that one fails or breaks a rule (a landing that
--- differs by the last bits can: a jerk 7e-8 beyond the limit at a 1 ms step), by the pass
--- that probes at every step.
+-- | 'landing' with the terminal on the route end, the first legal one of: the pass that
+-- probes long manoeuvres only now and then ('forward'); when that one lands but breaks a
+-- rule, the same planning its ramps a little below the jerk limit ('jerkPlanMargin': at a
+-- 1 ms step a long ramp at the full jerk can end 8e-8 m/s³ beyond it by rounding,
+-- route-abcd's landing); when the schedule skipped a probe and the pass did not just run
+-- out of its @limit@ steps, the pass that probes at every step, and it with the margin when
+-- it too lands but breaks a rule. Else the last pass without the margin's answer. (A
+-- scheduled pass that skipped no probe is the every-step pass: every pass at a coarse
+-- step. One that ran out of steps is most often a seed variant cut off once it is no
+-- shorter than the best ('improveSeed'), which the every-step pass, at most a few steps
+-- faster, would rarely beat: it is not worth a second pass.)
 landingOnEnd :: Int -> Problem -> Either SeedFailure (U.Vector Double)
-landingOnEnd limit pb = case landingBy True limit pb of
-  Right v | legalSeed pb v -> Right v
-  _ -> landingBy False limit pb
+landingOnEnd limit pb =
+  case [ v | Right v <- tries, legalSeed pb v ] of
+    v : _ -> Right v
+    [] -> if retry then everyStep else scheduled
+  where
+    -- lazily: a legal first landing costs one pass
+    Landing scheduled skipped ranOut = landingBy True 0 limit pb
+    retry = skipped && not ranOut
+    everyStep = lResult (landingBy False 0 limit pb)
+    landedIllegal r = either (const False) (not . legalSeed pb) r
+    tries = [scheduled]
+      ++ [ lResult (landingBy True jerkPlanMargin limit pb) | landedIllegal scheduled ]
+      ++ (if retry then everyStep : [ lResult (landingBy False jerkPlanMargin limit pb) | landedIllegal everyStep ] else [])
 
 -- | Legal for its problem, a crawl aside (the generator cuts a profile at its arrival).
 legalSeed :: Problem -> U.Vector Double -> Bool
 legalSeed pb v = all (\(Violation r _ _ _) -> r == Crawl) (check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)))
 
-landingBy :: Bool -> Int -> Problem -> Either SeedFailure (U.Vector Double)
-landingBy scheduled limit pb = do
-  let dt = pbDt pb
-      st0 = St (pbV0 pb) (pbA0 pb) 0
-      term = Term (pbLength pb) 0
-      landTol = pbTol pb / 2
-  e0 <- either (Left . startInfeasible pb (SeedEnv pb term True)) Right (policyFor pb term st0)
-  -- the pass unboxed as it is made (a boxed list of states takes some 100 bytes a state)
-  let (vs, as, ss) = U.unzip3 (U.fromList [ (v, a, s) | St v a s <- forward scheduled e0 landTol limit st0 ])
-      sEnd = if U.null ss then 0 else U.last ss
-      aRest = if U.null as then pbA0 pb else U.last as
-      -- at rest with an acceleration that cannot return to zero in one jerk step:
-      -- stand still for one more sample
-      settle = let j = negate aRest / dt in if j >= pbJMin pb && j <= pbJMax pb then [] else [0]
-  -- the pass aims at half the tolerance; one that ends outside that but within the
-  -- tolerance the checker allows (|s_N - L| <= end_tolerance) is kept (at a 1 s step a
-  -- 32.741 m route was missed by 5.0 mm of a 10 mm tolerance and answered NOT_CONVERGED)
-  if abs (sEnd - pbLength pb) <= landTol || U.null vs && pbLength pb <= landTol
-       || not (U.null vs) && abs (sEnd - pbLength pb) <= pbTol pb
-    then Right (U.concat [U.singleton (pbV0 pb), vs, U.fromList settle])
-    else if U.length vs >= passStepCap
-      then Left (OverCap (passCapMessage pb "forward" sEnd))
-      else Left (LandingFailed ("the forward pass stopped at " ++ num sEnd ++ " m, aiming at " ++ num (pbLength pb) ++ " m"))
+-- | A landing pass's answer, whether its schedule skipped a probe, and whether it ran out of
+-- its steps.
+data Landing = Landing
+  { lResult :: Either SeedFailure (U.Vector Double)
+  , _lSkipped :: Bool
+  , _lRanOut :: Bool
+  }
+
+-- | The landing pass, probing on the schedule or not, planning with a jerk margin or not.
+landingBy :: Bool -> Double -> Int -> Problem -> Landing
+landingBy scheduled margin limit pb = case policyWith margin pb term st0 of
+  Left bad -> Landing (Left (startInfeasible pb (seedEnv pb term True) bad)) False False
+  Right e0 ->
+    -- the pass unboxed as it is made (a boxed list of states takes some 100 bytes a state)
+    let (vs, as, ss, marks) = U.unzip4 (U.fromList [ (v, a, s, k) | (St v a s, k) <- forwardMarked scheduled e0 landTol limit st0 ])
+        sEnd = if U.null ss then 0 else U.last ss
+        aRest = if U.null as then pbA0 pb else U.last as
+        -- at rest with an acceleration that cannot return to zero in one jerk step:
+        -- stand still for one more sample
+        settle = let j = negate aRest / dt in if j >= pbJMin pb && j <= pbJMax pb then [] else [0]
+        -- the pass aims at half the tolerance; one that ends outside that but within the
+        -- tolerance the checker allows (|s_N - L| <= end_tolerance) is kept (at a 1 s step a
+        -- 32.741 m route was missed by 5.0 mm of a 10 mm tolerance and answered NOT_CONVERGED)
+        landed
+          | abs (sEnd - pbLength pb) <= landTol || U.null vs && pbLength pb <= landTol
+              || not (U.null vs) && abs (sEnd - pbLength pb) <= pbTol pb
+              = Right (U.concat [U.singleton (pbV0 pb), vs, U.fromList settle])
+          | U.length vs >= passStepCap = Left (OverCap (passCapMessage pb "forward" sEnd))
+          | otherwise = Left (LandingFailed ("the forward pass stopped at " ++ num sEnd ++ " m, aiming at " ++ num (pbLength pb) ++ " m"))
+    in Landing landed (U.or marks) (U.length vs >= limit)
+  where
+    dt = pbDt pb
+    st0 = St (pbV0 pb) (pbA0 pb) 0
+    term = Term (pbLength pb) 0
+    landTol = pbTol pb / 2
 
 -- | A seed of at most this many samples is compared with the seeds of the variants of
 -- its problem ('bestSeed'); a longer one is kept as it is (the variants would
@@ -230,5 +259,5 @@ restFrom pb
       Left bad -> Left (startInfeasible pb e bad)
       Right () -> Right (U.fromList (pbV0 pb : map stV (take maxSamples (hardBraking e st0))))
   where
-    e = SeedEnv pb (Term (pbLength pb) 0) True
+    e = seedEnv pb (Term (pbLength pb) 0) True
     st0 = St (pbV0 pb) (pbA0 pb) 0

@@ -1,6 +1,8 @@
 -- | The landing pass's probe schedule: on long brakings at a fine time step the pass that
 -- probes now and then lands as the pass that probes at every step does, legal and at most a
--- hair longer, and the seed built on it is legal whenever the every-step pass is.
+-- hair longer, and the seed built on it is legal whenever the every-step pass is. The
+-- landing planned a little below the jerk limit (the seed's fallback when rounding puts the
+-- full-jerk landing beyond it) is as legal and at most a sample longer.
 module VProf.Profile.Generate.Seed.GreedySpec (spec) where
 
 import qualified Data.Vector.Unboxed as U
@@ -9,7 +11,7 @@ import Test.QuickCheck
 
 import Support.Wide (logUniform)
 import VProf.Profile.Generate.Seed (seed)
-import VProf.Profile.Generate.Seed.Brake (St (..), Term (..), policyFor)
+import VProf.Profile.Generate.Seed.Brake (St (..), Term (..), jerkPlanMargin, policyWith)
 import VProf.Profile.Generate.Seed.Greedy (forward)
 import VProf.Profile.Legality (Rule (..), Violation (..), check)
 import VProf.Profile.Problem (Algorithm (..), Problem (..))
@@ -41,7 +43,11 @@ genLongBraking = do
 
 -- | The landing pass's velocities (v_0 first), probing on the schedule or at every step.
 landingPass :: Bool -> Problem -> Maybe (U.Vector Double)
-landingPass scheduled pb = case policyFor pb (Term (pbLength pb) 0) st0 of
+landingPass scheduled = landingPassWith scheduled 0
+
+-- | The same, planning the ramps with this share of the jerk limit left out.
+landingPassWith :: Bool -> Double -> Problem -> Maybe (U.Vector Double)
+landingPassWith scheduled margin pb = case policyWith margin pb (Term (pbLength pb) 0) st0 of
   Left _ -> Nothing
   Right e -> Just (U.fromList (0 : map stV (forward scheduled e (pbTol pb / 2) 4000000 st0)))
   where st0 = St 0 0 0
@@ -50,8 +56,32 @@ landingPass scheduled pb = case policyFor pb (Term (pbLength pb) 0) st0 of
 violations :: Problem -> U.Vector Double -> [Violation]
 violations pb v = [ x | x@(Violation r _ _ _) <- check pb (Profile (pbDt pb) v 0 0), r /= Crawl ]
 
+-- | Route-abcd (examples/route-abcd.json: 50 m, 4 / 2 / 5 m/s from 0 / 25 / 30 m, ±1 m/s²,
+-- ±0.5 m/s³) at a 1 ms step.
+routeAbcd1ms :: Problem
+routeAbcd1ms = Problem
+  { pbLength = 50, pbZoneStarts = U.fromList [0, 25, 30], pbZoneSpeeds = U.fromList [4, 2, 5]
+  , pbAMin = -1, pbAMax = 1, pbJMin = -0.5, pbJMax = 0.5
+  , pbV0 = 0, pbA0 = 0, pbVEnd = 0, pbAEnd = 0, pbDt = 1e-3, pbDv = 1e-9
+  , pbMaxIter = 100, pbBudget = 30, pbTol = 1e-2, pbAlgorithm = Band, pbSeedSearch = False }
+
 spec :: Spec
-spec = describe "the landing pass's probe schedule (long brakings at a fine time step)" $
+spec = describe "the landing pass's probe schedule (long brakings at a fine time step)" $ do
+  it "route-abcd at 1 ms: the seed is legal (the landing at the full jerk ends 8e-8 m/s³ beyond it by rounding)" $
+    case seed routeAbcd1ms of
+      Right v -> violations routeAbcd1ms v `shouldBe` []
+      Left f -> expectationFailure (show f)
+
+  it "planned a little below the jerk limit, the landing is legal whenever the full-jerk one is, and at most a sample longer" $
+    withMaxSuccess 25 $ forAll genLongBraking $ \pb ->
+      case (landingPass True pb, landingPassWith True jerkPlanMargin pb) of
+        (Just full, Just marg) ->
+          counterexample (show pb) $
+            counterexample ("samples: full jerk " ++ show (U.length full) ++ ", with the margin " ++ show (U.length marg)) $
+              U.length marg <= U.length full + 1
+              .&&. (if null (violations pb full) then counterexample (show (take 3 (violations pb marg))) (null (violations pb marg)) else property True)
+        _ -> property Discard
+
   it "lands within 1 % of the every-step pass's samples, and the seed is legal whenever the every-step pass is" $
     withMaxSuccess 25 $ forAll genLongBraking $ \pb ->
       case (landingPass False pb, landingPass True pb) of

@@ -17,6 +17,8 @@ module VProf.Profile.Generate.Seed.Brake
     St (..)
   , Term (..)
   , SeedEnv (..)
+  , seedEnv
+  , jerkPlanMargin
   , dtE
   , stepTo
   , stepOk
@@ -32,6 +34,7 @@ module VProf.Profile.Generate.Seed.Brake
   , brakeCheck
   , safe
   , policyFor
+  , policyWith
     -- * Distances and the start state
   , brakeStopDistance
   , brakeDistanceTo
@@ -59,7 +62,12 @@ data SeedEnv = SeedEnv
   { ePb :: !Problem
   , eTerm :: !Term
   , eHard :: !Bool   -- ^ brake to standstill (through every limit) rather than to each limit
+  , eMargin :: !Double  -- ^ the share of the jerk limit the ramps are planned without (0, or 'jerkPlanMargin')
   }
+
+-- | A pass's environment, planning at the full jerk.
+seedEnv :: Problem -> Term -> Bool -> SeedEnv
+seedEnv q term hard = SeedEnv q term hard 0
 
 -- | A velocity below this after a step is a standstill missed by rounding.
 velocityFloor :: Double
@@ -69,6 +77,21 @@ velocityFloor = 1e-12
 -- velocity change.
 roundingSlack :: Double
 roundingSlack = 1e-12
+
+-- | The share of the jerk limit a pass that plans with a margin ('eMargin') leaves out of
+-- its ramps back to zero acceleration: the rounding a long ramp at the full jerk gathers in
+-- the velocity (some 1e-13 m/s over thousands of steps at 1 ms) lands in its last step,
+-- where at 1 ms it is a jerk some 1e-7 of the limit beyond it (the checker's slack is
+-- 1e-9); a ramp planned below the limit takes it up on the way. Passes plan at the full
+-- jerk first (a margin can cost a whole step at a coarse step), with it only when that
+-- landing breaks a rule.
+jerkPlanMargin :: Double
+jerkPlanMargin = 1e-8
+
+-- | The jerk step the brake policy plans its ramps with.
+planJerkStep :: SeedEnv -> Double
+planJerkStep e = pbJMax (ePb e) * dtE e * (1 - eMargin e)
+{-# INLINE planJerkStep #-}
 
 -- | How far a root of the brake policy may sit outside its ramp interval and still count.
 rootSlack :: Double
@@ -169,7 +192,7 @@ rampDrop e x
   | x >= 0 = 0
   | otherwise =
       let dt = dtE e
-          j = pbJMax (ePb e) * dt
+          j = planJerkStep e
           m = fromIntegral (ceiling (negate x / j) - 1 :: Int) :: Double
       in dt * (m * x + j * m * (m + 1) / 2)
 {-# INLINE rampDrop #-}
@@ -189,7 +212,7 @@ brakeAccTo e st@(St v _ _) tau
   | otherwise = max lo (min hi (exact m0))
   where
     dt = dtE e
-    j = pbJMax (ePb e) * dt
+    j = planJerkStep e
     (lo, hi) = accRange e st
     w = v - tau
     hold = max lo (min hi 0)
@@ -346,8 +369,12 @@ safe e st = either (const False) (const True) (brakeCheck e st)
 -- through the limits toward standstill) may still; when that fails too, the state at
 -- which the hardest braking breaks a rule.
 policyFor :: Problem -> Term -> St -> Either (St, St) SeedEnv
-policyFor q term st0 =
-  let gentle = SeedEnv q term False
+policyFor = policyWith 0
+
+-- | 'policyFor' for passes that plan their ramps with a margin below the jerk limit.
+policyWith :: Double -> Problem -> Term -> St -> Either (St, St) SeedEnv
+policyWith margin q term st0 =
+  let gentle = SeedEnv q term False margin
       hard = gentle { eHard = True }
   in case (brakeCheck gentle st0, brakeCheck hard st0) of
        (Right (), _) -> Right gentle
@@ -358,7 +385,7 @@ policyFor q term st0 =
 brakeStopDistance :: Problem -> Double -> Double -> Double
 brakeStopDistance pb v a = go (St v a 0) (0 :: Int)
   where
-    e = SeedEnv pb (Term (1 / 0) (1 / 0)) True
+    e = seedEnv pb (Term (1 / 0) (1 / 0)) True
     go st n
       | atRest e st || n > stopDistanceSteps = stS st
       | otherwise = go (stepTo e st (brakeAcc e st)) (n + 1)
@@ -368,7 +395,7 @@ brakeStopDistance pb v a = go (St v a 0) (0 :: Int)
 brakeDistanceTo :: Problem -> St -> Double -> Double
 brakeDistanceTo q st0 v = go st0 (0 :: Int)
   where
-    e = SeedEnv q (Term (1 / 0) (1 / 0)) False
+    e = seedEnv q (Term (1 / 0) (1 / 0)) False
     go st n
       | stV st <= v && stA st >= 0 = stS st - stS st0
       | n > distanceToSteps = 1 / 0

@@ -8,6 +8,7 @@
 module VProf.Profile.Generate.Seed.Greedy
   ( choose
   , forward
+  , forwardMarked
   , passFrom
   , passStepCap
   , passCapMessage
@@ -122,10 +123,11 @@ brakeStep e st = snapToTerminal e st (stepTo e st (brakeAcc e st))
 -- its target riding the oracle's edge, are probed at every step as before, and so is every
 -- step of a pass whose brakings are shorter (any pass at a coarse time step). A braking of
 -- B steps then costs O(B²/64 + 'probeAllWithin'²).
-scheduledStep :: SeedEnv -> (St, Int) -> (St, Int)
+-- The flag tells a step taken without a probe.
+scheduledStep :: SeedEnv -> (St, Int) -> ((St, Int), Bool)
 scheduledStep e (st, n)
-  | n > 0, not due, not (standing st), longBraking = (brakeStep e st, n + 1)
-  | otherwise = let (st', fell) = chooseStep e st in (st', if fell then n + 1 else 0)
+  | n > 0, not due, not (standing st), longBraking = ((brakeStep e st, n + 1), True)
+  | otherwise = let (st', fell) = chooseStep e st in ((st', if fell then n + 1 else 0), False)
   where
     due = if n <= probeInterval then popCount n == 1 else n `mod` probeInterval == 0
     pb = ePb e
@@ -176,26 +178,32 @@ standing (St v a _) = v <= restVelocity && abs a <= restVelocity
 -- With @scheduled@ the pass probes a long manoeuvre only now and then ('scheduledStep');
 -- without, at every step.
 forward :: Bool -> SeedEnv -> Double -> Int -> St -> [St]
-forward scheduled e landTol limit st0 = go 0 (st0, 0)
+forward scheduled e landTol limit = map fst . forwardMarked scheduled e landTol limit
+
+-- | 'forward', each state marked when the schedule took its step without a probe (never
+-- without @scheduled@; never either where every braking is short, so that a scheduled pass
+-- with no mark is the every-step pass).
+forwardMarked :: Bool -> SeedEnv -> Double -> Int -> St -> [(St, Bool)]
+forwardMarked scheduled e landTol limit st0 = go 0 (st0, 0)
   where
     p = tP (eTerm e)
     eStop = e { eHard = True }
-    step sk@(st, _) = if scheduled then scheduledStep e sk else (choose e st, 0)
+    step sk@(st, _) = if scheduled then scheduledStep e sk else ((choose e st, 0), False)
     go n sk@(st, _)
       | n >= limit = []
       | stS st >= p - landTol = finishBraking st (n :: Int)
       -- at rest and staying there: the pass cannot go on (the landing reports where it stopped)
-      | otherwise = let sk'@(st', _) = step sk
-                    in if standing st && standing st' then [] else st' : go (n + 1) sk'
+      | otherwise = let (sk'@(st', _), skipped) = step sk
+                    in if standing st && standing st' then [] else (st', skipped) : go (n + 1) sk'
     finishBraking st n
       | atRest e st || n >= limit = []
       | stV st <= restVelocity =
           let st' = St 0 (negate (stV st) / dtE e) (stS st + stV st * dtE e / 2)
-          in [ st' | stepOk e st st' ]
+          in [ (st', False) | stepOk e st st' ]
       | otherwise =
           let hard = stepTo e st (brakeAcc eStop st)
               st' = if stepOk e st hard then hard else stepTo e st (brakeAcc e st)
-          in st' : finishBraking st' (n + 1)
+          in (st', False) : finishBraking st' (n + 1)
 
 -- | The greedy pass from a state: the states after it, up to the first for which @done@
 -- holds, at most @n@.

@@ -129,8 +129,8 @@ meetContext pb = do
       fTerm = forwardTerm pb
       bTerm = backwardTerm pb
   if sinksBelowZero rv then Left (endAccFailure pb) else Right ()
-  fEnv <- either (Left . startInfeasible pb (SeedEnv pb fTerm True)) Right (policyFor pb fTerm st0)
-  bEnv <- either (Left . endInfeasible pb (SeedEnv rv bTerm True)) Right (policyFor rv bTerm rt0)
+  fEnv <- either (Left . startInfeasible pb (seedEnv pb fTerm True)) Right (policyFor pb fTerm st0)
+  bEnv <- either (Left . endInfeasible pb (seedEnv rv bTerm True)) Right (policyFor rv bTerm rt0)
   let fAll = toPass (st0 : passFrom fEnv passStepCap (\st -> stS st >= len) st0)
       bAll = toPass (rt0 : passFrom bEnv passStepCap (\st -> stS st >= len) rt0)
       (fV, _, fS) = U.unzip3 fAll

@@ -64,7 +64,7 @@ leadIn seedRest depth pb = case [ r | Right r <- tries ] of
       , let a = hi - (hi - lo) * fromIntegral i / fromIntegral leadInSteps
             st1@(St v1 _ s1) = stepTo e st0 a
       , stepOk e st0 st1, s1 < pbLength pb ]
-    e = SeedEnv pb (Term (pbLength pb + pbTol pb) (1 / 0)) True
+    e = seedEnv pb (Term (pbLength pb + pbTol pb) (1 / 0)) True
     st0 = St (pbV0 pb) (pbA0 pb) 0
     (lo, hi) = accRange e st0
     -- the rest's own claim is about the shortened problem after one chosen first step,
@@ -81,7 +81,7 @@ endFailure :: Problem -> Maybe SeedFailure
 endFailure pb
   | pbVEnd pb <= 0 && pbAEnd pb == 0 = Nothing
   | sinksBelowZero rv = Just (endAccFailure pb)
-  | otherwise = either (Just . endInfeasible pb (SeedEnv rv bTerm True)) (const Nothing) (policyFor rv bTerm rt0)
+  | otherwise = either (Just . endInfeasible pb (seedEnv rv bTerm True)) (const Nothing) (policyFor rv bTerm rt0)
   where
     rv = mirror pb
     rt0 = St (pbVEnd pb) (pbA0 rv) 0
