@@ -108,18 +108,21 @@ hardBraking e st
 -- faster, would rarely beat: it is not worth a second pass.)
 landingOnEnd :: Int -> Problem -> Either SeedFailure (U.Vector Double)
 landingOnEnd limit pb =
-  case [ v | Right v <- tries, legalSeed pb v ] of
+  case [ v | (Right v, True) <- tries ] of
     v : _ -> Right v
-    [] -> if retry then everyStep else scheduled
+    [] -> fst (if retry then everyStep else scheduled)
   where
-    -- lazily: a legal first landing costs one pass
-    Landing scheduled skipped ranOut = landingBy True 0 limit pb
+    -- lazily: a legal first landing costs one pass; each landing is checked once
+    Landing sched skipped ranOut = landingBy True 0 limit pb
     retry = skipped && not ranOut
-    everyStep = lResult (landingBy False 0 limit pb)
-    landedIllegal r = either (const False) (not . legalSeed pb) r
+    verdict r = (r, either (const False) (legalSeed pb) r)
+    scheduled = verdict sched
+    everyStep = verdict (lResult (landingBy False 0 limit pb))
+    withMargin s = verdict (lResult (landingBy s jerkPlanMargin limit pb))
+    landedIllegal (r, ok) = either (const False) (const (not ok)) r
     tries = [scheduled]
-      ++ [ lResult (landingBy True jerkPlanMargin limit pb) | landedIllegal scheduled ]
-      ++ (if retry then everyStep : [ lResult (landingBy False jerkPlanMargin limit pb) | landedIllegal everyStep ] else [])
+      ++ [ withMargin True | landedIllegal scheduled ]
+      ++ (if retry then everyStep : [ withMargin False | landedIllegal everyStep ] else [])
 
 -- | Legal for its problem, a crawl aside (the generator cuts a profile at its arrival).
 legalSeed :: Problem -> U.Vector Double -> Bool
