@@ -97,10 +97,10 @@ hardBraking e st
 
 -- | 'landing' with the terminal on the route end, the first legal one of: the pass that
 -- probes long manoeuvres only now and then ('forward'); when that one lands but breaks a
--- rule, the same planning its ramps a little below the jerk limit ('jerkPlanMargin': at a
--- 1 ms step a long ramp at the full jerk can end 8e-8 m/s³ beyond it by rounding,
--- route-abcd's landing); when the schedule skipped a probe and the pass did not just run
--- out of its @limit@ steps, the pass that probes at every step, and it with the margin when
+-- rule, the same planning every step a little inside the jerk range, with wider margins
+-- while it still does ('jerkPlanMargins': at a 1 ms step the rounding of the velocities can
+-- put a ramp at the full jerk 1e-9 to 8e-8 m/s³ beyond it); when the schedule skipped a probe and the pass did not just run
+-- out of its @limit@ steps, the pass that probes at every step, and it with the margins when
 -- it too lands but breaks a rule. Else the last pass without the margin's answer. (A
 -- scheduled pass that skipped no probe is the every-step pass: every pass at a coarse
 -- step. One that ran out of steps is most often a seed variant cut off once it is no
@@ -118,11 +118,13 @@ landingOnEnd limit pb =
     verdict r = (r, either (const False) (legalSeed pb) r)
     scheduled = verdict sched
     everyStep = verdict (lResult (landingBy False 0 limit pb))
-    withMargin s = verdict (lResult (landingBy s jerkPlanMargin limit pb))
+    withMargin s m = verdict (lResult (landingBy s m limit pb))
     landedIllegal (r, ok) = either (const False) (const (not ok)) r
-    tries = [scheduled]
-      ++ [ withMargin True | landedIllegal scheduled ]
-      ++ (if retry then everyStep : [ withMargin False | landedIllegal everyStep ] else [])
+    -- each wider margin only while the landing before it lands and breaks a rule
+    ladder s first = go first (jerkPlanMargins pb)
+      where go r (m : ms) | landedIllegal r = r : go (withMargin s m) ms
+            go r _ = [r]
+    tries = ladder True scheduled ++ (if retry then ladder False everyStep else [])
 
 -- | Legal for its problem, a crawl aside (the generator cuts a profile at its arrival).
 legalSeed :: Problem -> U.Vector Double -> Bool

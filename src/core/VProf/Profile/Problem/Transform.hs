@@ -1,6 +1,6 @@
 -- | Problems made from problems, for the generator's passes: the same problem backwards
 -- in time ('mirror'), its speed limits capped over a stretch ('capOn'), its ranges
--- narrowed ('scaleRanges'), and what is left of it after a first step ('startingAfter').
+-- narrowed ('scaleRanges', 'scaleJerk'), and what is left of it after a first step ('startingAfter').
 --
 -- Invariant: each keeps the zones sorted with the first at 0 and the acceleration and
 -- jerk ranges around 0. A profile legal for 'capOn' or 'scaleRanges' of a problem is
@@ -12,6 +12,7 @@ module VProf.Profile.Problem.Transform
   ( mirror
   , capOn
   , scaleRanges
+  , scaleJerk
   , startingAfter
   ) where
 
@@ -48,6 +49,10 @@ capOn a b v pb = pb { pbZoneStarts = U.fromList (map fst pieces), pbZoneSpeeds =
 -- the narrower ranges is within the problem's.
 scaleRanges :: Double -> Problem -> Problem
 scaleRanges phi q = q { pbAMin = phi * pbAMin q, pbAMax = phi * pbAMax q, pbJMin = phi * pbJMin q, pbJMax = phi * pbJMax q }
+
+-- | The jerk range alone scaled by a factor phi in (0, 1].
+scaleJerk :: Double -> Problem -> Problem
+scaleJerk phi q = q { pbJMin = phi * pbJMin q, pbJMax = phi * pbJMax q }
 
 -- | The problem that starts after a first step: from position s1 at velocity v1 with
 -- acceleration a, the route shortened by s1 and its zones shifted back by it.

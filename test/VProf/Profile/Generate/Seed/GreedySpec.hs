@@ -2,7 +2,9 @@
 -- probes now and then lands as the pass that probes at every step does, legal and at most a
 -- hair longer, and the seed built on it is legal whenever the every-step pass is. The
 -- landing planned a little below the jerk limit (the seed's fallback when rounding puts the
--- full-jerk landing beyond it) is as legal and at most a sample longer.
+-- full-jerk landing beyond it) is as legal and at most a sample longer. At a fine time step
+-- with fast zones, where the rounding of the velocities alone puts a full-jerk ramp beyond
+-- the checker's slack, the seed is still legal, landed or met.
 module VProf.Profile.Generate.Seed.GreedySpec (spec) where
 
 import qualified Data.Vector.Unboxed as U
@@ -65,8 +67,63 @@ routeAbcd1ms = Problem
   , pbV0 = 0, pbA0 = 0, pbVEnd = 0, pbAEnd = 0, pbDt = 1e-3, pbDv = 1e-9
   , pbMaxIter = 100, pbBudget = 30, pbTol = 1e-2, pbAlgorithm = Band, pbSeedSearch = False }
 
+-- | Fast zones at a fine step: a route from rest to rest of one to three zones at 4 to 30
+-- m/s, 10 to 60 m long, at a 0.25 to 1 ms step.
+genFineFast :: Gen Problem
+genFineFast = do
+  nz <- choose (1, 3 :: Int)
+  speeds <- vectorOf nz (logUniform 4 30)
+  len <- logUniform 10 60
+  cuts <- vectorOf (nz - 1) (choose (0.1, 0.9))
+  aMin <- logUniform 0.5 4
+  aMax <- logUniform 0.5 4
+  jMin <- logUniform 0.5 8
+  jMax <- logUniform 0.5 8
+  dt <- logUniform 2.5e-4 1e-3
+  pure Problem
+    { pbLength = len, pbZoneStarts = U.fromList (0 : map (* len) (foldr insertSorted [] cuts)), pbZoneSpeeds = U.fromList speeds
+    , pbAMin = negate aMin, pbAMax = aMax, pbJMin = negate jMin, pbJMax = jMax
+    , pbV0 = 0, pbA0 = 0, pbVEnd = 0, pbAEnd = 0, pbDt = dt, pbDv = 1e-9
+    , pbMaxIter = 100, pbBudget = 10, pbTol = 1e-2, pbAlgorithm = Band, pbSeedSearch = False }
+  where
+    insertSorted x xs = let (a, b) = span (< x) xs in a ++ x : b
+
+-- | The first 100 m of kitti-00-first-2km (10 / 6.5 / 3 m/s from 0 / 60 / 80 m, -1.5 to
+-- 1 m/s², ±1 m/s³) at a 1 ms step.
+kittiFirst100m1ms :: Problem
+kittiFirst100m1ms = Problem
+  { pbLength = 100, pbZoneStarts = U.fromList [0, 60, 80], pbZoneSpeeds = U.fromList [10, 6.5, 3]
+  , pbAMin = -1.5, pbAMax = 1, pbJMin = -1, pbJMax = 1
+  , pbV0 = 0, pbA0 = 0, pbVEnd = 0, pbAEnd = 0, pbDt = 1e-3, pbDv = 1e-9
+  , pbMaxIter = 100, pbBudget = 30, pbTol = 1e-2, pbAlgorithm = Band, pbSeedSearch = False }
+
+-- | A moving end at a 0.2 ms step: 21.7 m at up to 2.6 m/s from rest to 1.08 m/s, a 0.36 m/s²
+-- deceleration ended by a 0.33 m/s³ jerk (a braking of some 30,000 steps from either end).
+movingEnd02ms :: Problem
+movingEnd02ms = Problem
+  { pbLength = 21.663841454587345, pbZoneStarts = U.fromList [0], pbZoneSpeeds = U.fromList [2.6033857184411544]
+  , pbAMin = -0.35884101889369846, pbAMax = 0.7159546673499497, pbJMin = -2.633391250585501, pbJMax = 0.332523413480545
+  , pbV0 = 0, pbA0 = 0, pbVEnd = 1.0765896382762787, pbAEnd = 0, pbDt = 2e-4, pbDv = 1e-9
+  , pbMaxIter = 100, pbBudget = 30, pbTol = 1e-2, pbAlgorithm = Band, pbSeedSearch = False }
+
 spec :: Spec
 spec = describe "the landing pass's probe schedule (long brakings at a fine time step)" $ do
+  it "kitti-00-first-2km's first 100 m at 1 ms: the seed is legal (full-jerk ramps at 8 m/s broke the jerk limit by 1.03e-9 m/s³ at 926 samples, by rounding)" $
+    case seed kittiFirst100m1ms of
+      Right v -> violations kittiFirst100m1ms v `shouldBe` []
+      Left f -> expectationFailure (show f)
+
+  it "fast zones at a 0.25 to 1 ms step: the seed is legal" $
+    withMaxSuccess 6 $ forAll genFineFast $ \pb ->
+      case seed pb of
+        Right v -> counterexample (show pb) $ counterexample (show (take 3 (violations pb v))) (null (violations pb v))
+        Left f -> counterexample (show pb ++ "\n" ++ show f) False
+
+  it "a moving end at 0.2 ms with a 6 s braking at either end: the two-sided meet's seed is legal" $
+    case seed movingEnd02ms of
+      Right v -> [ x | x <- check movingEnd02ms (Profile (pbDt movingEnd02ms) v 0 0), vRule x /= Crawl ] `shouldBe` []
+      Left f -> expectationFailure (show f)
+
   it "route-abcd at 1 ms: the seed is legal (the landing at the full jerk ends 8e-8 m/s³ beyond it by rounding)" $
     case seed routeAbcd1ms of
       Right v -> violations routeAbcd1ms v `shouldBe` []
@@ -74,7 +131,7 @@ spec = describe "the landing pass's probe schedule (long brakings at a fine time
 
   it "planned a little below the jerk limit, the landing is legal whenever the full-jerk one is, and at most a sample longer" $
     withMaxSuccess 25 $ forAll genLongBraking $ \pb ->
-      case (landingPass True pb, landingPassWith True jerkPlanMargin pb) of
+      case (landingPass True pb, landingPassWith True (jerkPlanMargin pb) pb) of
         (Just full, Just marg) ->
           counterexample (show pb) $
             counterexample ("samples: full jerk " ++ show (U.length full) ++ ", with the margin " ++ show (U.length marg)) $

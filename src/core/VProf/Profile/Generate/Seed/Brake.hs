@@ -19,6 +19,7 @@ module VProf.Profile.Generate.Seed.Brake
   , SeedEnv (..)
   , seedEnv
   , jerkPlanMargin
+  , jerkPlanMargins
   , dtE
   , stepTo
   , stepOk
@@ -32,6 +33,8 @@ module VProf.Profile.Generate.Seed.Brake
   , brakeBound
     -- * The oracle
   , brakeCheck
+  , brakeSimulate
+  , quickNeed
   , safe
   , policyFor
   , policyWith
@@ -48,6 +51,7 @@ module VProf.Profile.Generate.Seed.Brake
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Profile.Problem (Problem (..))
+import VProf.Profile.Problem.Transform (scaleJerk)
 import VProf.Profile.Request (maxSamples)
 import VProf.Profile.SpeedLimit
 
@@ -62,12 +66,11 @@ data SeedEnv = SeedEnv
   { ePb :: !Problem
   , eTerm :: !Term
   , eHard :: !Bool   -- ^ brake to standstill (through every limit) rather than to each limit
-  , eMargin :: !Double  -- ^ the share of the jerk limit the ramps are planned without (0, or 'jerkPlanMargin')
   }
 
--- | A pass's environment, planning at the full jerk.
+-- | A pass's environment.
 seedEnv :: Problem -> Term -> Bool -> SeedEnv
-seedEnv q term hard = SeedEnv q term hard 0
+seedEnv = SeedEnv
 
 -- | A velocity below this after a step is a standstill missed by rounding.
 velocityFloor :: Double
@@ -78,19 +81,39 @@ velocityFloor = 1e-12
 roundingSlack :: Double
 roundingSlack = 1e-12
 
--- | The share of the jerk limit a pass that plans with a margin ('eMargin') leaves out of
--- its ramps back to zero acceleration: the rounding a long ramp at the full jerk gathers in
--- the velocity (some 1e-13 m/s over thousands of steps at 1 ms) lands in its last step,
--- where at 1 ms it is a jerk some 1e-7 of the limit beyond it (the checker's slack is
--- 1e-9); a ramp planned below the limit takes it up on the way. Passes plan at the full
--- jerk first (a margin can cost a whole step at a coarse step), with it only when that
--- landing breaks a rule.
-jerkPlanMargin :: Double
-jerkPlanMargin = 1e-8
+-- | The share of the jerk range a pass that plans with a margin leaves out of every step
+-- (it runs on the problem with its jerk range narrowed by it, 'policyWith'): at least
+-- 1e-8, and at least twice the jerk a rounding of the fastest velocity makes,
+-- 2·ε·v_top/(dt²·|j|) (relative to the weaker jerk limit; at most a quarter). A pass plans
+-- every step at a planned jerk, but its samples are doubles: each velocity is rounded to
+-- its last bit, and the checker's jerk, a second difference over dt², carries that
+-- rounding divided by dt². At a 1 ms step a velocity of 8 m/s is exact to 1.8e-15 m/s, a
+-- jerk to 1.8e-9 m/s³, beyond the checker's slack of 1e-9 (kitti-00-first-2km's first
+-- 100 m at 1 ms: a ramp at the full jerk broke it at 926 samples). A long ramp back to zero
+-- acceleration also gathers rounding in its last step (route-abcd at 1 ms: 8e-8 m/s³
+-- beyond a 0.5 m/s³ limit). Passes plan at the full jerk first (a margin can cost a whole
+-- step at a coarse step), with it only when that landing breaks a rule.
+jerkPlanMargin :: Problem -> Double
+jerkPlanMargin q = min 0.25 (max 1e-8 (2 * epsilon * vTop / (dt * dt * jWeak)))
+  where
+    epsilon = 2.220446049250313e-16
+    dt = pbDt q
+    jWeak = min (negate (pbJMin q)) (pbJMax q)
+    vTop = maximum (pbV0 q : pbVEnd q : U.toList (pbZoneSpeeds q))
+
+-- | The margins a landing that breaks a rule is planned again with, in turn: 'jerkPlanMargin',
+-- and a hundred and ten thousand times it (at most a quarter). The rounding a long ramp back
+-- to zero acceleration gathers in its last step is not bounded by the velocity's last bit:
+-- kitti-00-first-2km's first 100 m at 1 ms, planned with 1e-8 of the jerk range left out,
+-- still ended 5.8e-8 m/s³ beyond it; with 1e-6, legal. Each costs a pass, only when the
+-- one before it lands and breaks a rule, and even 1e-4 of the range lengthens a ramp by
+-- 1e-4 of its time.
+jerkPlanMargins :: Problem -> [Double]
+jerkPlanMargins q = takeWhile (<= 0.25) [ m, 100 * m, 10000 * m ] where m = jerkPlanMargin q
 
 -- | The jerk step the brake policy plans its ramps with.
 planJerkStep :: SeedEnv -> Double
-planJerkStep e = pbJMax (ePb e) * dtE e * (1 - eMargin e)
+planJerkStep e = pbJMax (ePb e) * dtE e
 {-# INLINE planJerkStep #-}
 
 -- | How far a root of the brake policy may sit outside its ramp interval and still count.
@@ -296,12 +319,42 @@ brakeNeed pb v a l =
       d3 = v3 * t3 - ap * t3 * t3 / 2 + j2 * t3 * t3 * t3 / 6
   in if dv <= 0 then d0 else d0 + d1 + d2 + d3
 
--- | A fast sufficient test for states that cruise or accelerate: every lower limit within
--- reach (and the terminal) is further away than the continuous braking distance plus a
--- margin of 'quickMarginSteps' steps at the peak velocity.
+-- | The continuous-time distance to bring (v, a < 0) down to velocity l with the
+-- acceleration back at zero, braking as hard as the ranges allow: a further down to the
+-- peak deceleration (a_min, or less for a small drop), a hold, and the ramp back. When the
+-- ramp back alone sheds more than v − l, the distance until the acceleration is back at
+-- zero (the velocity is below l by then), unless the velocity would sink below zero on the
+-- way: Nothing (derivation in docs/profile-generator.md).
+brakeNeedFalling :: Problem -> Double -> Double -> Double -> Maybe Double
+brakeNeedFalling pb v a l
+  | v - a0 * a0 / (2 * j2) < 0 = Nothing
+  | dv <= a0 * a0 / (2 * j2) = Just (v * t0 - a0 * t0 * t0 / 2 + j2 * t0 * t0 * t0 / 6)
+  | otherwise = Just (d1 + d2 + d3)
+  where
+    j1 = abs (pbJMin pb); j2 = pbJMax pb; am = abs (pbAMin pb)
+    a0 = negate a
+    dv = v - l
+    t0 = a0 / j2
+    -- the velocity shed by a ramp from a0 to ap, a hold at ap and the ramp back
+    full = (am * am - a0 * a0) / (2 * j1) + am * am / (2 * j2)
+    (ap, t2) = if dv >= full then (am, (dv - full) / am)
+               else (max a0 (sqrt ((dv + a0 * a0 / (2 * j1)) / (1 / (2 * j1) + 1 / (2 * j2)))), 0)
+    t1 = (ap - a0) / j1; t3 = ap / j2
+    d1 = v * t1 - a0 * t1 * t1 / 2 - j1 * t1 * t1 * t1 / 6
+    v1 = v - a0 * t1 - j1 * t1 * t1 / 2
+    d2 = v1 * t2 - ap * t2 * t2 / 2
+    v2 = v1 - ap * t2
+    d3 = v2 * t3 - ap * t3 * t3 / 2 + j2 * t3 * t3 * t3 / 6
+
+-- | A fast sufficient test: every lower limit within reach (and the terminal) is further
+-- away than the continuous braking distance plus a margin of 'quickMarginSteps' steps at
+-- the peak velocity. From a falling acceleration the braking continues from it
+-- ('brakeNeedFalling'): a pass that ramps its deceleration back up at a weak jerk, far
+-- from the edge, probes at every step, and without this each probe would run the whole
+-- braking.
 quickNeed :: SeedEnv -> St -> Bool
 quickNeed e st@(St v a s)
-  | a < 0 || eHard e = False
+  | eHard e = False
   | otherwise =
       vPeak <= limitAt pb s
         && all zoneOk (zonesIn s (s + d))
@@ -311,10 +364,13 @@ quickNeed e st@(St v a s)
     (d, vPeak) = brakeBound e st
     margin = vPeak * quickMarginSteps * pbDt pb + quickMarginM
     Term p vt = eTerm e
-    zoneOk (z, l) = l >= vPeak || brakeNeed pb v a l + margin <= z - s
+    need l | a >= 0 = Just (brakeNeed pb v a l)
+           | otherwise = brakeNeedFalling pb v a l
+    fits l room = maybe False (\x -> x + margin <= room) (need l)
+    zoneOk (z, l) = l >= vPeak || fits l (z - s)
     terminalOk
-      | vt <= 0 = s + d <= p || brakeNeed pb v a 0 + margin <= p - s
-      | otherwise = s + d < p || vPeak <= vt || brakeNeed pb v a vt + margin <= p - s
+      | vt <= 0 = s + d <= p || fits 0 (p - s)
+      | otherwise = s + d < p || vPeak <= vt || fits vt (p - s)
     zonesIn lo hi =
       let starts = pbZoneStarts pb; speeds = pbZoneSpeeds pb
           i0 = zoneIndex pb lo + 1
@@ -327,7 +383,12 @@ quickNeed e st@(St v a s)
 brakeCheck :: SeedEnv -> St -> Either (St, St) ()
 brakeCheck e st0
   | quickNeed e st0 = Right ()
-  | otherwise = go st0 (0 :: Int)
+  | otherwise = brakeSimulate e st0
+
+-- | The oracle without 'quickNeed': the brake policy run step by step (its own bound test,
+-- no lower limit and no terminal within the braking's reach, ends it early).
+brakeSimulate :: SeedEnv -> St -> Either (St, St) ()
+brakeSimulate e st0 = go st0 (0 :: Int)
   where
     pb = ePb e
     Term p vt = eTerm e
@@ -371,10 +432,13 @@ safe e st = either (const False) (const True) (brakeCheck e st)
 policyFor :: Problem -> Term -> St -> Either (St, St) SeedEnv
 policyFor = policyWith 0
 
--- | 'policyFor' for passes that plan their ramps with a margin below the jerk limit.
+-- | 'policyFor' for passes that plan every step with this share of the jerk range left out
+-- ('jerkPlanMargin'): the pass runs on the problem with its jerk range narrowed by it, so
+-- its profile is within the problem's range by the margin.
 policyWith :: Double -> Problem -> Term -> St -> Either (St, St) SeedEnv
-policyWith margin q term st0 =
-  let gentle = SeedEnv q term False margin
+policyWith margin q0 term st0 =
+  let q = if margin > 0 then scaleJerk (1 - margin) q0 else q0
+      gentle = SeedEnv q term False
       hard = gentle { eHard = True }
   in case (brakeCheck gentle st0, brakeCheck hard st0) of
        (Right (), _) -> Right gentle

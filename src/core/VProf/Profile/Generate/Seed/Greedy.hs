@@ -20,7 +20,7 @@ import VProf.Profile.Generate.Seed.Brake
 import VProf.Profile.Generate.Seed.Explain (num)
 import VProf.Profile.Problem (Problem (..))
 import VProf.Profile.Request (maxSamples)
-import VProf.Profile.SpeedLimit (limitAt)
+import VProf.Profile.SpeedLimit (limitAt, zoneIndex)
 
 -- | The most steps a pass takes: the sample cap and two. A pass is never slower than the
 -- profile made of it (the landing pass is the seed; the meet's profile lies under both of
@@ -59,7 +59,7 @@ choose :: SeedEnv -> St -> St
 choose e = fst . chooseStep e
 
 -- | 'choose', and whether the step is the brake policy's own because nothing above it
--- was safe (the probe failed).
+-- was safe (the probe failed) or in range.
 chooseStep :: SeedEnv -> St -> (St, Bool)
 chooseStep e st@(St v _ s) =
   let dt = dtE e
@@ -89,7 +89,11 @@ chooseStep e st@(St v _ s) =
       -- instead of standing still for ever
       creep = search aB probe fallback creepSteps
       unsafeProbe = if standing st then creep else fallback
-  in if stA st < 0
+      -- nothing above the brake policy is reachable (its ramp back at the full jerk): its
+      -- step, safe by the oracle's invariant, without a probe (each would run the braking)
+      noRoom = hi <= aB + roundingSlack * max 1 (abs aB)
+  in if noRoom && not (standing st) then (fallback, True)
+     else if stA st < 0
        then maybe (fallback, True) (\stP -> (maybe (bisectFrom stP) id (try hi), False)) (try probe)
        else maybe (maybe (unsafeProbe, True) (\stP -> (bisectFrom stP, False)) (try probe)) (\stH -> (stH, False)) (try hi)
 
@@ -109,27 +113,70 @@ brakeStep :: SeedEnv -> St -> St
 brakeStep e st = snapToTerminal e st (stepTo e st (brakeAcc e st))
 {-# INLINE brakeStep #-}
 
--- | Steps of a pass with their count of brake-policy steps in a row ('chooseStep''s flag).
+-- | The next steps of a pass (one or more), each with the schedule after it and whether
+-- it was taken without a probe.
 --
 -- Every probe asks the oracle, which runs the brake policy from the probed state to its
 -- target, so where that braking is long a probe costs all of it, and probing at every one
 -- of the B steps of a braking costs B²/2 oracle steps (B = 6,500 at a 1 ms step: 1.7 s for
 -- one pass). So where the oracle's braking would take more than 'probeAllWithin' steps
 -- (its continuous-time estimate), after n brake-policy steps in a row the pass probes only
--- when n is a power of two up to 'probeInterval' and at every multiple of it after; in
--- between it takes the brake policy's step. That step is always safe (the policy from a
--- state it keeps continues the same manoeuvre), so only the gain of a probe that would
--- have passed is forgone; the last 'probeAllWithin' steps of a braking, where it lands on
--- its target riding the oracle's edge, are probed at every step as before, and so is every
--- step of a pass whose brakings are shorter (any pass at a coarse time step). A braking of
--- B steps then costs O(B²/64 + 'probeAllWithin'²).
--- The flag tells a step taken without a probe.
-scheduledStep :: SeedEnv -> (St, Int) -> ((St, Int), Bool)
-scheduledStep e (st, n)
-  | n > 0, not due, not (standing st), longBraking = ((brakeStep e st, n + 1), True)
-  | otherwise = let (st', fell) = chooseStep e st in ((st', if fell then n + 1 else 0), False)
+-- when n is a power of two up to an interval and at every multiple of it after, and takes
+-- the brake policy's steps in between. The interval is 'probeInterval' (64), or a
+-- 'probeShare'th (1/64) of the braking's steps left when that is more: some 64 probes in a
+-- braking of B steps, each at most B oracle steps, O(64·B + 'probeAllWithin'²) in all (a
+-- fixed interval of 64 costs B²/64: 14 M oracle steps for a 6 s braking at a 0.2 ms step).
+-- The last 'probeAllWithin' steps of a braking, where it lands on its target riding the
+-- oracle's edge, are probed at every step, and so is every step of a pass whose brakings
+-- are shorter (any pass at a coarse time step).
+--
+-- The brake policy's steps are always safe (the policy from a state it keeps continues the
+-- same manoeuvre), but a probe that would have passed between two scheduled ones is a
+-- gain forgone, and a large one where the jerk that ends a braking is weak: the pass brakes
+-- on, and takes long to recover (a landing at a 12 ms step lost 16 %). So when a scheduled
+-- probe passes, the pass goes back over the policy's steps since the last one and finds by
+-- bisection the first at which the probe passes, and continues from there: where the
+-- probes along the policy's steps fail up to some step and pass from it on, the pass is the
+-- every-step pass, for some log₂ of the interval probes more. That is not always so: where
+-- a zone is entered, the braking for it is over and the probes pass for a few steps, and
+-- then the policy's braking for the next target reaches the edge again. So a probe that
+-- passes restarts the count, and so does a new manoeuvre: a new target of the brake
+-- policy, or a new zone (a landing at a 12 ms step whose probes passed for 20 steps on
+-- entering a zone lost 16 % without).
+scheduledSteps :: SeedEnv -> (St, Sched) -> [((St, Sched), Bool)]
+scheduledSteps e (st, Sched n0 target0 zone0)
+  | n > 0, not due, not (standing st), longBraking = gallop
+  | otherwise = [probed st n]
   where
-    due = if n <= probeInterval then popCount n == 1 else n `mod` probeInterval == 0
+    -- a new target or a new zone is a new manoeuvre: its count starts again, with a probe
+    target = brakeTarget e st
+    zone = zoneIndex pb (stS st)
+    n = if target == target0 && zone == zone0 then n0 else 0
+    dueAt m = if m <= interval then popCount m == 1 else m `mod` interval == 0
+    due = dueAt n
+    -- the probe's step, from a state reached after m brake-policy steps
+    probedAs m (x', fell) = ((x', Sched (if fell then m + 1 else 0) target zone), False)
+    probed x m = probedAs m (chooseStep e x)
+    -- the policy's steps up to the next scheduled probe (cut where the target or the zone
+    -- changes or the pass comes to rest), and the probes from them, each made at most once
+    gap = head [ k | k <- [1 ..], dueAt (n + k) ]
+    run = takeUntil (\x -> standing x || brakeTarget e x /= target || zoneIndex pb (stS x) /= zone) (take gap (tail (iterate (brakeStep e) st)))
+    choices = map (chooseStep e) run
+    passesAt i = not (snd (choices !! (i - 1)))
+    skippedTo k = [ ((x, Sched (n + i) target zone), True) | (i, x) <- zip [1 ..] (take k run) ]
+    gallop
+      | length run < gap = skippedTo (length run)
+      | not (passesAt gap) = skippedTo gap ++ [probedAs (n + gap) (choices !! (gap - 1))]
+      | otherwise =
+          -- the first of the run at which the probe passes, by bisection (lo fails, hi passes)
+          let first lo hi | hi - lo <= 1 = hi
+                          | otherwise = let mid = (lo + hi) `div` 2 in if passesAt mid then first lo mid else first mid hi
+              k = first 0 gap
+          in skippedTo k ++ [probedAs (n + k) (choices !! (k - 1))]
+    -- a 64th of the braking's steps (a power of two, at least 'probeInterval')
+    interval = let b = left / dtE e / fromIntegral probeShare
+               in if b < fromIntegral (2 * probeInterval) then probeInterval
+                  else 2 ^ (floor (logBase 2 b) :: Int)
     pb = ePb e
     St v a _ = st
     am = negate (pbAMin pb)
@@ -139,16 +186,34 @@ scheduledStep e (st, n)
     -- then the velocity still above the policy's target shed by a ramp down to a peak
     -- deceleration (the full one, or less for a small drop), a hold, and a ramp back
     ap0 = max 0 a
-    drop = max 0 (v + ap0 * ap0 / (2 * j1) - brakeTarget e st)
+    drop = max 0 (v + ap0 * ap0 / (2 * j1) - target)
     ramps = 1 / j1 + 1 / j2
     peak = min am (sqrt (2 * drop / ramps))
     hold = if peak > 0 then max 0 (drop - peak * peak * ramps / 2) / peak else 0
     left = ap0 / j1 + peak * ramps + hold
     longBraking = left > fromIntegral probeAllWithin * dtE e
 
--- | The longest run of brake-policy steps between probes of a long manoeuvre.
+-- | The schedule's state: brake-policy steps in a row, and the brake policy's target and
+-- the zone then.
+data Sched = Sched !Int !Double !Int
+
+-- | The elements of a list up to and including the first for which the test holds.
+takeUntil :: (a -> Bool) -> [a] -> [a]
+takeUntil _ [] = []
+takeUntil f (x : xs) = x : (if f x then [] else takeUntil f xs)
+
+-- | A pass starts with no braking behind it.
+startSched :: Sched
+startSched = Sched 0 (-1) (-1)
+
+-- | The least run of brake-policy steps between probes of a long manoeuvre.
 probeInterval :: Int
 probeInterval = 64
+
+-- | A long braking's run between probes is its steps left over this (rounded down to a
+-- power of two), when that is more than 'probeInterval'.
+probeShare :: Int
+probeShare = 64
 
 -- | A braking is probed at every step once fewer than this many of its steps are left.
 probeAllWithin :: Int
@@ -175,7 +240,7 @@ standing (St v a _) = v <= restVelocity && abs a <= restVelocity
 -- approach the terminal in a staircase of ever slower plateaus (a crawl of seconds on a
 -- route of centimetres). A hard step that a limit forbids falls back on the gentle one.
 --
--- With @scheduled@ the pass probes a long manoeuvre only now and then ('scheduledStep');
+-- With @scheduled@ the pass probes a long manoeuvre only now and then ('scheduledSteps');
 -- without, at every step.
 forward :: Bool -> SeedEnv -> Double -> Int -> St -> [St]
 forward scheduled e landTol limit = map fst . forwardMarked scheduled e landTol limit
@@ -184,17 +249,22 @@ forward scheduled e landTol limit = map fst . forwardMarked scheduled e landTol 
 -- without @scheduled@; never either where every braking is short, so that a scheduled pass
 -- with no mark is the every-step pass).
 forwardMarked :: Bool -> SeedEnv -> Double -> Int -> St -> [(St, Bool)]
-forwardMarked scheduled e landTol limit st0 = go 0 (st0, 0)
+forwardMarked scheduled e landTol limit st0 = go 0 (st0, startSched)
   where
     p = tP (eTerm e)
     eStop = e { eHard = True }
-    step sk@(st, _) = if scheduled then scheduledStep e sk else ((choose e st, 0), False)
+    steps sk@(st, sc) = if scheduled then scheduledSteps e sk else [((choose e st, sc), False)]
     go n sk@(st, _)
       | n >= limit = []
       | stS st >= p - landTol = finishBraking st (n :: Int)
+      | otherwise = walk n st (steps sk)
+    -- the steps one at a time, each checked as 'go' checks a state before it steps on
+    walk n st ((sk'@(st', _), skipped) : rest)
       -- at rest and staying there: the pass cannot go on (the landing reports where it stopped)
-      | otherwise = let (sk'@(st', _), skipped) = step sk
-                    in if standing st && standing st' then [] else (st', skipped) : go (n + 1) sk'
+      | standing st && standing st' = []
+      | null rest || n + 1 >= limit || stS st' >= p - landTol = (st', skipped) : go (n + 1) sk'
+      | otherwise = (st', skipped) : walk (n + 1) st' rest
+    walk n st [] = go n (st, startSched)
     finishBraking st n
       | atRest e st || n >= limit = []
       | stV st <= restVelocity =
@@ -206,10 +276,17 @@ forwardMarked scheduled e landTol limit st0 = go 0 (st0, 0)
           in (st', False) : finishBraking st' (n + 1)
 
 -- | The greedy pass from a state: the states after it, up to the first for which @done@
--- holds, at most @n@.
-passFrom :: SeedEnv -> Int -> (St -> Bool) -> St -> [St]
-passFrom e n done = go n
+-- holds, at most @n@; with @scheduled@ probing a long braking only now and then
+-- ('scheduledSteps'), without at every step.
+passFrom :: Bool -> SeedEnv -> Int -> (St -> Bool) -> St -> [St]
+passFrom scheduled e n done st0 = go n (st0, startSched)
   where
-    go k st
+    steps sk@(st, sc) = if scheduled then map fst (scheduledSteps e sk) else [(choose e st, sc)]
+    go k sk
       | k <= 0 = []
-      | otherwise = let st' = choose e st in st' : (if done st' then [] else go (k - 1) st')
+      | otherwise = walk k (steps sk)
+    walk k (sk'@(st', _) : rest)
+      | done st' = [st']
+      | null rest || k - 1 <= 0 = st' : go (k - 1) sk'
+      | otherwise = st' : walk (k - 1) rest
+    walk _ [] = []

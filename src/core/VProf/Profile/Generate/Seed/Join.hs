@@ -62,6 +62,7 @@ data MeetContext = MeetContext
   , mcEnvelope :: U.Vector Double    -- ^ the lower envelope at those positions, up to the route end
   , mcPeak     :: Int                -- ^ the index of the envelope's highest point
   , mcTop      :: Double             -- ^ the envelope's highest point
+  , mcScheduled :: Bool              -- ^ the passes probe long brakings only now and then
   }
 
 -- | A pass's states, unboxed (velocity, acceleration, position): a boxed list of them
@@ -119,9 +120,10 @@ stretchMarginSteps :: Double
 stretchMarginSteps = 2
 
 -- | The two passes of the meet and their lower envelope, or why an end state cannot be
--- passed at all.
-meetContext :: Problem -> Either SeedFailure MeetContext
-meetContext pb = do
+-- passed at all; with @scheduled@ every pass of the meet probes long brakings only now and
+-- then ('VProf.Profile.Generate.Seed.Greedy.scheduledSteps').
+meetContext :: Bool -> Problem -> Either SeedFailure MeetContext
+meetContext scheduled pb = do
   let rv = mirror pb
       rt0 = St (pbVEnd pb) (pbA0 rv) 0
       st0 = St (pbV0 pb) (pbA0 pb) 0
@@ -131,8 +133,8 @@ meetContext pb = do
   if sinksBelowZero rv then Left (endAccFailure pb) else Right ()
   fEnv <- either (Left . startInfeasible pb (seedEnv pb fTerm True)) Right (policyFor pb fTerm st0)
   bEnv <- either (Left . endInfeasible pb (seedEnv rv bTerm True)) Right (policyFor rv bTerm rt0)
-  let fAll = toPass (st0 : passFrom fEnv passStepCap (\st -> stS st >= len) st0)
-      bAll = toPass (rt0 : passFrom bEnv passStepCap (\st -> stS st >= len) rt0)
+  let fAll = toPass (st0 : passFrom scheduled fEnv passStepCap (\st -> stS st >= len) st0)
+      bAll = toPass (rt0 : passFrom scheduled bEnv passStepCap (\st -> stS st >= len) rt0)
       (fV, _, fS) = U.unzip3 fAll
       (bV, _, bS) = U.unzip3 bAll
       unfinished ss = U.length ss > passStepCap && U.last ss < len
@@ -145,7 +147,8 @@ meetContext pb = do
       kStar = U.maxIndex h
   pure MeetContext
     { mcPb = pb, mcMirror = rv, mcStart = st0, mcEnd = rt0, mcFEnv = fEnv, mcBEnv = bEnv
-    , mcFAll = fAll, mcBAll = bAll, mcFS = fS, mcEnvelope = h, mcPeak = kStar, mcTop = h U.! kStar }
+    , mcFAll = fAll, mcBAll = bAll, mcFS = fS, mcEnvelope = h, mcPeak = kStar, mcTop = h U.! kStar
+    , mcScheduled = scheduled }
 
 -- | The start pass must be able to come down to the end velocity by the route end; the
 -- end pass (backwards) to the start velocity by the route start.
@@ -196,8 +199,8 @@ cappedOn c base rv fFree bFree v alpha beta = do
       pB = capOn (len - beta) (len + capPastEnd) v rv
   fE <- either (const Nothing) Just (policyFor pF (forwardTerm (mcPb c)) st0)
   bE <- either (const Nothing) Just (policyFor pB (backwardTerm (mcPb c)) rt0)
-  let fRun = resume (mcFEnv c) fE fFree alpha st0 (\st -> stS st > beta || stS st >= alpha && cruising v st)
-      bRun = resume (mcBEnv c) bE bFree (len - beta) rt0 (\st -> stS st > len - alpha || stS st >= len - beta && cruising v st)
+  let fRun = resume (mcScheduled c) (mcFEnv c) fE fFree alpha st0 (\st -> stS st > beta || stS st >= alpha && cruising v st)
+      bRun = resume (mcScheduled c) (mcBEnv c) bE bFree (len - beta) rt0 (\st -> stS st > len - alpha || stS st >= len - beta && cruising v st)
   fi <- lastMaybe fRun
   bm <- lastMaybe bRun
   guardM (cruising v fi && cruising v bm)
@@ -206,12 +209,12 @@ cappedOn c base rv fFree bFree v alpha beta = do
 -- | A capped pass follows the uncapped one for as long as the cap lies beyond the reach
 -- of every brake test it makes (twice the braking reach, plus a metre): it resumes from
 -- there rather than from the start.
-resume :: SeedEnv -> SeedEnv -> [St] -> Double -> St -> (St -> Bool) -> [St]
-resume e0 e1 free cut start stop =
+resume :: Bool -> SeedEnv -> SeedEnv -> [St] -> Double -> St -> (St -> Bool) -> [St]
+resume scheduled e0 e1 free cut start stop =
   let shared = if eHard e0 /= eHard e1 then []
                else takeWhile (\st -> let (d, _) = brakeBound e0 st in stS st + resumeReaches * d + resumeMarginM < cut) free
       from = if null shared then start else last shared
-  in shared ++ passFrom e1 passStepCap stop from
+  in shared ++ passFrom scheduled e1 passStepCap stop from
 
 -- | k steps at the plateau level, from the forward pass's cruise sample to the backward
 -- pass's, cover this much more than the gap.

@@ -4,8 +4,10 @@
 -- runs from both sides, from the start state forwards and on the mirror from the end
 -- state backwards ("VProf.Profile.Generate.Seed.Join"), and the 'strategies' of
 -- "VProf.Profile.Generate.Seed.Strategy" join them, in order; the first legal profile
--- is the seed. When none joins, the exact join's proof may still show that no profile
--- exists; otherwise the failure is the generator's and says which strategies it tried.
+-- is the seed. When none joins, the meet runs again with its passes planned a little
+-- inside the jerk range, and with passes that probe every step. When none of them joins,
+-- the exact join's proof may still show that no profile exists; otherwise the failure is
+-- the generator's and says which strategies it tried.
 --
 -- Invariant: 'meet' returns only profiles the checker finds legal, and claims
 -- infeasibility only with a failed brake policy or a verified proof behind it.
@@ -18,19 +20,58 @@ import Data.List (intercalate)
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Profile.Generate.Exact (noProfileFits)
+import VProf.Profile.Generate.Seed.Brake (jerkPlanMargins)
 import VProf.Profile.Generate.Seed.Explain
 import VProf.Profile.Generate.Seed.Join
 import VProf.Profile.Generate.Seed.Strategy
 import VProf.Profile.Problem (Problem (..))
+import VProf.Profile.Problem.Transform (scaleJerk)
 
 -- | A moving end state: the two-sided meet, with every strategy.
 meet :: Problem -> Either SeedFailure (U.Vector Double)
 meet = meetWith strategies
 
--- | The meet with the given strategies, tried in order.
+-- | The meet with the given strategies, tried in order, with passes that probe long
+-- brakings only now and then; when no strategy joins them, the same with passes planned a
+-- little inside the jerk range ('jerkPlanMargins': at a fine time step the rounding of the
+-- velocities can put every join a hair beyond the jerk limit), and last with passes that
+-- probe at every step (each only where it can matter). Any of them is legal for the problem (a profile within the narrower
+-- jerk range is within its range); the first failure is the answer when all fail.
 meetWith :: [Strategy] -> Problem -> Either SeedFailure (U.Vector Double)
-meetWith tried pb = do
-  c <- meetContext pb
+meetWith tried pb = case meetOn True pb of
+  Left f@(LandingFailed _) -> maybe (Left f) Right (firstRight fallbacks)
+  r -> r
+  where
+    meetOn scheduled q = meetTried tried scheduled q
+    -- only where they can change anything: the margins where the velocities' rounding is
+    -- within a hundredth of the checker's slack in jerk (a fine step), the every-step passes
+    -- where a braking can outlast the schedule's 512 steps
+    fallbacks = [ meetOn True (scaleJerk (1 - m) pb) | roundingMatters pb, m <- jerkPlanMargins pb ]
+                ++ [ meetOn False pb | longBrakingPossible pb ]
+    firstRight rs = case [ v | Right v <- rs ] of
+      v : _ -> Just v
+      [] -> Nothing
+
+-- | The jerk a rounding of the fastest velocity makes is at least a hundredth of the
+-- checker's slack (1e-9 of the limit): 2·ε·v_top/(dt²·|j|) >= 1e-11.
+roundingMatters :: Problem -> Bool
+roundingMatters pb = 2 * 2.220446049250313e-16 * vTop / (pbDt pb * pbDt pb * jWeak) >= 1e-11
+  where
+    jWeak = min (negate (pbJMin pb)) (pbJMax pb)
+    vTop = maximum (pbV0 pb : pbVEnd pb : U.toList (pbZoneSpeeds pb))
+
+-- | A braking from the fastest limit to rest (ramps and hold, continuous time) lasts more
+-- than the 512 steps below which the passes probe every step anyway.
+longBrakingPossible :: Problem -> Bool
+longBrakingPossible pb = vTop / am + am / negate (pbJMin pb) + am / pbJMax pb > 512 * pbDt pb
+  where
+    am = negate (pbAMin pb)
+    vTop = maximum (pbV0 pb : pbVEnd pb : U.toList (pbZoneSpeeds pb))
+
+-- | One meet: the passes (scheduled or not) and the strategies in order.
+meetTried :: [Strategy] -> Bool -> Problem -> Either SeedFailure (U.Vector Double)
+meetTried tried scheduled pb = do
+  c <- meetContext scheduled pb
   case concatMap (`strategyJoins` c) tried of
     (p : _) -> Right p
     []
