@@ -10,38 +10,26 @@ import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 import Test.QuickCheck
 
+import Support.Routes (Ranges (..), genRestRoute, restRoute)
 import Support.Wide (logUniform)
 import VProf.Profile.Generate.Seed.Brake
-import VProf.Profile.Problem (Algorithm (..), Problem (..))
+import VProf.Profile.Problem (Problem (..))
 
 -- | A problem of one to five zones (0.2 to 30 m/s) with wide ranges, at a 0.1 to 100 ms step,
 -- and a state on it: anywhere, at up to 1.2 times its zone's limit, with an acceleration
--- across the whole range (falling ones half the time).
+-- across the whole range (falling ones half the time), and a terminal at the route end to be
+-- passed at rest or at up to the fastest limit.
 genCase :: Gen (Problem, St, Term)
 genCase = do
-  nz <- choose (1, 5 :: Int)
-  speeds <- vectorOf nz (logUniform 0.2 30)
-  len <- logUniform 1 2000
-  cuts <- vectorOf (nz - 1) (choose (0.02, 0.98))
-  aMin <- logUniform 0.1 5
-  aMax <- logUniform 0.1 5
-  jMin <- logUniform 0.05 20
-  jMax <- logUniform 0.05 20
-  dt <- logUniform 1e-4 0.1
-  let starts = 0 : map (* len) (foldr insertSorted [] cuts)
-      pb = Problem
-        { pbLength = len, pbZoneStarts = U.fromList starts, pbZoneSpeeds = U.fromList speeds
-        , pbAMin = negate aMin, pbAMax = aMax, pbJMin = negate jMin, pbJMax = jMax
-        , pbV0 = 0, pbA0 = 0, pbVEnd = 0, pbAEnd = 0, pbDt = dt, pbDv = 1e-9
-        , pbMaxIter = 100, pbBudget = 10, pbTol = 1e-2, pbAlgorithm = Band, pbSeedSearch = False }
+  pb <- genRestRoute 5 (0.2, 30) (1, 2000) (0.1, 5) (0.05, 20) (const (logUniform 1e-4 0.1)) 1e-2
+  let len = pbLength pb
+      zones = zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb))
   s <- choose (0, len)
-  let zoneLimit = last (speeds !! 0 : [ v | (z, v) <- zip starts speeds, z <= s ])
+  let zoneLimit = last [ v | (z, v) <- zones, z <= s ]
   v <- choose (0, 1.2 * zoneLimit)
-  a <- oneof [choose (negate aMin, 0), choose (0, aMax)]
-  vt <- oneof [pure 0, choose (0, maximum speeds)]
+  a <- oneof [choose (pbAMin pb, 0), choose (0, pbAMax pb)]
+  vt <- oneof [pure 0, choose (0, U.maximum (pbZoneSpeeds pb))]
   pure (pb, St v a s, Term len vt)
-  where
-    insertSorted x xs = let (l, r) = span (< x) xs in l ++ x : r
 
 spec :: Spec
 spec = describe "the oracle's fast test and the jerk margins" $ do
@@ -54,11 +42,7 @@ spec = describe "the oracle's fast test and the jerk margins" $ do
              not accepted || either (const False) (const True) (brakeSimulate e st)
 
   it "quickNeed accepts some falling states far from every lower limit (the test is not vacuous)" $
-    let pb = Problem
-          { pbLength = 100, pbZoneStarts = U.fromList [0, 80], pbZoneSpeeds = U.fromList [10, 3]
-          , pbAMin = -1.5, pbAMax = 1, pbJMin = -1, pbJMax = 0.3
-          , pbV0 = 0, pbA0 = 0, pbVEnd = 0, pbAEnd = 0, pbDt = 1e-3, pbDv = 1e-9
-          , pbMaxIter = 100, pbBudget = 10, pbTol = 1e-2, pbAlgorithm = Band, pbSeedSearch = False }
+    let pb = restRoute 100 [10, 3] [0.8] (Ranges 1.5 1 1 0.3) 1e-3 1e-2
         e = seedEnv pb (Term 100 0) False
     in do
       quickNeed e (St 5 (-0.5) 10) `shouldBe` True

@@ -11,6 +11,7 @@ import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 import Test.QuickCheck
 
+import Support.Routes (Ranges (..), genRestRoute, restRoute)
 import Support.Wide (logUniform)
 import VProf.Profile.Generate.Seed (seed)
 import VProf.Profile.Generate.Seed.Brake (St (..), Term (..), jerkPlanMargin, policyWith)
@@ -22,26 +23,14 @@ import VProf.Profile.Sampled (Profile (..))
 -- | A route from rest to rest of one to four zones whose brakings span some 600 to 2,000
 -- steps: the time step is the braking time from the highest limit over that many steps.
 genLongBraking :: Gen Problem
-genLongBraking = do
-  nz <- choose (1, 4 :: Int)
-  speeds <- vectorOf nz (logUniform 0.3 5)
-  len <- logUniform 5 200
-  cuts <- vectorOf (nz - 1) (choose (0.05, 0.95))
-  aMin <- logUniform 0.2 3
-  aMax <- logUniform 0.2 3
-  jMin <- logUniform 0.1 5
-  jMax <- logUniform 0.1 5
-  steps <- choose (600, 2000 :: Double)
-  let vTop = maximum speeds
-      tBrake = vTop / aMin + aMin / jMin + aMin / jMax
-      starts = 0 : map (* len) (foldr insertSorted [] cuts)
-  pure Problem
-    { pbLength = len, pbZoneStarts = U.fromList starts, pbZoneSpeeds = U.fromList speeds
-    , pbAMin = negate aMin, pbAMax = aMax, pbJMin = negate jMin, pbJMax = jMax
-    , pbV0 = 0, pbA0 = 0, pbVEnd = 0, pbAEnd = 0, pbDt = tBrake / steps, pbDv = 1e-9
-    , pbMaxIter = 100, pbBudget = 10, pbTol = 1e-3, pbAlgorithm = Band, pbSeedSearch = False }
+genLongBraking = genRestRoute 4 (0.3, 5) (5, 200) (0.2, 3) (0.1, 5) stepFor 1e-3
   where
-    insertSorted x xs = let (a, b) = span (< x) xs in a ++ x : b
+    stepFor pb = do
+      steps <- choose (600, 2000 :: Double)
+      let vTop = U.maximum (pbZoneSpeeds pb)
+          aMin = negate (pbAMin pb)
+          tBrake = vTop / aMin + aMin / negate (pbJMin pb) + aMin / pbJMax pb
+      pure (tBrake / steps)
 
 -- | The landing pass's velocities (v_0 first), probing on the schedule or at every step.
 landingPass :: Bool -> Problem -> Maybe (U.Vector Double)
@@ -70,32 +59,12 @@ routeAbcd1ms = Problem
 -- | Fast zones at a fine step: a route from rest to rest of one to three zones at 4 to 30
 -- m/s, 10 to 60 m long, at a 0.25 to 1 ms step.
 genFineFast :: Gen Problem
-genFineFast = do
-  nz <- choose (1, 3 :: Int)
-  speeds <- vectorOf nz (logUniform 4 30)
-  len <- logUniform 10 60
-  cuts <- vectorOf (nz - 1) (choose (0.1, 0.9))
-  aMin <- logUniform 0.5 4
-  aMax <- logUniform 0.5 4
-  jMin <- logUniform 0.5 8
-  jMax <- logUniform 0.5 8
-  dt <- logUniform 2.5e-4 1e-3
-  pure Problem
-    { pbLength = len, pbZoneStarts = U.fromList (0 : map (* len) (foldr insertSorted [] cuts)), pbZoneSpeeds = U.fromList speeds
-    , pbAMin = negate aMin, pbAMax = aMax, pbJMin = negate jMin, pbJMax = jMax
-    , pbV0 = 0, pbA0 = 0, pbVEnd = 0, pbAEnd = 0, pbDt = dt, pbDv = 1e-9
-    , pbMaxIter = 100, pbBudget = 10, pbTol = 1e-2, pbAlgorithm = Band, pbSeedSearch = False }
-  where
-    insertSorted x xs = let (a, b) = span (< x) xs in a ++ x : b
+genFineFast = genRestRoute 3 (4, 30) (10, 60) (0.5, 4) (0.5, 8) (const (logUniform 2.5e-4 1e-3)) 1e-2
 
 -- | The first 100 m of kitti-00-first-2km (10 / 6.5 / 3 m/s from 0 / 60 / 80 m, -1.5 to
 -- 1 m/s², ±1 m/s³) at a 1 ms step.
 kittiFirst100m1ms :: Problem
-kittiFirst100m1ms = Problem
-  { pbLength = 100, pbZoneStarts = U.fromList [0, 60, 80], pbZoneSpeeds = U.fromList [10, 6.5, 3]
-  , pbAMin = -1.5, pbAMax = 1, pbJMin = -1, pbJMax = 1
-  , pbV0 = 0, pbA0 = 0, pbVEnd = 0, pbAEnd = 0, pbDt = 1e-3, pbDv = 1e-9
-  , pbMaxIter = 100, pbBudget = 30, pbTol = 1e-2, pbAlgorithm = Band, pbSeedSearch = False }
+kittiFirst100m1ms = restRoute 100 [10, 6.5, 3] [0.6, 0.8] (Ranges 1.5 1 1 1) 1e-3 1e-2
 
 -- | A moving end at a 0.2 ms step: 21.7 m at up to 2.6 m/s from rest to 1.08 m/s, a 0.36 m/s²
 -- deceleration ended by a 0.33 m/s³ jerk (a braking of some 30,000 steps from either end).
@@ -106,12 +75,16 @@ movingEnd02ms = Problem
   , pbV0 = 0, pbA0 = 0, pbVEnd = 1.0765896382762787, pbAEnd = 0, pbDt = 2e-4, pbDv = 1e-9
   , pbMaxIter = 100, pbBudget = 30, pbTol = 1e-2, pbAlgorithm = Band, pbSeedSearch = False }
 
+-- | The seed of a problem (its start and end at rest or at zero acceleration) is legal.
+seedIsLegal :: Problem -> Expectation
+seedIsLegal pb = case seed pb of
+  Right v -> violations pb v `shouldBe` []
+  Left f -> expectationFailure (show f)
+
 spec :: Spec
 spec = describe "the landing pass's probe schedule (long brakings at a fine time step)" $ do
   it "kitti-00-first-2km's first 100 m at 1 ms: the seed is legal (full-jerk ramps at 8 m/s broke the jerk limit by 1.03e-9 m/s³ at 926 samples, by rounding)" $
-    case seed kittiFirst100m1ms of
-      Right v -> violations kittiFirst100m1ms v `shouldBe` []
-      Left f -> expectationFailure (show f)
+    seedIsLegal kittiFirst100m1ms
 
   it "fast zones at a 0.25 to 1 ms step: the seed is legal" $
     withMaxSuccess 6 $ forAll genFineFast $ \pb ->
@@ -120,14 +93,10 @@ spec = describe "the landing pass's probe schedule (long brakings at a fine time
         Left f -> counterexample (show pb ++ "\n" ++ show f) False
 
   it "a moving end at 0.2 ms with a 6 s braking at either end: the two-sided meet's seed is legal" $
-    case seed movingEnd02ms of
-      Right v -> [ x | x <- check movingEnd02ms (Profile (pbDt movingEnd02ms) v 0 0), vRule x /= Crawl ] `shouldBe` []
-      Left f -> expectationFailure (show f)
+    seedIsLegal movingEnd02ms
 
   it "route-abcd at 1 ms: the seed is legal (the landing at the full jerk ends 8e-8 m/s³ beyond it by rounding)" $
-    case seed routeAbcd1ms of
-      Right v -> violations routeAbcd1ms v `shouldBe` []
-      Left f -> expectationFailure (show f)
+    seedIsLegal routeAbcd1ms
 
   it "planned a little below the jerk limit, the landing is legal whenever the full-jerk one is, and at most a sample longer" $
     withMaxSuccess 25 $ forAll genLongBraking $ \pb ->
