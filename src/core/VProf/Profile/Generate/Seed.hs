@@ -99,9 +99,11 @@ hardBraking e st
 -- probes long manoeuvres only now and then ('forward'); when that one lands but breaks a
 -- rule, the same planning every step a little inside the jerk range, with wider margins
 -- while it still does ('jerkPlanMargins': at a 1 ms step the rounding of the velocities can
--- put a ramp at the full jerk 1e-9 to 8e-8 m/s³ beyond it); when the schedule skipped a probe and the pass did not just run
--- out of its @limit@ steps, the pass that probes at every step, and it with the margins when
--- it too lands but breaks a rule. Else the last pass without the margin's answer. (A
+-- put a ramp at the full jerk 1e-9 to 8e-8 m/s³ beyond it; where that rounding alone is
+-- beyond the checker's slack, 'roundingJerk', the margins come first); when the schedule
+-- skipped a probe and the pass did not just run out of its @limit@ steps, the pass that
+-- probes at every step, and it with the margins when it too lands but breaks a rule. Else
+-- the answer of the last kind of pass at the full jerk. (A
 -- scheduled pass that skipped no probe is the every-step pass: every pass at a coarse
 -- step. One that ran out of steps is most often a seed variant cut off once it is no
 -- shorter than the best ('improveSeed'), which the every-step pass, at most a few steps
@@ -110,22 +112,29 @@ landingOnEnd :: Int -> Problem -> Either SeedFailure (U.Vector Double)
 landingOnEnd limit pb =
   case [ v | (Right v, True) <- tries ] of
     v : _ -> Right v
-    [] -> fst (if retry then everyStep else scheduled)
+    [] -> fst (if retry then failedAs False everyLadder else failedAs True schedLadder)
   where
-    -- lazily: a legal first landing costs one pass; each landing is checked once
-    Landing sched skipped ranOut = landingBy True 0 limit pb
+    -- where the rounding of the fastest velocity alone is beyond the checker's slack in jerk,
+    -- a full-jerk ramp breaks the rule at once: the margins from the start
+    fullJerk = roundingJerk pb <= 1e-9
+    margins = [ 0 | fullJerk ] ++ jerkPlanMargins pb
+    landed s m = landingBy s m limit pb
+    verdict l = let r = lResult l in (r, either (const False) (legalSeed pb) r)
+    -- lazily: a legal first landing costs one pass; each landing is run and checked once
+    firstSched = landed True (head margins)
+    Landing _ skipped ranOut = firstSched
     retry = skipped && not ranOut
-    verdict r = (r, either (const False) (legalSeed pb) r)
-    scheduled = verdict sched
-    everyStep = verdict (lResult (landingBy False 0 limit pb))
-    withMargin s m = verdict (lResult (landingBy s m limit pb))
     landedIllegal (r, ok) = either (const False) (const (not ok)) r
     -- each wider margin only while the landing before it lands and breaks a rule
-    ladder s first = go first (jerkPlanMargins pb)
-      where go r (m : ms) | landedIllegal r = r : go (withMargin s m) ms
-            go r _ = [r]
-    tries = ladder True scheduled ++ (if retry then ladder False everyStep else [])
-
+    ladder s l0 = go l0 (drop 1 margins)
+      where go l ms = let r = verdict l
+                      in r : (if landedIllegal r then case ms of { m : rest -> go (landed s m) rest; [] -> [] } else [])
+    schedLadder = ladder True firstSched
+    everyLadder = ladder False (landed False (head margins))
+    tries = schedLadder ++ (if retry then everyLadder else [])
+    -- when none is legal: the landing at the full jerk (a narrowed problem's failure, such as a
+    -- start it cannot save, is no claim about this one)
+    failedAs s lad = if fullJerk then head lad else verdict (landed s 0)
 -- | Legal for its problem, a crawl aside (the generator cuts a profile at its arrival).
 legalSeed :: Problem -> U.Vector Double -> Bool
 legalSeed pb v = all (\(Violation r _ _ _) -> r == Crawl) (check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)))

@@ -20,6 +20,7 @@ module VProf.Profile.Generate.Seed.Brake
   , seedEnv
   , jerkPlanMargin
   , jerkPlanMargins
+  , roundingJerk
   , dtE
   , stepTo
   , stepOk
@@ -94,7 +95,12 @@ roundingSlack = 1e-12
 -- beyond a 0.5 m/s³ limit). Passes plan at the full jerk first (a margin can cost a whole
 -- step at a coarse step), with it only when that landing breaks a rule.
 jerkPlanMargin :: Problem -> Double
-jerkPlanMargin q = min 0.25 (max 1e-8 (2 * epsilon * vTop / (dt * dt * jWeak)))
+jerkPlanMargin q = min 0.25 (max 1e-8 (2 * roundingJerk q))
+
+-- | The jerk, relative to the weaker jerk limit, that a rounding of the fastest velocity to
+-- its last bit makes in the checker's second difference: ε·v_top/(dt²·|j|).
+roundingJerk :: Problem -> Double
+roundingJerk q = epsilon * vTop / (dt * dt * jWeak)
   where
     epsilon = 2.220446049250313e-16
     dt = pbDt q

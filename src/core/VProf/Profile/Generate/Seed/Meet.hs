@@ -20,7 +20,7 @@ import Data.List (intercalate)
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Profile.Generate.Exact (noProfileFits)
-import VProf.Profile.Generate.Seed.Brake (jerkPlanMargins)
+import VProf.Profile.Generate.Seed.Brake (jerkPlanMargins, roundingJerk)
 import VProf.Profile.Generate.Seed.Explain
 import VProf.Profile.Generate.Seed.Join
 import VProf.Profile.Generate.Seed.Strategy
@@ -34,31 +34,33 @@ meet = meetWith strategies
 -- | The meet with the given strategies, tried in order, with passes that probe long
 -- brakings only now and then; when no strategy joins them, the same with passes planned a
 -- little inside the jerk range ('jerkPlanMargins': at a fine time step the rounding of the
--- velocities can put every join a hair beyond the jerk limit), and last with passes that
--- probe at every step (each only where it can matter). Any of them is legal for the problem (a profile within the narrower
--- jerk range is within its range); the first failure is the answer when all fail.
+-- velocities can put every join a hair beyond the jerk limit; where that rounding alone is
+-- beyond the checker's slack, 'roundingJerk', these come first), and last with passes that
+-- probe at every step (each only where it can matter). Any of them is legal for the
+-- problem (a profile within the narrower jerk range is within its range); when all fail,
+-- the answer is the full jerk's.
 meetWith :: [Strategy] -> Problem -> Either SeedFailure (U.Vector Double)
-meetWith tried pb = case meetOn True pb of
-  Left f@(LandingFailed _) -> maybe (Left f) Right (firstRight fallbacks)
-  r -> r
+meetWith tried pb
+  | fullJerk = case meetOn True pb of
+      Left f@(LandingFailed _) -> maybe (Left f) Right (firstRight fallbacks)
+      r -> r
+  -- the rounding of the fastest velocity alone is beyond the checker's slack in jerk: the
+  -- margins first, and the full jerk's meet only for its answer when none joins (a narrowed
+  -- problem's failure is no claim about this one)
+  | otherwise = maybe (meetOn True pb) Right (firstRight fallbacks)
   where
+    fullJerk = roundingJerk pb <= 1e-9
     meetOn scheduled q = meetTried tried scheduled q
     -- only where they can change anything: the margins where the velocities' rounding is
     -- within a hundredth of the checker's slack in jerk (a fine step), the every-step passes
-    -- where a braking can outlast the schedule's 512 steps
-    fallbacks = [ meetOn True (scaleJerk (1 - m) pb) | roundingMatters pb, m <- jerkPlanMargins pb ]
-                ++ [ meetOn False pb | longBrakingPossible pb ]
+    -- where a braking can outlast the schedule's 512 steps (with the first margin where the
+    -- full jerk cannot do)
+    margins = jerkPlanMargins pb
+    fallbacks = [ meetOn True (scaleJerk (1 - m) pb) | roundingJerk pb >= 1e-11, m <- margins ]
+                ++ [ meetOn False (if fullJerk then pb else scaleJerk (1 - head margins) pb) | longBrakingPossible pb ]
     firstRight rs = case [ v | Right v <- rs ] of
       v : _ -> Just v
       [] -> Nothing
-
--- | The jerk a rounding of the fastest velocity makes is at least a hundredth of the
--- checker's slack (1e-9 of the limit): 2·ε·v_top/(dt²·|j|) >= 1e-11.
-roundingMatters :: Problem -> Bool
-roundingMatters pb = 2 * 2.220446049250313e-16 * vTop / (pbDt pb * pbDt pb * jWeak) >= 1e-11
-  where
-    jWeak = min (negate (pbJMin pb)) (pbJMax pb)
-    vTop = maximum (pbV0 pb : pbVEnd pb : U.toList (pbZoneSpeeds pb))
 
 -- | A braking from the fastest limit to rest (ramps and hold, continuous time) lasts more
 -- than the 512 steps below which the passes probe every step anyway.
