@@ -1,7 +1,7 @@
 -- | The oracle's fast test and the jerk margins. 'quickNeed' accepts a state without running
 -- the brake policy, from continuous-time braking distances and a margin; it must never
--- accept a state whose braking, run step by step ('brakeSimulate'), breaks a rule, from a
--- rising acceleration as from a falling one. The margins a landing is planned again with
+-- accept a state whose braking, run step by step ('brakeSimulate'), breaks a rule beyond
+-- rounding, from a rising acceleration as from a falling one. The margins a landing is planned again with
 -- grow and stay inside the jerk range, and a pass planned with one keeps the problem's rules
 -- with the margin to spare.
 module VProf.Profile.Generate.Seed.BrakeSpec (spec) where
@@ -31,6 +31,23 @@ genCase = do
   vt <- oneof [pure 0, choose (0, U.maximum (pbZoneSpeeds pb))]
   pure (pb, St v a s, Term len vt)
 
+-- | The step at which the braking stopped broke a rule only by rounding: its top velocity is
+-- above the lowest limit on it (or, past the terminal, above the terminal velocity) by at most
+-- 1e-12 of it, and nothing else is wrong with it. The brake policy arrives at a limit with the
+-- velocity a few bits above it now and then (3.3249195721787665 at a limit of
+-- 3.3249195721787186 m/s): the step-by-step oracle refuses that, the checker's slack is 1e-9.
+roundingOnly :: Problem -> Term -> (St, St) -> Bool
+roundingOnly pb (Term p vt) (St v _ s, St v' a' s') =
+  v' >= 0 && a' >= pbAMin pb - 1e-12 && a' <= pbAMax pb + 1e-12
+    && top <= lim + 1e-12 * max 1 lim
+    && (s' <= p || v' <= vt + 1e-12 * max 1 vt || v' == 0 && v == 0)
+  where
+    top = max v v'
+    zones = zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb))
+    lim = minimum [ l | (i, (z, l)) <- zip [0 :: Int ..] zones
+                      , let next = if i + 1 < length zones then fst (zones !! (i + 1)) else 1 / 0
+                      , z <= max s s', next > min s s' ]
+
 spec :: Spec
 spec = describe "the oracle's fast test and the jerk margins" $ do
   it "quickNeed accepts only states whose braking, run step by step, keeps every rule (rising and falling accelerations)" $
@@ -39,7 +56,7 @@ spec = describe "the oracle's fast test and the jerk margins" $ do
           accepted = quickNeed e st
       in classify (stA st < 0) "falling" $ classify accepted "accepted" $
            counterexample (show (pb, stV st, stA st, stS st, tP term, tV term)) $
-             not accepted || either (const False) (const True) (brakeSimulate e st)
+             not accepted || either (roundingOnly pb term) (const True) (brakeSimulate e st)
 
   it "quickNeed accepts some falling states far from every lower limit (the test is not vacuous)" $
     let pb = restRoute 100 [10, 3] [0.8] (Ranges 1.5 1 1 0.3) 1e-3 1e-2
