@@ -21,6 +21,7 @@ module VProf.Profile.Generate.Seed.Brake
   , jerkPlanMargin
   , jerkPlanMargins
   , roundingJerk
+  , topSpeed
   , dtE
   , stepTo
   , stepOk
@@ -100,12 +101,16 @@ jerkPlanMargin q = min 0.25 (max 1e-8 (2 * roundingJerk q))
 -- | The jerk, relative to the weaker jerk limit, that a rounding of the fastest velocity to
 -- its last bit makes in the checker's second difference: ε·v_top/(dt²·|j|).
 roundingJerk :: Problem -> Double
-roundingJerk q = epsilon * vTop / (dt * dt * jWeak)
+roundingJerk q = epsilon * topSpeed q / (dt * dt * jWeak)
   where
     epsilon = 2.220446049250313e-16
     dt = pbDt q
     jWeak = min (negate (pbJMin q)) (pbJMax q)
-    vTop = maximum (pbV0 q : pbVEnd q : U.toList (pbZoneSpeeds q))
+
+-- | The fastest velocity a profile of the problem can have: the highest zone limit, or the
+-- start or end velocity.
+topSpeed :: Problem -> Double
+topSpeed q = maximum (pbV0 q : pbVEnd q : U.toList (pbZoneSpeeds q))
 
 -- | The margins a landing that breaks a rule is planned again with, in turn: 'jerkPlanMargin',
 -- and a hundred and ten thousand times it (at most a quarter). The rounding a long ramp back

@@ -20,7 +20,7 @@ import Data.List (intercalate)
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Profile.Generate.Exact (noProfileFits)
-import VProf.Profile.Generate.Seed.Brake (jerkPlanMargins, roundingJerk)
+import VProf.Profile.Generate.Seed.Brake (jerkPlanMargins, roundingJerk, topSpeed)
 import VProf.Profile.Generate.Seed.Explain
 import VProf.Profile.Generate.Seed.Join
 import VProf.Profile.Generate.Seed.Strategy
@@ -65,10 +65,8 @@ meetWith tried pb
 -- | A braking from the fastest limit to rest (ramps and hold, continuous time) lasts more
 -- than the 512 steps below which the passes probe every step anyway.
 longBrakingPossible :: Problem -> Bool
-longBrakingPossible pb = vTop / am + am / negate (pbJMin pb) + am / pbJMax pb > 512 * pbDt pb
-  where
-    am = negate (pbAMin pb)
-    vTop = maximum (pbV0 pb : pbVEnd pb : U.toList (pbZoneSpeeds pb))
+longBrakingPossible pb = topSpeed pb / am + am / negate (pbJMin pb) + am / pbJMax pb > 512 * pbDt pb
+  where am = negate (pbAMin pb)
 
 -- | One meet: the passes (scheduled or not) and the strategies in order.
 meetTried :: [Strategy] -> Bool -> Problem -> Either SeedFailure (U.Vector Double)
