@@ -116,7 +116,7 @@ landingOnEnd limit pb =
   where
     -- where the rounding of the fastest velocity alone is beyond the checker's slack in jerk,
     -- a full-jerk ramp breaks the rule at once: the margins from the start
-    fullJerk = roundingJerk pb <= 1e-9
+    fullJerk = fullJerkHolds pb
     margins = [ 0 | fullJerk ] ++ jerkPlanMargins pb
     landed s m = landingBy s m limit pb
     verdict l = let r = lResult l in (r, either (const False) (legalSeed pb) r)

@@ -21,6 +21,7 @@ module VProf.Profile.Generate.Seed.Brake
   , jerkPlanMargin
   , jerkPlanMargins
   , roundingJerk
+  , fullJerkHolds
   , topSpeed
   , dtE
   , stepTo
@@ -106,6 +107,12 @@ roundingJerk q = epsilon * topSpeed q / (dt * dt * jWeak)
     epsilon = 2.220446049250313e-16
     dt = pbDt q
     jWeak = min (negate (pbJMin q)) (pbJMax q)
+
+-- | Whether a ramp at the full jerk can keep the jerk rule at all: the rounding of the
+-- fastest velocity alone ('roundingJerk') is within the checker's slack (1e-9). Where it
+-- is not, the passes plan with the 'jerkPlanMargins' from the start.
+fullJerkHolds :: Problem -> Bool
+fullJerkHolds q = roundingJerk q <= 1e-9
 
 -- | The fastest velocity a profile of the problem can have: the highest zone limit, or the
 -- start or end velocity.

@@ -63,6 +63,8 @@ data MeetContext = MeetContext
   , mcPeak     :: Int                -- ^ the index of the envelope's highest point
   , mcTop      :: Double             -- ^ the envelope's highest point
   , mcScheduled :: Bool              -- ^ the passes probe long brakings only now and then
+  , mcJudge    :: !Problem           -- ^ what a joined profile must be legal for: the request's
+                                     --   problem, also where the passes plan inside its jerk range
   }
 
 -- | A pass's states, unboxed (velocity, acceleration, position): a boxed list of them
@@ -121,9 +123,12 @@ stretchMarginSteps = 2
 
 -- | The two passes of the meet and their lower envelope, or why an end state cannot be
 -- passed at all; with @scheduled@ every pass of the meet probes long brakings only now and
--- then ('VProf.Profile.Generate.Seed.Greedy.scheduledSteps').
-meetContext :: Bool -> Problem -> Either SeedFailure MeetContext
-meetContext scheduled pb = do
+-- then ('VProf.Profile.Generate.Seed.Greedy.scheduledSteps'). The passes run on @pb@; a
+-- joined profile is judged on @judge@, the request's own problem, which is @pb@ itself or
+-- @pb@ with the jerk range widened back (a profile the rounding puts a hair beyond the
+-- narrowed range is still legal for the request's).
+meetContext :: Bool -> Problem -> Problem -> Either SeedFailure MeetContext
+meetContext scheduled judge pb = do
   let rv = mirror pb
       rt0 = St (pbVEnd pb) (pbA0 rv) 0
       st0 = St (pbV0 pb) (pbA0 pb) 0
@@ -148,7 +153,7 @@ meetContext scheduled pb = do
   pure MeetContext
     { mcPb = pb, mcMirror = rv, mcStart = st0, mcEnd = rt0, mcFEnv = fEnv, mcBEnv = bEnv
     , mcFAll = fAll, mcBAll = bAll, mcFS = fS, mcEnvelope = h, mcPeak = kStar, mcTop = h U.! kStar
-    , mcScheduled = scheduled }
+    , mcScheduled = scheduled, mcJudge = judge }
 
 -- | The start pass must be able to come down to the end velocity by the route end; the
 -- end pass (backwards) to the start velocity by the route start.
@@ -250,7 +255,7 @@ joinAt c v cp@(Capped fRun bRun _ _ _) ks =
         in U.fromList ([pbV0 pb] ++ map stV fRun ++ cruise ++ reverse (pbVEnd pb : map stV bRun))
       tries = [ profileWith True k | k <- ks, k > 1 || abs (over k) <= tol / undentedDivisor ]
               ++ [ profileWith False k | k <- ks, k > 1, abs (over k) <= tol / undentedDivisor ]
-  in case filter (legalVelocities pb) tries of
+  in case filter (legalVelocities (mcJudge c)) tries of
        (vs : _) -> Just vs
        [] -> Nothing
 

@@ -20,7 +20,7 @@ import Data.List (intercalate)
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Profile.Generate.Exact (noProfileFits)
-import VProf.Profile.Generate.Seed.Brake (jerkPlanMargins, roundingJerk, topSpeed)
+import VProf.Profile.Generate.Seed.Brake (fullJerkHolds, jerkPlanMargins, roundingJerk, topSpeed)
 import VProf.Profile.Generate.Seed.Explain
 import VProf.Profile.Generate.Seed.Join
 import VProf.Profile.Generate.Seed.Strategy
@@ -36,9 +36,11 @@ meet = meetWith strategies
 -- little inside the jerk range ('jerkPlanMargins': at a fine time step the rounding of the
 -- velocities can put every join a hair beyond the jerk limit; where that rounding alone is
 -- beyond the checker's slack, 'roundingJerk', these come first), and last with passes that
--- probe at every step (each only where it can matter). Any of them is legal for the
--- problem (a profile within the narrower jerk range is within its range); when all fail,
--- the answer is the full jerk's.
+-- probe at every step (each only where it can matter). The joins are judged on the
+-- problem's own jerk range, not the narrowed one the passes plan in: the rounding that
+-- puts a full-jerk ramp beyond the range puts a join a hair beyond the narrowed range as
+-- well (judged so, no plateau of a 0.1 ms request joined). When all fail, the answer is the
+-- full jerk's.
 meetWith :: [Strategy] -> Problem -> Either SeedFailure (U.Vector Double)
 meetWith tried pb
   | fullJerk = case meetOn True pb of
@@ -49,8 +51,8 @@ meetWith tried pb
   -- problem's failure is no claim about this one)
   | otherwise = maybe (meetOn True pb) Right (firstRight fallbacks)
   where
-    fullJerk = roundingJerk pb <= 1e-9
-    meetOn scheduled q = meetTried tried scheduled q
+    fullJerk = fullJerkHolds pb
+    meetOn scheduled q = meetTried tried scheduled pb q
     -- only where they can change anything: the margins where the velocities' rounding is
     -- within a hundredth of the checker's slack in jerk (a fine step), the every-step passes
     -- where a braking can outlast the schedule's 512 steps (with the first margin where the
@@ -69,13 +71,13 @@ longBrakingPossible pb = topSpeed pb / am + am / negate (pbJMin pb) + am / pbJMa
   where am = negate (pbAMin pb)
 
 -- | One meet: the passes (scheduled or not) and the strategies in order.
-meetTried :: [Strategy] -> Bool -> Problem -> Either SeedFailure (U.Vector Double)
-meetTried tried scheduled pb = do
-  c <- meetContext scheduled pb
+meetTried :: [Strategy] -> Bool -> Problem -> Problem -> Either SeedFailure (U.Vector Double)
+meetTried tried scheduled judge pb = do
+  c <- meetContext scheduled judge pb
   case concatMap (`strategyJoins` c) tried of
     (p : _) -> Right p
     []
-      | Just why <- noProfileFits pb -> Left (Unattainable (if pbV0 pb > pbVEnd pb then "start_velocity" else "end_velocity") why)
+      | Just why <- noProfileFits judge -> Left (Unattainable (if pbV0 pb > pbVEnd pb then "start_velocity" else "end_velocity") why)
       | mcTop c <= 0 -> Left (LandingFailed ("the forward and the backward pass do not meet" ++ triedText ++ hint))
       | otherwise -> Left (LandingFailed ("no plateau below " ++ num (mcTop c) ++ " m/s joins the forward and the backward pass" ++ triedText ++ hint))
   where
