@@ -13,6 +13,7 @@
 -- failure is a claim about the request, a 'LandingFailed' one only about the generator.
 module VProf.Profile.Generate.Seed
   ( seed
+  , seedWithLeadIn
   , bestSeed
   , variantsApply
   , ladderSamples
@@ -31,7 +32,7 @@ import qualified Data.Vector.Unboxed as U
 import VProf.Profile.Generate.Seed.Brake
 import VProf.Profile.Generate.Seed.Explain
 import VProf.Profile.Generate.Seed.Greedy (forwardMarked, passCapMessage, passStepCap)
-import VProf.Profile.Generate.Seed.LeadIn (leadIn, startStuck)
+import VProf.Profile.Generate.Seed.LeadIn (leadIn, leadInMayHelp)
 import VProf.Profile.Generate.Seed.Meet (meet)
 import VProf.Profile.Legality (Rule (..), Violation (..), check)
 import VProf.Profile.Problem (Problem (..))
@@ -45,14 +46,15 @@ leadInDepth = 2
 
 -- | The seed profile's velocities v_0..v_N.
 seed :: Problem -> Either SeedFailure (U.Vector Double)
-seed = seedWithin leadInDepth
+seed = seedWithLeadIn leadInDepth
 
--- | The seed with up to @depth@ levels of lead-in: when the start state is stuck, the
--- lead-in on the problem; when the end state is, the lead-in on its mirror, reversed.
-seedWithin :: Int -> Problem -> Either SeedFailure (U.Vector Double)
-seedWithin depth pb = case seedFrom pb of
-  Left f@(Unattainable "start_velocity" _) | depth > 0, startStuck moving pb -> either (Left . maybe f id) Right (leadIn seedWithin depth pb)
-  Left f@(Unattainable "end_velocity" _) | depth > 0, startStuck True (mirror pb) -> case leadIn seedWithin depth (mirror pb) of
+-- | The seed with up to @depth@ levels of lead-in: when the start state is stuck (by
+-- little enough for a first step to matter, 'leadInMayHelp'), the lead-in on the
+-- problem; when the end state is, the lead-in on its mirror, reversed.
+seedWithLeadIn :: Int -> Problem -> Either SeedFailure (U.Vector Double)
+seedWithLeadIn depth pb = case seedFrom pb of
+  Left f@(Unattainable "start_velocity" _) | depth > 0, leadInMayHelp moving pb -> either (Left . maybe f id) Right (leadIn seedWithLeadIn depth pb)
+  Left f@(Unattainable "end_velocity" _) | depth > 0, leadInMayHelp True (mirror pb) -> case leadIn seedWithLeadIn depth (mirror pb) of
     Right vs -> Right (U.reverse vs)
     Left (Just (LandingFailed m)) -> Left (LandingFailed ("seen from the end, backwards in time: " ++ m))
     Left _ -> Left f

@@ -37,6 +37,7 @@ module VProf.Profile.Generate.Seed.Brake
     -- * The oracle
   , brakeCheck
   , brakeSimulate
+  , brakeTimeBound
   , quickNeed
   , safe
   , policyFor
@@ -411,21 +412,13 @@ brakeSimulate e st0 = go st0 (0 :: Int)
     pb = ePb e
     Term p vt = eTerm e
     -- a guard against a braking that never ends, so it must exceed every braking that
-    -- does: the policy brakes at once, as hard as the ranges allow, toward the lowest
-    -- limit in its reach, and again at each lower limit the reach takes in as it moves (at
-    -- most the limits within the first reach, plus the terminal); each such phase ramps to
-    -- a_min and back, and all of them together shed at most vPeak at |a_min|. (Distance
-    -- over peak velocity, the earlier guard, is shorter than a long braking takes: 3.83 to
-    -- 1.23 m/s at 0.291 m/s² lasts 8.9 s, the guard allowed 7.5, and a feasible request
-    -- was called infeasible.)
+    -- does ('brakeTimeBound'). (Distance over peak velocity, the earlier guard, is shorter
+    -- than a long braking takes: 3.83 to 1.23 m/s at 0.291 m/s² lasts 8.9 s, the guard
+    -- allowed 7.5, and a feasible request was called infeasible.)
     maxSteps =
       let (d, vp) = brakeBound e st0
           dt = dtE e
-          am = abs (pbAMin pb)
-          phases = fromIntegral (zoneIndex pb (stS st0 + d) - zoneIndex pb (stS st0) + 2) :: Double
-          tRamp = am / abs (pbJMin pb) + am / pbJMax pb + boundExtraSteps * dt
-          t = max 0 (stA st0) / abs (pbJMin pb) + phases * tRamp + vp / am
-      in max (ceiling (d / max peakFloor vp / dt)) (ceiling (min 1e15 (t / dt))) + oracleExtraSteps :: Int
+      in max (ceiling (d / max peakFloor vp / dt)) (ceiling (min 1e15 (brakeTimeBound e st0 / dt))) + oracleExtraSteps :: Int
     go !st n
       | atRest e st = Right ()
       | otherwise =
@@ -439,6 +432,20 @@ brakeSimulate e st0 = go st0 (0 :: Int)
              else if n > maxSteps then Left (st, st)
              else let st' = stepTo e st (brakeAccTo e st tau)
                   in if stepOk e st st' then go st' (n + 1) else Left (st, st')
+
+-- | An upper bound on how long the brake policy brakes from a state: it brakes at once, as
+-- hard as the ranges allow, toward the lowest limit in its reach, and again at each lower
+-- limit the reach takes in as it moves (at most the limits within the first reach, plus
+-- the terminal); each such phase ramps to a_min and back, and all of them together shed at
+-- most the peak velocity at |a_min|.
+brakeTimeBound :: SeedEnv -> St -> Double
+brakeTimeBound e st0 =
+  let pb = ePb e
+      (d, vp) = brakeBound e st0
+      am = abs (pbAMin pb)
+      phases = fromIntegral (zoneIndex pb (stS st0 + d) - zoneIndex pb (stS st0) + 2) :: Double
+      tRamp = am / abs (pbJMin pb) + am / pbJMax pb + boundExtraSteps * dtE e
+  in max 0 (stA st0) / abs (pbJMin pb) + phases * tRamp + vp / am
 
 safe :: SeedEnv -> St -> Bool
 safe e st = either (const False) (const True) (brakeCheck e st)

@@ -12,9 +12,11 @@
 -- reported as the generator's failure).
 module VProf.Profile.Generate.Seed.LeadIn
   ( leadIn
-  , startStuck
+  , leadInMayHelp
+  , startTerm
   , endFailure
   , leadInSteps
+  , leadInReachSteps
   ) where
 
 import qualified Data.Vector.Unboxed as U
@@ -24,18 +26,57 @@ import VProf.Profile.Generate.Seed.Explain
 import VProf.Profile.Legality (legalVelocities)
 import VProf.Profile.Problem (Problem (..))
 import VProf.Profile.Problem.Transform (mirror, startingAfter)
+import VProf.Profile.Request (maxSamples)
+import VProf.Profile.SpeedLimit (minLimitOn)
 
 -- | The first steps tried: the acceleration range from the start in this many equal
 -- parts (this many plus one accelerations, the highest first).
 leadInSteps :: Int
 leadInSteps = 32
 
--- | The start state fails the oracle: the hardest braking from it breaks a rule (with
--- the terminal of the two-sided meet's passes, or of the landing at rest).
-startStuck :: Bool -> Problem -> Bool
-startStuck meeting pb = either (const True) (const False) (policyFor pb term (St (pbV0 pb) (pbA0 pb) 0))
-  where term | meeting = Term (pbLength pb + pbTol pb) (pbVEnd pb)
-             | otherwise = Term (pbLength pb) 0
+-- | The terminal the start's oracle works with: the two-sided meet's, or the landing's.
+startTerm :: Bool -> Problem -> Term
+startTerm meeting pb
+  | meeting = Term (pbLength pb + pbTol pb) (pbVEnd pb)
+  | otherwise = Term (pbLength pb) 0
+
+-- | How far beyond a rule the hardest braking from the start may go and a lead-in still
+-- be tried: this many steps of the widest change of velocity in one step,
+-- (a_max − a_min)·dt. Two first steps of the lead-in and the grid's phase at the broken
+-- rule change the velocities of the braking after them by a few such steps at most.
+leadInReachSteps :: Double
+leadInReachSteps = 8
+
+-- | A lead-in may save the start: the start state fails the oracle (the hardest braking
+-- from it breaks a rule, with the terminal of the two-sided meet's passes, or of the
+-- landing at rest), but by less than 'leadInReachSteps' can make up. A speed limit broken
+-- by more than that velocity, or a terminal passed more than that velocity faster than its
+-- own until further than that velocity times the braking's duration ('brakeTimeBound')
+-- past it, stays broken after any first steps: at a fine time step the lead-in's 33 × 33 seeds of the rest, each with its own
+-- oracle over a braking of a million steps, would only find that out (a route at 0.1 ms
+-- whose end velocity cannot be reached under an earlier limit by 1.9 m/s took 51 s to be
+-- called infeasible).
+leadInMayHelp :: Bool -> Problem -> Bool
+leadInMayHelp meeting pb = case policyFor pb term st0 of
+  Right _ -> False
+  Left (St v _ s, st'@(St v' _ s')) -> not (limitOut || terminalOut)
+    where
+      limitOut = max v v' - minLimitOn pb s (max s s') > dv
+      -- past the terminal still too fast: where the braking, carried on, first comes down
+      -- to within dv of the terminal's velocity, less what dv lost over the whole braking
+      -- can take back, is still past it
+      terminalOut = s' > p && v' - vt > dv && downTo st' 0 - dv * brakeTimeBound e st0 > p
+  where
+    free = seedEnv pb (Term (1 / 0) (1 / 0)) True
+    downTo st n
+      | stV st <= vt + dv || atRest free st || n >= maxSamples = stS st
+      | otherwise = downTo (stepTo free st (brakeAcc free st)) (n + 1 :: Int)
+    term = startTerm meeting pb
+    Term p vt0 = term
+    vt = max 0 vt0
+    st0 = St (pbV0 pb) (pbA0 pb) 0
+    e = seedEnv pb term True
+    dv = leadInReachSteps * (pbAMax pb - pbAMin pb) * pbDt pb
 
 -- | The first step from the start state (a grid over its acceleration range, fastest
 -- first) that keeps every rule and after which the rest can be seeded (by @seedRest@,
