@@ -5,8 +5,9 @@
 -- of the two ('mcEnvelope'). A /plateau join/ at level V runs both passes again with
 -- every limit capped at V over a stretch [alpha, beta] ('capped'), each until its first
 -- cruise sample at V, and fills the gap between them with a cruise at V whose length
--- covers the distance; a sin² dent (or bump) in the cruise takes out the fraction of a
--- step left over ('plateau', 'joinAt'). The strategies of
+-- covers the distance; where that fraction of a step is more than half the end
+-- tolerance, a sin² dent (or bump) in the cruise takes it out ('plateau', 'joinAt'). The
+-- strategies of
 -- "VProf.Profile.Generate.Seed.Strategy" choose the levels and stretches.
 --
 -- Invariant: a join only ever returns velocities the checker finds legal for the
@@ -98,8 +99,10 @@ resumeReaches, resumeMarginM :: Double
 resumeReaches = 2
 resumeMarginM = 1
 
--- | A cruise may go without its dent when its overshoot is within the tolerance over
--- this divisor (half the end tolerance).
+-- | A cruise goes without its dent when its overshoot is within the tolerance over this
+-- divisor (half the end tolerance): the rubber band raises only while the route end stays
+-- within half the tolerance, so a cruise without its dent is what the band would make of
+-- the dented one, one velocity step a pass.
 undentedDivisor :: Double
 undentedDivisor = 2
 
@@ -240,8 +243,11 @@ plateau c v cp =
   in joinAt c v cp ks
 
 -- | The profile of the capped passes joined by a cruise of k steps at v, for the first k
--- that gives a legal one: with the dent first (the route end met exactly), then without
--- it where the overshoot is within half the end tolerance.
+-- that gives a legal one: without a dent first where the overshoot is within half the end
+-- tolerance, then with the dent (the route end met exactly). The dent's depth is some
+-- 8·V/(|j|·dt·T) velocity steps of the rubber band for a cruise of T seconds, which the
+-- band fills one step a pass: thousands of passes at a 0.5 ms step (moving-start-end
+-- at 0.5 ms spent a 30 s budget on them; undented, it converges in one pass).
 joinAt :: MeetContext -> Double -> Capped -> [Int] -> Maybe (U.Vector Double)
 joinAt c v cp@(Capped fRun bRun _ _ _) ks =
   let pb = mcPb c
@@ -253,8 +259,8 @@ joinAt c v cp@(Capped fRun bRun _ _ _) ks =
             bump j = let x = sin (pi * fromIntegral j / fromIntegral k) in x * x
             cruise = [ v - d * bump j | j <- [1 .. k - 1] ]
         in U.fromList ([pbV0 pb] ++ map stV fRun ++ cruise ++ reverse (pbVEnd pb : map stV bRun))
-      tries = [ profileWith True k | k <- ks, k > 1 || abs (over k) <= tol / undentedDivisor ]
-              ++ [ profileWith False k | k <- ks, k > 1, abs (over k) <= tol / undentedDivisor ]
+      tries = [ profileWith False k | k <- ks, k > 1, abs (over k) <= tol / undentedDivisor ]
+              ++ [ profileWith True k | k <- ks, k > 1 || abs (over k) <= tol / undentedDivisor ]
   in case filter (legalVelocities (mcJudge c)) tries of
        (vs : _) -> Just vs
        [] -> Nothing
