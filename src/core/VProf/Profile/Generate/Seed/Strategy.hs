@@ -23,6 +23,8 @@ module VProf.Profile.Generate.Seed.Strategy
   , exactLp
     -- * Constants
   , peakLevelDrops
+  , peakBandWork
+  , peakCloseSteps
   , tunedSpan
   , tunedSteps
   , softenedLevelDrops
@@ -118,10 +120,43 @@ limitCruise = Strategy "limit cruise" $ \c ->
   in plateausAt c flat
 
 -- | Plateaus just below the envelope's top, over the stretch where the envelope is above
--- them, from the highest level down.
+-- them, from the highest level down. The rubber band raises a plateau one velocity step a
+-- pass, and at a fine time step the levels are far apart in steps (0.1 % of 3.5 m/s is a
+-- million steps of 3.7e-9 m/s at 0.2 ms; such a request spent its 20 s budget 2,000
+-- passes into them). So where raising the first level that joins to the one above it that
+-- does not (the top itself for the first) would take the band more than 'peakBandWork'
+-- (its steps times the samples), it is raised by bisection to within 'peakCloseSteps'
+-- steps of a level that does not join.
 peakPlateau :: Strategy
 peakPlateau = Strategy "peak plateau" $ \c ->
-  plateausAt c [ (v, alpha, beta) | v <- [ mcTop c * (1 - d) | d <- peakLevelDrops ], v > 0, Just (alpha, beta) <- [around c v] ]
+  let top = mcTop c
+      dv = pbDv (mcPb c)
+      joinsAt v = case around c v of
+        Just (alpha, beta) -> take 1 (plateausAt c [(v, alpha, beta)])
+        Nothing -> []
+      -- the highest joining level between vNo (does not join) and vOk (joins, as p)
+      closer vNo vOk p n
+        | n == 0 && (vNo - vOk) / dv * fromIntegral (U.length (mcEnvelope c)) <= peakBandWork = p
+        | vNo - vOk <= peakCloseSteps * dv || n >= joinBisections = p
+        | otherwise = let m = (vNo + vOk) / 2 in case joinsAt m of
+            q : _ -> closer vNo m q (n + 1)
+            [] -> closer m vOk p (n + 1)
+      down _ [] = []
+      down above (v : vs) = case joinsAt v of
+        p : _ -> closer above v p 0 : concatMap joinsAt vs
+        [] -> down v vs
+  in down top [ v | d <- peakLevelDrops, let v = top * (1 - d), v > 0 ]
+
+-- | The peak plateau's level is raised where the rubber band would need more than
+-- 'peakBandWork' velocity steps times samples (some ten seconds of passes at 40–80 ns a
+-- sample) to raise it to a level that does not join, until it is within 'peakCloseSteps'
+-- steps of one. (Not where the band can do it in time: from a lower plateau it has room to
+-- reshape the ramps around it and may end shorter; a 3 s request at 1 ms, which the band
+-- finished in 4,074 passes of 3,000 samples, ended 4 ms longer from a plateau raised to
+-- within 64 steps.)
+peakBandWork, peakCloseSteps :: Double
+peakBandWork = 2e8
+peakCloseSteps = 64
 
 -- | Between two levels the distance the cruise must cover changes continuously with the
 -- level, while each cruise step covers v·dt: for a fixed number of cruise steps the

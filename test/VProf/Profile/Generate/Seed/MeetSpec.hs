@@ -1,0 +1,84 @@
+-- | The two-sided meet at fine time steps. Where the rounding of the velocities alone puts
+-- a full-jerk ramp beyond the checker's slack, the passes plan inside the jerk range and
+-- the joins are judged on the request's own range. The meet's seed is near the rubber
+-- band's fixed point: a cruise goes without its dent where the route end allows, and the
+-- peak plateau is raised where the band could not raise it in time, so the band converges
+-- in a few hundred passes where it took thousands, or never did.
+module VProf.Profile.Generate.Seed.MeetSpec (spec) where
+
+import qualified Data.Vector.Unboxed as U
+import Test.Hspec
+
+import Support.Arbitrary (problemOf)
+import VProf.Profile.Generate.RubberBand (PassResult (..), pass)
+import VProf.Profile.Generate.Seed (seed)
+import VProf.Profile.Generate.Seed.Meet (meetWith)
+import VProf.Profile.Generate.Seed.Strategy (Strategy (..), limitCruise, peakPlateau)
+import VProf.Profile.Legality (Rule (..), Violation (..), check)
+import VProf.Profile.Request
+import VProf.Profile.Sampled (Profile (..))
+import VProf.Units
+
+-- | The checker's violations other than a crawl.
+violations :: Problem -> U.Vector Double -> [Violation]
+violations pb v = [ x | x@(Violation r _ _ _) <- check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)), r /= Crawl ]
+
+-- | The rubber band's passes from a profile to its fixed point, at most @cap@ of them: the
+-- number of passes that changed something, and the fixed point (Nothing past the cap).
+passesToFixedPoint :: Int -> Problem -> U.Vector Double -> (Int, Maybe (U.Vector Double))
+passesToFixedPoint cap pb = go 0
+  where go n v | n > cap = (n, Nothing)
+               | otherwise = let PassResult v' c = pass pb v in if c == 0 then (n, Just v) else go (n + 1) v'
+
+-- | A moving end from its request: the ranges, zones and ends given, at a time step.
+movingEnd :: Double -> [(Double, Double)] -> (Double, Double, Double, Double) -> (Double, Double) -> Double -> Problem
+movingEnd len zones (aMin, aMax, jMin, jMax) (v0, vEnd) dt = problemOf defaultRequest
+  { rqRouteLength = len *~ meter
+  , rqZones = [ SpeedZone (s *~ meter) (v *~ mps) | (s, v) <- zones ]
+  , rqMinAcceleration = aMin *~ mps2, rqMaxAcceleration = aMax *~ mps2
+  , rqMinJerk = jMin *~ mps3, rqMaxJerk = jMax *~ mps3
+  , rqStartVelocity = v0 *~ mps, rqEndVelocity = vEnd *~ mps
+  , rqTimeStep = Just (dt *~ second) }
+
+-- | examples/moving-start-end.json (120 m, 7 then 5 m/s from 70 m, ±1 m/s², ±1 m/s³, from
+-- 2 to 1 m/s) at a 0.5 ms step.
+movingStartEnd05ms :: Problem
+movingStartEnd05ms = movingEnd 120 [(0, 7), (70, 5)] (-1, 1, -1, 1) (2, 1) 5e-4
+
+-- | A moving end at a 0.1 ms step: 93.4 m from rest to 3.42 m/s, 5.37 then 11.58 m/s from
+-- 30.2 m, a 1.12 m/s³ jerk: a velocity of 10 m/s rounds to its last bit by 2.3e-7 of the
+-- jerk in the checker's second difference, beyond its slack of 1e-9.
+movingEnd01ms :: Problem
+movingEnd01ms = movingEnd 93.38801014400026 [(0, 5.374920748716298), (30.24394904513428, 11.58263053261702)]
+  (-1.4465375257404167, 1.510635967458992, -8.479482389077123, 1.1151613421994393) (0, 3.423276662641864) 1e-4
+
+-- | A moving end at a 0.2 ms step whose envelope peaks at 3.50 m/s between a 0.44 m/s and a
+-- 2.55 m/s zone: the peak plateau's first level, 0.1 % below the top, is a million velocity
+-- steps (3.7e-9 m/s) below it.
+peakAt02ms :: Problem
+peakAt02ms = movingEnd 23.854638629956025 [(0, 0.43742836974685645), (0.7355858026368827, 17.22487903798239), (21.383101055004506, 2.5468160290529123)]
+  (-0.4279434196474358, 1.7773072030000365, -1.0390448548249425, 0.4020435210162162) (0, 0.4065368449362723) 2e-4
+
+spec :: Spec
+spec = describe "the two-sided meet at fine time steps" $ do
+  it "a moving end at 0.1 ms: the limit cruise alone, and the peak plateau alone, join passes planned inside the jerk range into a profile legal for the request (judged on the narrowed range, no strategy but the softened plateau joined, after 20 s)" $
+    mapM_ (\s -> case meetWith [s] movingEnd01ms of
+                   Right v -> violations movingEnd01ms v `shouldBe` []
+                   Left f -> expectationFailure (strategyName s ++ ": " ++ show f))
+          [limitCruise, peakPlateau]
+
+  it "moving-start-end at 0.5 ms: the seed is the band's fixed point at once (its cruise's dent took the band 7,075 passes and more, one velocity step a pass)" $
+    case seed movingStartEnd05ms of
+      Right v -> do
+        violations movingStartEnd05ms v `shouldBe` []
+        fst (passesToFixedPoint 8 movingStartEnd05ms v) `shouldSatisfy` (<= 2)
+      Left f -> expectationFailure (show f)
+
+  it "a peak plateau a million velocity steps below the envelope's top at 0.2 ms is raised: the band reaches its fixed point within 1,000 passes, legal (from 0.1 % below the top it had not after 20,000)" $
+    case seed peakAt02ms of
+      Right v -> do
+        violations peakAt02ms v `shouldBe` []
+        case passesToFixedPoint 1000 peakAt02ms v of
+          (_, Just f) -> violations peakAt02ms f `shouldBe` []
+          (n, Nothing) -> expectationFailure ("no fixed point after " ++ show n ++ " passes")
+      Left f -> expectationFailure (show f)
