@@ -5,9 +5,9 @@
 -- of the two ('mcEnvelope'). A /plateau join/ at level V runs both passes again with
 -- every limit capped at V over a stretch [alpha, beta] ('capped'), each until its first
 -- cruise sample at V, and fills the gap between them with a cruise at V whose length
--- covers the distance; where that fraction of a step is more than half the end
--- tolerance, a sin² dent (or bump) in the cruise takes it out ('plateau', 'joinAt'). The
--- strategies of
+-- covers the distance; a sin² dent (or bump) in the cruise takes out the fraction of a
+-- step left over where it is more than half the end tolerance, or where the cruise
+-- without it is not legal ('plateau', 'joinAt'). The strategies of
 -- "VProf.Profile.Generate.Seed.Strategy" choose the levels and stretches.
 --
 -- Invariant: a join only ever returns velocities the checker finds legal for the

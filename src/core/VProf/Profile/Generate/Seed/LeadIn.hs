@@ -52,10 +52,10 @@ leadInReachSteps = 8
 -- landing at rest), but by less than 'leadInReachSteps' can make up. A speed limit broken
 -- by more than that velocity, or a terminal passed more than that velocity faster than its
 -- own until further than that velocity times the braking's duration ('brakeTimeBound')
--- past it, stays broken after any first steps: at a fine time step the lead-in's 33 × 33 seeds of the rest, each with its own
--- oracle over a braking of a million steps, would only find that out (a route at 0.1 ms
--- whose end velocity cannot be reached under an earlier limit by 1.9 m/s took 51 s to be
--- called infeasible).
+-- past it, stays broken after any first steps: at a fine time step the lead-in's 33 × 33
+-- seeds of the rest, each with its own oracle over a braking of a million steps, would
+-- only find that out (a route at 0.1 ms whose end velocity cannot be reached under an
+-- earlier limit by 1.9 m/s took 51 s to be called infeasible).
 leadInMayHelp :: Bool -> Problem -> Bool
 leadInMayHelp meeting pb = case policyFor pb term st0 of
   Right _ -> False
