@@ -1,9 +1,11 @@
 -- | Routes for the seed's specs, drawn as the specs need them: zones at given speeds whose
--- starts cut the route at given fractions, ranges given as magnitudes, from rest to rest.
+-- starts cut the route at given fractions, ranges given as magnitudes, from rest to rest;
+-- and what the checker finds wrong with a seed's velocities.
 module Support.Routes
   ( Ranges (..)
   , restRoute
   , genRestRoute
+  , violations
   ) where
 
 import Data.List (sort)
@@ -11,7 +13,9 @@ import qualified Data.Vector.Unboxed as U
 import Test.QuickCheck
 
 import Support.Wide (logUniform)
+import VProf.Profile.Legality (Rule (..), Violation (..), check)
 import VProf.Profile.Problem (Algorithm (..), Problem (..))
+import VProf.Profile.Sampled (Profile (..))
 
 -- | The magnitudes of a_min, a_max, j_min and j_max.
 data Ranges = Ranges !Double !Double !Double !Double
@@ -39,3 +43,8 @@ genRestRoute maxZones (v0, v1) (l0, l1) (a0, a1) (j0, j1) genDt tol = do
   let pb = restRoute len speeds cuts ranges 1 tol
   dt <- genDt pb
   pure pb { pbDt = dt }
+
+-- | The checker's violations of velocities v_0..v_N for the problem, other than a crawl
+-- (the generator cuts a profile at its arrival).
+violations :: Problem -> U.Vector Double -> [Violation]
+violations pb v = [ x | x@(Violation r _ _ _) <- check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)), r /= Crawl ]

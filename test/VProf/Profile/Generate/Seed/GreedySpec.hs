@@ -11,14 +11,12 @@ import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 import Test.QuickCheck
 
-import Support.Routes (Ranges (..), genRestRoute, restRoute)
+import Support.Routes (Ranges (..), genRestRoute, restRoute, violations)
 import Support.Wide (logUniform)
 import VProf.Profile.Generate.Seed (seed)
 import VProf.Profile.Generate.Seed.Brake (St (..), Term (..), jerkPlanMargin, policyWith)
 import VProf.Profile.Generate.Seed.Greedy (forward)
-import VProf.Profile.Legality (Rule (..), Violation (..), check)
 import VProf.Profile.Problem (Algorithm (..), Problem (..))
-import VProf.Profile.Sampled (Profile (..))
 
 -- | A route from rest to rest of one to four zones whose brakings span some 600 to 2,000
 -- steps: the time step is the braking time from the highest limit over that many steps.
@@ -42,10 +40,6 @@ landingPassWith scheduled margin pb = case policyWith margin pb (Term (pbLength 
   Left _ -> Nothing
   Right e -> Just (U.fromList (0 : map stV (forward scheduled e (pbTol pb / 2) 4000000 st0)))
   where st0 = St 0 0 0
-
--- | The checker's violations other than a crawl (the generator cuts a profile at its arrival).
-violations :: Problem -> U.Vector Double -> [Violation]
-violations pb v = [ x | x@(Violation r _ _ _) <- check pb (Profile (pbDt pb) v 0 0), r /= Crawl ]
 
 -- | Route-abcd (examples/route-abcd.json: 50 m, 4 / 2 / 5 m/s from 0 / 25 / 30 m, ±1 m/s²,
 -- ±0.5 m/s³) at a 1 ms step.

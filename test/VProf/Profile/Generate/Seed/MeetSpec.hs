@@ -10,18 +10,13 @@ import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 
 import Support.Arbitrary (problemOf)
+import Support.Routes (violations)
 import VProf.Profile.Generate.RubberBand (PassResult (..), pass)
 import VProf.Profile.Generate.Seed (seed)
 import VProf.Profile.Generate.Seed.Meet (meetWith)
 import VProf.Profile.Generate.Seed.Strategy (Strategy (..), limitCruise, peakPlateau)
-import VProf.Profile.Legality (Rule (..), Violation (..), check)
 import VProf.Profile.Request
-import VProf.Profile.Sampled (Profile (..))
 import VProf.Units
-
--- | The checker's violations other than a crawl.
-violations :: Problem -> U.Vector Double -> [Violation]
-violations pb v = [ x | x@(Violation r _ _ _) <- check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)), r /= Crawl ]
 
 -- | The rubber band's passes from a profile to its fixed point, at most @cap@ of them: the
 -- number of passes that changed something, and the fixed point (Nothing past the cap).
