@@ -263,12 +263,24 @@ generateWithin pb t0 latest = do
 thesisVariantSamples :: Int
 thesisVariantSamples = 2048
 
+-- | The work thesis mode may spend in 'viaThesis', in passes times samples (some 0.4 s on a
+-- 2-core EPYC VM). Its velocities rise from rest by at most one velocity step a pass, so to
+-- be shorter than an answer of n samples over a route of length L its peak must pass
+-- L / (n·dt): at least L / (n·dt·dv) passes. A velocity step whose passes would cost more
+-- than this is not tried, and a run that spends it is given up (the answer stands). A
+-- 6.6 m route of 1,131 samples at 10 ms with a jerk of 0.17 m/s³ spent 17 s of a 20 s budget
+-- (the whole of any budget below that) on thesis mode's fixed points, 77 s long against the
+-- answer's 11.3 s; the requests of test/data it was made for take at most 3·10⁶.
+thesisWork :: Double
+thesisWork = 1e7
+
 -- | The last variant of the default generator's seed, with what is left of the budget:
 -- thesis mode's fixed point ("VProf.Profile.Generate.Thesis"), grown from rest. Where the
 -- greedy seeds all brake too late (weak jerk against a strong one, many zones), its gentle
 -- growth can arrive sooner. When it reaches its fixed point within the budget, is legal
 -- and shorter than the converged answer, the default generator's passes run from it to
--- their own fixed point; if any of that runs out of the budget, the converged answer stands.
+-- their own fixed point; if any of that runs out of the budget or of 'thesisWork', the
+-- converged answer stands.
 viaThesis :: Problem -> IO Double -> Result -> IO Result
 viaThesis pb elapsed r0 = do
   secs <- elapsed
@@ -280,11 +292,22 @@ viaThesis pb elapsed r0 = do
       -- the faster (0.87 m, 200 zones: 39.875 s with its own, 40.375 s with the default's)
       dvs = let own = thesisVelocityStep (pbDt pb) (pbAMin pb) (pbAMax pb) (pbJMin pb) (pbJMax pb)
             in pbDv pb : [ own | own > pbDv pb ]
-      fixedPoint dv = case thesisStages thPb { pbDv = dv } of
-        Left _ -> Nothing
-        Right stages -> case last stages of
-          st | stgDone st -> Just (stgVel st)
-          _ -> Nothing
+      -- the passes its peak needs to beat the answer (none where the start or the end is
+      -- already that fast), times the answer's samples
+      pace = pbLength pb / (fromIntegral n0 * pbDt pb)
+      leastWork dv = if pace > max (pbV0 pb) (pbVEnd pb) then pace / dv * fromIntegral n0 else 0
+      fixedPoint dv
+        | leastWork dv > thesisWork = Nothing
+        | otherwise = case thesisStages thPb { pbDv = dv } of
+            Left _ -> Nothing
+            Right stages -> within 0 0 stages
+      -- the stages while their passes times their samples stay within 'thesisWork'
+      within _ _ [] = Nothing
+      within work p (st : rest)
+        | stgDone st = Just (stgVel st)
+        | work' > thesisWork = Nothing
+        | otherwise = within work' (stgPasses st) rest
+        where work' = work + fromIntegral (stgPasses st - p) * fromIntegral (U.length (stgVel st))
       legalLength v = let (prof, vs) = arrived pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
                       in if null vs then Just (sampleCount prof) else Nothing
       shortest = case sortOn fst [ (m, v) | dv <- dvs, Just v <- [fixedPoint dv], Just m <- [legalLength v] ] of
