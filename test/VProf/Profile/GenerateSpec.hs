@@ -333,6 +333,33 @@ spec = do
             certificateHolds pb (n + 1) y `shouldBe` False
           other -> expectationFailure ("no certificates: " ++ show (fmap fst other))
 
+  describe "a slow zone before a fast moving end (0.953 m/s up to 1.19 m of 10.034 m, from rest with 0.746 m/s^2)" $ do
+    -- Found by the random band property: ending at 4.9245 m/s, no plateau joined the passes
+    -- (NOT_CONVERGED) and the exact join's caps, re-read at its solutions' positions, missed
+    -- the profile that accelerates right at the zone's end; ending at 3 m/s the meet joined
+    -- on a plateau that stopped at 5.73 m (8.625 s), a fixed point of the rubber band.
+    let slowZone ve = defaultRequest
+          { rqRouteLength = 10.034 *~ meter
+          , rqZones = [SpeedZone (0 *~ meter) (0.953 *~ mps), SpeedZone (1.19 *~ meter) (9.849 *~ mps)]
+          , rqMinAcceleration = (-1.892) *~ mps2, rqMaxAcceleration = 2.696 *~ mps2
+          , rqMinJerk = (-1.322) *~ mps3, rqMaxJerk = 1.445 *~ mps3
+          , rqStartAcceleration = 0.746 *~ mps2, rqEndVelocity = ve *~ mps }
+        legalConverged rq = do
+          let r = generatePure rq
+          resOutcome r `shouldBe` Generated
+          resConverged r `shouldBe` True
+          fmap (check (problemOf rq)) (resProfile r) `shouldBe` Just []
+          pure r
+    it "ending at 4.9245 m/s (and 4.7, 4.93): a legal, converged profile (was NOT_CONVERGED)" $
+      forM_ [4.9245, 4.7, 4.93] $ \ve -> legalConverged (slowZone ve)
+    it "ending at 0.5 to 4.6 m/s: no stop on the way, within 6.5 s (ending at 3 m/s took 8.625 s, stopping at 5.73 m)" $
+      forM_ [0.5, 1, 2, 3, 4, 4.3, 4.6] $ \ve -> do
+        r <- legalConverged (slowZone ve)
+        let v = maybe U.empty prVelocities (resProfile r)
+        -- moving from the first step to the end
+        U.all (> 0) (U.drop 1 v) `shouldBe` True
+        fmap duration (resProfile r) `shouldSatisfy` maybe False (<= 6.5)
+
   it "a slow zone that leaves too little route to reach the moving end is infeasible, proven with the samples kept out of the faster zones (the band property's request at seed 101, not converged before)" $ do
     -- 3.927 m/s over [5.476, 6.886) m, then 20.8 m to reach 9.208 m/s at a jerk of 0.787 m/s³:
     -- with the highest limit everywhere a program of each step count is feasible; with each

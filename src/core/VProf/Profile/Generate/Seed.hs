@@ -29,6 +29,7 @@ module VProf.Profile.Generate.Seed
 import Data.List (foldl')
 import qualified Data.Vector.Unboxed as U
 
+import VProf.Profile.Generate.Exact (compareWork, exactJoinFewer)
 import VProf.Profile.Generate.Seed.Brake
 import VProf.Profile.Generate.Seed.Explain
 import VProf.Profile.Generate.Seed.Greedy (forwardMarked, passCapMessage, passStepCap)
@@ -221,10 +222,12 @@ bestSeed pb = do
 -- only once. A route that ends at rest lands each (but the problem itself) by one greedy
 -- pass; a route that ends in motion lands each (the problem itself too) at rest where the
 -- end state's run-in begins, and then runs in, and also takes the lowered problem's own
--- seed (its two-sided meet).
+-- seed (its two-sided meet) and, last, the exact join of fewer steps than the best so far,
+-- of the problem and of the lowered one ('exactJoinFewer').
 seedVariants :: Problem -> [Variant]
 seedVariants pb
   | moving = map viaRest (dedupe [] problems) ++ [ loweredSeed | lowerable, lowered /= pb ]
+             ++ [ fewerSteps q | q <- pb : [ lowered | lowerable, lowered /= pb ] ]
   | otherwise = map landed (dedupe [pb] problems)
   where
     moving = pbVEnd pb > 0 || pbAEnd pb /= 0
@@ -238,6 +241,12 @@ seedVariants pb
       Right v | U.length v <= limit + 1 -> Just v
       _ -> Nothing
     lowered = pb { pbZoneStarts = U.singleton 0, pbZoneSpeeds = U.singleton vLow }
+    -- a moving end: the exact join of fewer steps than the best seed so far, if any. The
+    -- meet's plateau can lie far below the fastest profile on a short route, even stop on
+    -- it, and a stop is a fixed point of the rubber band: a 10 m route from rest behind a
+    -- 0.953 m/s zone (1.19 m) took 8.625 s ending at 3 m/s, stopping at 5.73 m; the exact
+    -- join's profile takes 5.25 s.
+    fewerSteps q limit = exactJoinFewer compareWork (limit + 1) q
     symJerk q = let m = min (negate (pbJMin q)) (pbJMax q) in q { pbJMin = negate m, pbJMax = m }
     symAcc q = let m = min (negate (pbAMin q)) (pbAMax q) in q { pbAMin = negate m, pbAMax = m }
     dedupe _ [] = []
