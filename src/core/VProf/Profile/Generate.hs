@@ -14,6 +14,8 @@ module VProf.Profile.Generate
   , iterations
   , Snapshot (..)
   , thesisHorizon
+  , thesisLeastWork
+  , thesisWork
   ) where
 
 import qualified Data.Vector.Unboxed as U
@@ -263,16 +265,38 @@ generateWithin pb t0 latest = do
 thesisVariantSamples :: Int
 thesisVariantSamples = 2048
 
--- | The work thesis mode may spend in 'viaThesis', in passes times samples (some 0.4 s on a
--- 2-core EPYC VM). Its velocities rise from rest by at most one velocity step a pass, so to
--- be shorter than an answer of n samples over a route of length L its peak must pass
--- L / (n·dt): at least L / (n·dt·dv) passes. A velocity step whose passes would cost more
--- than this is not tried, and a run that spends it is given up (the answer stands). A
+-- | The work thesis mode may spend in 'viaThesis', in passes times samples (on a 2-core EPYC
+-- VM a unit costs 32 ns with 9 zones, 67 ns with 152: some 0.3-0.7 s a velocity step). Its
+-- passes are capped at this over the answer's samples, and the stages' passes times their
+-- samples are counted as they come. Its band rises from rest by at most one velocity step a pass, so to be
+-- shorter than an answer of n samples over a route of length L its peak must pass
+-- L / (n·dt): at least L / (n·dt·dv) passes (for a moving end, the route and the samples
+-- less those of the end state's run-in from rest). A velocity step whose passes would cost
+-- more than this is not tried, and a run that spends it is given up (the answer stands). A
 -- 6.6 m route of 1,131 samples at 10 ms with a jerk of 0.17 m/s³ spent 17 s of a 20 s budget
 -- (the whole of any budget below that) on thesis mode's fixed points, 77 s long against the
 -- answer's 11.3 s; the requests of test/data it was made for take at most 3·10⁶.
 thesisWork :: Double
 thesisWork = 1e7
+
+-- | The least work (passes times the answer's samples) thesis mode needs at velocity step
+-- @dv@ to be shorter than an answer of @n0@ samples. Its profile is the start braked to
+-- rest, its band grown from rest by at most @dv@ a pass, and, for a moving end, the end
+-- state's run-in from rest (fixed): to beat the answer, the band must pass the pace that
+-- covers the rest of the route in the samples left (nothing to pass where the start is
+-- already that fast: 0). Infinite where thesis mode cannot run in to the end state at all,
+-- or the run-in alone takes as many samples as the answer.
+thesisLeastWork :: Problem -> Int -> Double -> Double
+thesisLeastWork pb n0 dv = case runIn of
+  Just (nT, dE) | nT < n0 ->
+    let pace = (pbLength pb - dE) / (fromIntegral (n0 - nT) * pbDt pb)
+    in if pace > pbV0 pb then pace / dv * fromIntegral n0 else 0
+  _ -> 1 / 0
+  where
+    runIn
+      | pbVEnd pb > 0 || pbAEnd pb /= 0 =
+          either (const Nothing) (\t -> Just (U.length t, U.last (trapezoidDistances (pbDt pb) t))) (restFrom (mirror pb))
+      | otherwise = Just (0, 0)
 
 -- | The last variant of the default generator's seed, with what is left of the budget:
 -- thesis mode's fixed point ("VProf.Profile.Generate.Thesis"), grown from rest. Where the
@@ -286,18 +310,17 @@ viaThesis pb elapsed r0 = do
   secs <- elapsed
   let left = pbBudget pb - secs
       n0 = maybe maxBound sampleCount (resProfile r0)
-      thPb = pb { pbAlgorithm = Thesis, pbMaxIter = max (pbMaxIter pb) (defaultMaxIterations Thesis) }
+      -- at most 'thesisWork' passes times the answer's samples (thesis mode checks its
+      -- stages only every few thousand passes on a long horizon)
+      thPb = pb { pbAlgorithm = Thesis
+                , pbMaxIter = min (max (pbMaxIter pb) (defaultMaxIterations Thesis)) (ceiling (thesisWork / fromIntegral n0)) }
       -- thesis mode's own velocity step is coarser than the default generator's, and its
       -- pace (a step a sample a pass) sets how gently it brakes: with either step it can be
       -- the faster (0.87 m, 200 zones: 39.875 s with its own, 40.375 s with the default's)
       dvs = let own = thesisVelocityStep (pbDt pb) (pbAMin pb) (pbAMax pb) (pbJMin pb) (pbJMax pb)
             in pbDv pb : [ own | own > pbDv pb ]
-      -- the passes its peak needs to beat the answer (none where the start or the end is
-      -- already that fast), times the answer's samples
-      pace = pbLength pb / (fromIntegral n0 * pbDt pb)
-      leastWork dv = if pace > max (pbV0 pb) (pbVEnd pb) then pace / dv * fromIntegral n0 else 0
       fixedPoint dv
-        | leastWork dv > thesisWork = Nothing
+        | thesisLeastWork pb n0 dv > thesisWork = Nothing
         | otherwise = case thesisStages thPb { pbDv = dv } of
             Left _ -> Nothing
             Right stages -> within 0 0 stages
