@@ -265,17 +265,14 @@ generateWithin pb t0 latest = do
 thesisVariantSamples :: Int
 thesisVariantSamples = 2048
 
--- | The work thesis mode may spend in 'viaThesis', in passes times samples (on a 2-core EPYC
--- VM a unit costs 32 ns with 9 zones, 67 ns with 152: some 0.3-0.7 s a velocity step). Its
--- passes are capped at this over the answer's samples, and the stages' passes times their
--- samples are counted as they come. Its band rises from rest by at most one velocity step a pass, so to be
--- shorter than an answer of n samples over a route of length L its peak must pass
--- L / (n·dt): at least L / (n·dt·dv) passes (for a moving end, the route and the samples
--- less those of the end state's run-in from rest). A velocity step whose passes would cost
--- more than this is not tried, and a run that spends it is given up (the answer stands). A
--- 6.6 m route of 1,131 samples at 10 ms with a jerk of 0.17 m/s³ spent 17 s of a 20 s budget
--- (the whole of any budget below that) on thesis mode's fixed points, 77 s long against the
--- answer's 11.3 s; the requests of test/data it was made for take at most 3·10⁶.
+-- | The work thesis mode may spend in 'viaThesis', in passes times the answer's samples
+-- (on a 2-core EPYC VM a unit costs 32 ns with 9 zones, 67 ns with 152: some 0.3-0.7 s a
+-- velocity step): a velocity step whose least work ('thesisLeastWork') is beyond it is not
+-- tried, a run's passes are capped at it over the answer's samples, and a run whose stages'
+-- passes times samples pass it is given up (the answer stands). A 6.6 m route of 1,131
+-- samples at 10 ms with a jerk of 0.17 m/s³ spent 17 s of a 20 s budget (the whole of any
+-- budget below that) on thesis mode's fixed points, 77 s long against the answer's 11.3 s;
+-- the requests of test/data it was made for take at most 3·10⁶.
 thesisWork :: Double
 thesisWork = 1e7
 
