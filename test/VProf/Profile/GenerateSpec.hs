@@ -273,6 +273,19 @@ spec = do
                in counterexample (unlines (map renderViolation real)) (null real)
              _ -> property Discard
 
+    it "a profile from rest does not stand still at its start (a 30.5 m route ending at rest with -0.888 m/s^2: the exact join's seed stood for its first step, 105 samples, and its mirror crawled)" $ do
+      let rq = defaultRequest { rqRouteLength = 30.499 *~ meter
+                              , rqZones = [ SpeedZone (0 *~ meter) (9.288 *~ mps), SpeedZone (11.877 *~ meter) (3.19 *~ mps)
+                                          , SpeedZone (14.992 *~ meter) (5.116 *~ mps), SpeedZone (26.734 *~ meter) (8.384 *~ mps) ]
+                              , rqMinAcceleration = (-2.811) *~ mps2, rqMaxAcceleration = 1.259 *~ mps2
+                              , rqMinJerk = (-2.876) *~ mps3, rqMaxJerk = 0.563 *~ mps3
+                              , rqEndAcceleration = (-0.888) *~ mps2 }
+          r = generatePure rq
+      resOutcome r `shouldBe` Generated
+      fmap (check (problemOf rq)) (resProfile r) `shouldBe` Just []
+      fmap sampleCount (resProfile r) `shouldBe` Just 104
+      fmap ((U.! 1) . prVelocities) (resProfile r) `shouldSatisfy` maybe False (> 0)
+
     it "the thesis's moving start and end (2 m/s to 1 m/s, fig 4.27) land exactly, legal and converged" $ do
       let rq = defaultRequest { rqRouteLength = 120 *~ meter
                               , rqZones = [SpeedZone (0 *~ meter) (7 *~ mps), SpeedZone (70 *~ meter) (5 *~ mps)]

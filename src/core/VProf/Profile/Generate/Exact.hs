@@ -244,7 +244,7 @@ joinLp pb w endRoom n caps =
 -- | For a request the meet could not join: the first N (fewest steps first) whose program
 -- gives a profile the checker finds legal, within 'lastResortWork'.
 exactJoin :: Problem -> Maybe (U.Vector Double)
-exactJoin pb = fst (firstWithin lastResortWork (concatMap attempts (take joinCandidates candidates)))
+exactJoin pb = withoutStanding pb <$> fst (firstWithin lastResortWork (concatMap attempts (take joinCandidates candidates)))
   where (candidates, attempts) = joinPrograms pb
 
 -- | A profile of fewer than the given number of steps by the exact join, within a work
@@ -257,7 +257,7 @@ exactJoinFewer budget below pb = case cands of
   [] -> Nothing
   _ -> case firstWithin budget (attempts (last cands)) of
     (Nothing, _) -> Nothing
-    (Just v, spent) -> Just (bisect (budget - spent) 0 (length cands - 1) v)
+    (Just v, spent) -> Just (withoutStanding pb (bisect (budget - spent) 0 (length cands - 1) v))
   where
     (candidates, attempts) = joinPrograms pb
     cands = takeWhile (< below) candidates
@@ -270,6 +270,24 @@ exactJoinFewer budget below pb = case cands of
                (Just v, spent) -> bisect (left - spent) lo mid v
                (Nothing, spent) | spent < left -> bisect (left - spent) (mid + 1) hi best
                _ -> best
+
+-- | A profile from rest (with no start acceleration) whose program let it stand still for
+-- its first steps, with those steps dropped: as many steps shorter, and still legal (the
+-- checker confirms it; otherwise the profile stays as it was). The program of n steps
+-- maximises the velocities' sum, which a profile of fewer steps padded with standing still
+-- can do (a 30.5 m route ending at rest with -0.888 m/s²: 104 steps, the first standing,
+-- where 103 are legal).
+withoutStanding :: Problem -> U.Vector Double -> U.Vector Double
+withoutStanding pb vs
+  | pbV0 pb == 0 && pbA0 pb == 0 && standing > 0 && U.length vs - standing >= 2 && legalVelocities pb trimmed = trimmed
+  | otherwise = vs
+  where
+    standing = U.length (U.takeWhile (<= standingSpeed) (U.drop 1 (U.take (U.length vs - 1) vs)))
+    trimmed = U.cons 0 (U.drop (standing + 1) vs)
+
+-- | A sample of a built profile at most this fast stands still (the programs' rounding).
+standingSpeed :: Double
+standingSpeed = 1e-12
 
 -- | The first profile of a list of programs (each with its work) within a budget, and the
 -- work spent (a program that would pass the budget is not solved).
