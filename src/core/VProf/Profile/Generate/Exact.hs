@@ -312,9 +312,13 @@ joinPrograms pb = (candidates, attempts)
     tol = pbTol pb
     top = maybe envCap id (maxSteps pb env fl)
     candidates = [ n | n <- [1 .. min lpCap top], boxFits pb env fl n ]
-    solveWith n caps = case solve (joinLp pb False (tol / 2) n caps) of
+    solveWith n caps = solveRows n caps []
+    -- the program of n steps with these caps and extra rows: its velocities, the ends
+    -- pinned and the rest clipped at zero (the solver's rounding)
+    solveRows n caps extra = case solve lp0 { lpRows = lpRows lp0 ++ extra } of
       Optimal x -> Just (U.imap (\k v -> if k == 0 then pbV0 pb else if k == n then pbVEnd pb else max 0 v) x)
       _ -> Nothing
+      where lp0 = joinLp pb False (tol / 2) n caps
     -- the programs for n steps, each with its work, in order
     attempts n =
       let (lo, hi) = boxes pb env fl n
@@ -351,13 +355,11 @@ joinPrograms pb = (candidates, attempts)
                 caps = U.generate (n + 1) (\k -> let z0 = zoneOf (max 0 (k - 1)); z1 = zoneOf (min n (k + 1))
                                                  in U.minimum (U.slice z0 (z1 - z0 + 1) speeds))
                 far = (len + tol + 1) / dt
-                row k lo hi = Row ((0, 0.5) : [ (j, 1) | j <- [1 .. k - 1] ] ++ [(k, 0.5)]) (lo / dt) (hi / dt)
-                sides = concat [ [ row (m - 1) 0 (b - boundaryRoomM) | m - 1 >= 1 ] ++ [ row m ((b + boundaryRoomM)) far | m <= n ]
+                row k lo hi = Row (positionTerms k) (lo / dt) (hi / dt)
+                sides = concat [ [ row (m - 1) 0 (b - boundaryRoomM) | m - 1 >= 1 ] ++ [ row m (b + boundaryRoomM) far | m <= n ]
                                | (b, m) <- zip bounds ms ]
-                lp0 = joinLp pb False (tol / 2) n caps
-            in case solve lp0 { lpRows = lpRows lp0 ++ sides } of
-                 Optimal x -> let vs = U.imap (\k v -> if k == 0 then pbV0 pb else if k == n then pbVEnd pb else max 0 v) x
-                              in if legalVelocities pb vs then Just vs else Nothing
+            in case solveRows n caps sides of
+                 Just vs | legalVelocities pb vs -> Just vs
                  _ -> Nothing
           highest = U.replicate (n + 1) (U.maximum (pbZoneSpeeds pb))
       -- one zone: the cautious caps are exact; several: when the cautious caps leave no
@@ -445,13 +447,18 @@ proofCertificates pb = do
 -- a metre past the route end and its tolerance), each widened by the checker's slack of the
 -- route length.
 zoneRow :: Problem -> Int -> Int -> Row
-zoneRow pb k z = Row ((0, 0.5) : [ (j, 1) | j <- [1 .. k - 1] ] ++ [(k, 0.5)]) ((a - m) / dt) ((b + m) / dt)
+zoneRow pb k z = Row (positionTerms k) ((a - m) / dt) ((b + m) / dt)
   where
     dt = pbDt pb
     len = pbLength pb
     m = slack len
     a = pbZoneStarts pb U.! z
     b = if z + 1 < U.length (pbZoneStarts pb) then pbZoneStarts pb U.! (z + 1) else len + pbTol pb + 1
+
+-- | The terms of sample k's position over the time step, s_k/dt = v_0/2 + v_1 + … +
+-- v_{k−1} + v_k/2 (k ≥ 1).
+positionTerms :: Int -> [(Int, Double)]
+positionTerms k = (0, 0.5) : [ (j, 1) | j <- [1 .. k - 1] ] ++ [(k, 0.5)]
 
 num :: Double -> String
 num x = showFFloat Nothing (fromIntegral (round (x * 1e6) :: Integer) / 1e6 :: Double) ""
