@@ -132,7 +132,7 @@ staircase = defaultRequest
 -- -0.4276..0.1519 m/s³ at time_step 0.25 s (every greedy seed 54.0 s or more, thesis mode
 -- 52.25 s). The default generator now seeds variants of the problem and, for answers of up to
 -- 2048 samples, compares thesis mode's fixed point ('bestSeed', 'viaThesis').
-counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m :: IO Request
+counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m :: IO Request
 counterexample16m = loadRequest "test/data/metamorphic-cluster-16m.json"
 counterexample13cm = loadRequest "test/data/metamorphic-jerk-13cm.json"
 counterexample7cm = loadRequest "test/data/metamorphic-moving-end-7cm.json"
@@ -145,6 +145,10 @@ weakJerk6m = loadRequest "test/data/weak-jerk-thesis-work-6m.json"
 -- | Found by bench/fuzz-requests (seed 40): converged within 1 s, then 2.5 s more on thesis
 -- mode, whose run-in from rest to the moving end the first estimate of its work left out.
 movingEnd10m = loadRequest "test/data/moving-end-thesis-work-10m.json"
+-- | Found by bench/fuzz-requests --fine (seed 1): a 30.7 m route at 0.17 ms whose two-sided
+-- meet joined a cruise with a dent the limits did not need, which the band lifted one velocity
+-- step (7.45e-9 m/s) a pass (NOT_CONVERGED after 1,763 passes of a 20 s budget).
+dentedFine31m = loadRequest "test/data/dented-join-fine-31m.json"
 
 loadRequest :: FilePath -> IO Request
 loadRequest f = either (error . ((f ++ ": ") ++)) withLongBudget . requestFromJson <$> BL.readFile f
@@ -208,6 +212,14 @@ spec = describe "the wide world of requests" $ do
     fmap sampleCount (resProfile r) `shouldBe` Just 1131
     -- thesis mode is not tried (its least work is beyond thesisWork); before, 20 s of this 30 s budget went to it
     resSeconds r `shouldSatisfy` (< 10)
+
+  it "the 30.7 m route at 0.17 ms: the meet's cruise has no dent the limits do not need, and the band converges in a few passes (was NOT_CONVERGED after 1,763 passes)" $ do
+    rq <- dentedFine31m
+    r <- generate rq { rqTimeBudget = Just (60 *~ second) }
+    resOutcome r `shouldBe` Generated
+    resConverged r `shouldBe` True
+    resIterations r `shouldSatisfy` (<= 10)
+    sound rq r `shouldBe` True
 
   it "thesis mode is compared where its least work to beat the answer is within its cap (test/data's cases it beat), and not where it is beyond (the 6.6 m route, and a 9.9 m route whose run-in from rest to 1.29 m/s the estimate once left out)" $ do
     let leastWorks rq = do
