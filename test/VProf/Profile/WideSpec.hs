@@ -29,7 +29,10 @@ import Support.Proofs (sound)
 import Support.Wide
 import VProf.Profile.Format.Json (requestFromJson)
 import VProf.Profile.Generate
-import VProf.Profile.Legality (renderViolation)
+import qualified Data.Vector.Unboxed as U
+import VProf.Profile.Generate.Seed (seedVariants)
+import VProf.Profile.Generate.Seed.Brake (fullJerkHolds)
+import VProf.Profile.Legality (Rule (..), Violation (..), check, renderViolation)
 import VProf.Profile.Request
 import VProf.Profile.Sampled
 import VProf.Units
@@ -132,7 +135,7 @@ staircase = defaultRequest
 -- -0.4276..0.1519 m/s³ at time_step 0.25 s (every greedy seed 54.0 s or more, thesis mode
 -- 52.25 s). The default generator now seeds variants of the problem and, for answers of up to
 -- 2048 samples, compares thesis mode's fixed point ('bestSeed', 'viaThesis').
-counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m :: IO Request
+counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m :: IO Request
 counterexample16m = loadRequest "test/data/metamorphic-cluster-16m.json"
 counterexample13cm = loadRequest "test/data/metamorphic-jerk-13cm.json"
 counterexample7cm = loadRequest "test/data/metamorphic-moving-end-7cm.json"
@@ -149,6 +152,12 @@ movingEnd10m = loadRequest "test/data/moving-end-thesis-work-10m.json"
 -- meet joined a cruise with a dent the limits did not need, which the band lifted one velocity
 -- step (7.45e-9 m/s) a pass (NOT_CONVERGED after 1,763 passes of a 20 s budget).
 dentedFine31m = loadRequest "test/data/dented-join-fine-31m.json"
+-- | That route cut to 12 m: ending at 1.3 m/s, the meet joined a 7.6 s cruise whose end fell
+-- 3.1 mm short of where the band stops, and the band lifted it as a whole (NOT_CONVERGED after
+-- 24,000 passes of 120 s); ending at 1 m/s, the variant through rest broke the jerk rule in its
+-- run-in by 3e-9 m/s³ and was refused (11.2 s instead of 8.9 s, NOT_CONVERGED at 120 s).
+liftedFine12m = loadRequest "test/data/lifted-cruise-fine-12m.json"
+runInFine12m = loadRequest "test/data/run-in-margins-fine-12m.json"
 
 loadRequest :: FilePath -> IO Request
 loadRequest f = either (error . ((f ++ ": ") ++)) withLongBudget . requestFromJson <$> BL.readFile f
@@ -220,6 +229,26 @@ spec = describe "the wide world of requests" $ do
     resConverged r `shouldBe` True
     resIterations r `shouldSatisfy` (<= 10)
     sound rq r `shouldBe` True
+
+  it "the 12 m route at 0.17 ms ending at 1.3 m/s: the meet's cruise is shaped as the band would leave it, and the band converges in a few passes (was NOT_CONVERGED after 24,000 passes)" $ do
+    rq <- liftedFine12m
+    r <- generate rq { rqTimeBudget = Just (60 *~ second) }
+    resOutcome r `shouldBe` Generated
+    resConverged r `shouldBe` True
+    resIterations r `shouldSatisfy` (<= 10)
+    sound rq r `shouldBe` True
+
+  it "the 12 m route at 0.17 ms ending at 1 m/s: the seed variant through rest plans its run-in inside the jerk range and is legal (it broke the jerk rule in 418 samples)" $ do
+    pb <- either (error . show) id . validate <$> runInFine12m
+    fullJerkHolds pb `shouldBe` False
+    case seedVariants pb of
+      viaRest : _ -> case viaRest maxSamples of
+        Just w -> do
+          map vRule (check pb (Profile (pbDt pb) w (pbA0 pb) (pbAEnd pb))) `shouldSatisfy` all (== Crawl)
+          -- through rest it takes 8.9 s; the meet's seed took 11.2 s
+          fromIntegral (U.length w - 1) * pbDt pb `shouldSatisfy` (< 9)
+        Nothing -> expectationFailure "no profile through rest"
+      [] -> expectationFailure "no seed variants"
 
   it "thesis mode is compared where its least work to beat the answer is within its cap (test/data's cases it beat), and not where it is beyond (the 6.6 m route, and a 9.9 m route whose run-in from rest to 1.29 m/s the estimate once left out)" $ do
     let leastWorks rq = do

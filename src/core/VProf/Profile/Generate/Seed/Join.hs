@@ -7,11 +7,13 @@
 -- cruise sample at V, and fills the gap between them with a cruise at V whose length
 -- covers the distance; a sin² dent (or bump) in the cruise takes out the fraction of a
 -- step left over where it is more than half the end tolerance, or where the cruise
--- without it is not legal ('plateau', 'joinAt'). The strategies of
+-- without it is not legal ('plateau', 'joinAt'); the join kept is then shaped as the
+-- rubber band would leave it ('bandShaped'). The strategies of
 -- "VProf.Profile.Generate.Seed.Strategy" choose the levels and stretches.
 --
 -- Invariant: a join only ever returns velocities the checker finds legal for the
--- problem ('legalVelocities'); every other outcome is 'Nothing'.
+-- problem ('legalVelocities'), but for a crawl once shaped ('legalCrawlAside': the
+-- generator cuts a profile at its arrival); every other outcome is 'Nothing'.
 module VProf.Profile.Generate.Seed.Join
   ( -- * The shared context
     MeetContext (..)
@@ -43,7 +45,8 @@ import qualified Data.Vector.Unboxed as U
 import VProf.Profile.Generate.Seed.Brake
 import VProf.Profile.Generate.Seed.Explain
 import VProf.Profile.Generate.Seed.Greedy (passCapMessage, passFrom, passStepCap)
-import VProf.Profile.Legality (legalVelocities)
+import VProf.Profile.Legality (Rule (..), Violation (..), check, legalVelocities)
+import VProf.Profile.Sampled (Profile (..))
 import VProf.Profile.Problem (Problem (..))
 import VProf.Profile.Problem.Transform (capOn, mirror)
 
@@ -255,45 +258,55 @@ joinAt c v cp@(Capped fRun bRun _ _ _) ks =
       dt = ctxDt c
       tol = ctxTol c
       over = overBy dt v cp
-      depth k = if k > 1 then over k / (dt * fromIntegral k / 2) else 0
-      -- the cruise with its dent at a fraction of the full depth (0: none, 1: the route
-      -- end met exactly)
-      profileAt frac k =
-        let d = frac * depth k
-            bump j = let x = sin (pi * fromIntegral j / fromIntegral k) in x * x
+      -- the distance a dent of depth 1 takes out of a cruise of k steps
+      perDepth k = dt * fromIntegral k / 2
+      depth k = if k > 1 then over k / perDepth k else 0
+      -- the cruise with a dent of depth d (a bump where d < 0)
+      profileAt k d =
+        let bump j = let x = sin (pi * fromIntegral j / fromIntegral k) in x * x
             cruise = [ v - d * bump j | j <- [1 .. k - 1] ]
         in U.fromList ([pbV0 pb] ++ map stV fRun ++ cruise ++ reverse (pbVEnd pb : map stV bRun))
       legal = legalVelocities judge
-      tries = [ (profileAt 0 k, k, False) | k <- ks, k > 1, abs (over k) <= tol / undentedDivisor ]
-              ++ [ (profileAt 1 k, k, True) | k <- ks, k > 1 || abs (over k) <= tol / undentedDivisor ]
-  in case filter (\(vs, _, _) -> legal vs) tries of
-       ((vs, k, True) : _) -> Just (shallowest legal (pbDv judge) tol (over k) (depth k) (`profileAt` k) vs)
-       ((vs, _, False) : _) -> Just vs
+      tries = [ (k, 0) | k <- ks, k > 1, abs (over k) <= tol / undentedDivisor ]
+              ++ [ (k, depth k) | k <- ks, k > 1 || abs (over k) <= tol / undentedDivisor ]
+  in case [ (k, d, vs) | (k, d) <- tries, let vs = profileAt k d, legal vs ] of
+       -- lazily: only the profile a strategy keeps is shaped
+       (k, d, vs) : _ | k > 1 -> Just (bandShaped (legalCrawlAside judge) (pbDv judge) ((over k - tol / undentedDivisor * (1 - 1e-6)) / perDepth k) d (profileAt k) vs)
+                      | otherwise -> Just vs
        [] -> Nothing
 
--- | The shallowest dent that is legal, to within a few velocity steps of the rubber band,
--- given the legal profile with the full dent (depth @d@, taking out the overshoot @o@):
--- the band lifts a dent one velocity step a pass while the route end stays within half
--- the tolerance and no later sample is pushed into a lower zone, so a dent the limits do
--- not need costs it d/dv passes (a 30.7 m route at 0.17 ms: a dent of 2.5e-4 m/s in
--- steps of 7.5e-9 m/s, NOT_CONVERGED after 1,763 passes in a 20 s budget). Where the
--- undented cruise is illegal (a sample after it pushed into a lower zone, or the end beyond
--- half the tolerance), a bisection on the dent's fraction finds where it becomes legal,
--- the band's own fixed point. A bump (a cruise too short, d < 0) is kept as it is: the
--- band never lowers it.
-shallowest :: (U.Vector Double -> Bool) -> Double -> Double -> Double -> Double -> (Double -> U.Vector Double) -> U.Vector Double -> U.Vector Double
-shallowest legal dv tol o d at full
-  | d <= 0 || o <= 0 || lo0 >= 1 = full
-  | otherwise = go lo0 1 full (0 :: Int)
+-- | Legal, but for a crawl: the profile arrives (within the tolerance of the route end, at
+-- the end velocity) before its last sample, where the generator cuts it, as it cuts the
+-- band's fixed point. A shaped join may crawl so (cut here, its end would lie short again and
+-- the band lift it once more).
+legalCrawlAside :: Problem -> U.Vector Double -> Bool
+legalCrawlAside pb vs = all ((== Crawl) . vRule) (check pb (Profile (pbDt pb) vs (pbA0 pb) (pbAEnd pb)))
+
+-- | The cruise shaped as the rubber band would leave it: the band raises a sample while
+-- the route end stays within half the tolerance past it and no later sample is pushed
+-- into a lower zone, one velocity step a pass, so a cruise whose end lies short of that
+-- costs it one pass a step: a dent of 2.5e-4 m/s in steps of 7.45e-9 m/s (a 30.7 m route
+-- at 0.17 ms: NOT_CONVERGED after 1,763 passes of a 20 s budget), or an undented cruise
+-- of 7.6 s at 1.3 m/s whose end fell short by up to half the tolerance, which the band
+-- lifted as a whole (5.7e-8 m a pass: NOT_CONVERGED after 24,000 passes of 120 s). The
+-- depth @target@ puts the end just inside half the tolerance past the route end (a bump
+-- where it is negative); when that profile is illegal, a bisection between it and the
+-- legal depth @d0@ (the join's own) finds the legal one nearest to it, to within two
+-- velocity steps.
+bandShaped :: (U.Vector Double -> Bool) -> Double -> Double -> Double -> (Double -> U.Vector Double) -> U.Vector Double -> U.Vector Double
+bandShaped legal dv target d0 at own
+  | abs (target - d0) <= 2 * dv = own
+  | legal first = first
+  | otherwise = go d0 target own (0 :: Int)
   where
-    -- the end within half the tolerance needs at least this fraction of the dent
-    lo0 = max 0 (1 - tol / undentedDivisor / o)
-    go lo hi best n
-      | (hi - lo) * d <= 2 * dv || n >= 60 = best
+    first = at target
+    -- ok: legal (its profile is best); bad: not legal
+    go ok bad best n
+      | abs (bad - ok) <= 2 * dv || n >= 60 = best
       | otherwise =
-          let mid = (lo + hi) / 2
+          let mid = (ok + bad) / 2
               vs = at mid
-          in if legal vs then go lo mid vs (n + 1) else go mid hi best (n + 1)
+          in if legal vs then go mid bad vs (n + 1) else go ok mid best (n + 1)
 
 -- | The tuned plateau between levels v1 > v2 over the same stretch: for each cruise
 -- length whose overshoot changes sign between them, bisect the level down to an

@@ -9,7 +9,8 @@
 -- the exact join's proof may still show that no profile exists; otherwise the failure is
 -- the generator's and says which strategies it tried.
 --
--- Invariant: 'meet' returns only profiles the checker finds legal, and claims
+-- Invariant: 'meet' returns only profiles the checker finds legal (but for a crawl, which
+-- the generator cuts at the arrival), and claims
 -- infeasibility only with a failed brake policy or a verified proof behind it.
 module VProf.Profile.Generate.Seed.Meet
   ( meet
