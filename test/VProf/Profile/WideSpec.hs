@@ -159,6 +159,16 @@ dentedFine31m = loadRequest "test/data/dented-join-fine-31m.json"
 liftedFine12m = loadRequest "test/data/lifted-cruise-fine-12m.json"
 runInFine12m = loadRequest "test/data/run-in-margins-fine-12m.json"
 
+-- | Generated, converged within ten passes of the rubber band, and sound by the independent
+-- proofs, under a budget of 60 s.
+convergesInFewPasses :: Request -> Expectation
+convergesInFewPasses rq = do
+  r <- generate rq { rqTimeBudget = Just (60 *~ second) }
+  resOutcome r `shouldBe` Generated
+  resConverged r `shouldBe` True
+  resIterations r `shouldSatisfy` (<= 10)
+  sound rq r `shouldBe` True
+
 loadRequest :: FilePath -> IO Request
 loadRequest f = either (error . ((f ++ ": ") ++)) withLongBudget . requestFromJson <$> BL.readFile f
   where withLongBudget rq = rq { rqTimeBudget = Just (30 *~ second) }
@@ -222,21 +232,11 @@ spec = describe "the wide world of requests" $ do
     -- thesis mode is not tried (its least work is beyond thesisWork); before, 20 s of this 30 s budget went to it
     resSeconds r `shouldSatisfy` (< 10)
 
-  it "the 30.7 m route at 0.17 ms: the meet's cruise has no dent the limits do not need, and the band converges in a few passes (was NOT_CONVERGED after 1,763 passes)" $ do
-    rq <- dentedFine31m
-    r <- generate rq { rqTimeBudget = Just (60 *~ second) }
-    resOutcome r `shouldBe` Generated
-    resConverged r `shouldBe` True
-    resIterations r `shouldSatisfy` (<= 10)
-    sound rq r `shouldBe` True
+  it "the 30.7 m route at 0.17 ms: the meet's cruise has no dent the limits do not need, and the band converges in a few passes (was NOT_CONVERGED after 1,763 passes)" $
+    convergesInFewPasses =<< dentedFine31m
 
-  it "the 12 m route at 0.17 ms ending at 1.3 m/s: the meet's cruise is shaped as the band would leave it, and the band converges in a few passes (was NOT_CONVERGED after 24,000 passes)" $ do
-    rq <- liftedFine12m
-    r <- generate rq { rqTimeBudget = Just (60 *~ second) }
-    resOutcome r `shouldBe` Generated
-    resConverged r `shouldBe` True
-    resIterations r `shouldSatisfy` (<= 10)
-    sound rq r `shouldBe` True
+  it "the 12 m route at 0.17 ms ending at 1.3 m/s: the meet's cruise is shaped as the band would leave it, and the band converges in a few passes (was NOT_CONVERGED after 24,000 passes)" $
+    convergesInFewPasses =<< liftedFine12m
 
   it "the 12 m route at 0.17 ms ending at 1 m/s: the seed variant through rest plans its run-in inside the jerk range and is legal (it broke the jerk rule in 418 samples)" $ do
     pb <- either (error . show) id . validate <$> runInFine12m

@@ -32,6 +32,7 @@ module VProf.Profile.Legality
   , check
   , isLegal
   , legalVelocities
+  , legalButCrawl
   , renderViolation
   , slack
   ) where
@@ -109,6 +110,11 @@ isLegal pb = null . check pb
 -- end accelerations.
 legalVelocities :: Problem -> U.Vector Double -> Bool
 legalVelocities pb vs = isLegal pb (Profile (pbDt pb) vs (pbA0 pb) (pbAEnd pb))
+
+-- | Legal but for a crawl: velocities that arrive (within the tolerance of the route end,
+-- at the end velocity) before their last sample, where the generator cuts a profile.
+legalButCrawl :: Problem -> U.Vector Double -> Bool
+legalButCrawl pb vs = all ((== Crawl) . vRule) (check pb (Profile (pbDt pb) vs (pbA0 pb) (pbAEnd pb)))
 
 check :: Problem -> Profile -> [Violation]
 check pb p

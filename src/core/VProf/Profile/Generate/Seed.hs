@@ -36,7 +36,7 @@ import VProf.Profile.Generate.Seed.Explain
 import VProf.Profile.Generate.Seed.Greedy (forwardMarked, passCapMessage, passStepCap)
 import VProf.Profile.Generate.Seed.LeadIn (leadIn, leadInMayHelp)
 import VProf.Profile.Generate.Seed.Meet (meet)
-import VProf.Profile.Legality (Rule (..), Violation (..), check)
+import VProf.Profile.Legality (Rule (..), Violation (..), check, legalButCrawl)
 import VProf.Profile.Problem (Problem (..))
 import VProf.Profile.Sampled (Profile (..), trapezoidDistances)
 import VProf.Profile.Problem.Transform (mirror, scaleJerk)
@@ -123,7 +123,7 @@ landingOnEnd limit pb =
     fullJerk = fullJerkHolds pb
     margins = [ 0 | fullJerk ] ++ jerkPlanMargins pb
     landed s m = landingBy s m limit pb
-    verdict l = let r = lResult l in (r, either (const False) (legalSeed pb) r)
+    verdict l = let r = lResult l in (r, either (const False) (legalButCrawl pb) r)
     -- lazily: a legal first landing costs one pass; each landing is run and checked once
     firstSched = landed True (head margins)
     Landing _ skipped ranOut = firstSched
@@ -139,10 +139,6 @@ landingOnEnd limit pb =
     -- when none is legal: the landing at the full jerk (a narrowed problem's failure, such as a
     -- start it cannot save, is no claim about this one)
     failedAs s lad = if fullJerk then head lad else verdict (landed s 0)
--- | Legal for its problem, a crawl aside (the generator cuts a profile at its arrival).
-legalSeed :: Problem -> U.Vector Double -> Bool
-legalSeed pb v = all (\(Violation r _ _ _) -> r == Crawl) (check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)))
-
 -- | A landing pass's answer, whether its schedule skipped a probe, and whether it ran out of
 -- its steps.
 data Landing = Landing
@@ -289,7 +285,7 @@ seedVariants pb
 -- of the seed's length.
 improveSeed :: Problem -> U.Vector Double -> Variant -> U.Vector Double
 improveSeed pb best variant = case variant (U.length best - 2) of
-  Just v | U.length v < U.length best, legalSeed pb v -> v
+  Just v | U.length v < U.length best, legalButCrawl pb v -> v
   _ -> best
 
 -- | The hardest legal braking from the start state to a standstill within the route,

@@ -12,8 +12,9 @@
 -- "VProf.Profile.Generate.Seed.Strategy" choose the levels and stretches.
 --
 -- Invariant: a join only ever returns velocities the checker finds legal for the
--- problem ('legalVelocities'), but for a crawl once shaped ('legalCrawlAside': the
--- generator cuts a profile at its arrival); every other outcome is 'Nothing'.
+-- problem ('legalVelocities'), but for a crawl once shaped ('legalButCrawl': the generator
+-- cuts a profile at its arrival, and cut here the join's end would lie short again, for the
+-- band to lift once more); every other outcome is 'Nothing'.
 module VProf.Profile.Generate.Seed.Join
   ( -- * The shared context
     MeetContext (..)
@@ -45,8 +46,7 @@ import qualified Data.Vector.Unboxed as U
 import VProf.Profile.Generate.Seed.Brake
 import VProf.Profile.Generate.Seed.Explain
 import VProf.Profile.Generate.Seed.Greedy (passCapMessage, passFrom, passStepCap)
-import VProf.Profile.Legality (Rule (..), Violation (..), check, legalVelocities)
-import VProf.Profile.Sampled (Profile (..))
+import VProf.Profile.Legality (legalButCrawl, legalVelocities)
 import VProf.Profile.Problem (Problem (..))
 import VProf.Profile.Problem.Transform (capOn, mirror)
 
@@ -271,16 +271,9 @@ joinAt c v cp@(Capped fRun bRun _ _ _) ks =
               ++ [ (k, depth k) | k <- ks, k > 1 || abs (over k) <= tol / undentedDivisor ]
   in case [ (k, d, vs) | (k, d) <- tries, let vs = profileAt k d, legal vs ] of
        -- lazily: only the profile a strategy keeps is shaped
-       (k, d, vs) : _ | k > 1 -> Just (bandShaped (legalCrawlAside judge) (pbDv judge) ((over k - tol / undentedDivisor * (1 - 1e-6)) / perDepth k) d (profileAt k) vs)
+       (k, d, vs) : _ | k > 1 -> Just (bandShaped (legalButCrawl judge) (pbDv judge) ((over k - tol / undentedDivisor * (1 - 1e-6)) / perDepth k) d (profileAt k) vs)
                       | otherwise -> Just vs
        [] -> Nothing
-
--- | Legal, but for a crawl: the profile arrives (within the tolerance of the route end, at
--- the end velocity) before its last sample, where the generator cuts it, as it cuts the
--- band's fixed point. A shaped join may crawl so (cut here, its end would lie short again and
--- the band lift it once more).
-legalCrawlAside :: Problem -> U.Vector Double -> Bool
-legalCrawlAside pb vs = all ((== Crawl) . vRule) (check pb (Profile (pbDt pb) vs (pbA0 pb) (pbAEnd pb)))
 
 -- | The cruise shaped as the rubber band would leave it: the band raises a sample while
 -- the route end stays within half the tolerance past it and no later sample is pushed
