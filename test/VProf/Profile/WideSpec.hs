@@ -30,7 +30,7 @@ import Support.Wide
 import VProf.Profile.Format.Json (requestFromJson)
 import VProf.Profile.Generate
 import qualified Data.Vector.Unboxed as U
-import VProf.Profile.Generate.Seed (seedVariants)
+import VProf.Profile.Generate.Seed (SeedFailure (..), SeedPlan (..), seedPlan, seedVariants, withRest)
 import VProf.Profile.Generate.Seed.Brake (fullJerkHolds)
 import VProf.Profile.Legality (Rule (..), Violation (..), check, renderViolation)
 import VProf.Profile.Request
@@ -249,6 +249,32 @@ spec = describe "the wide world of requests" $ do
           fromIntegral (U.length w - 1) * pbDt pb `shouldSatisfy` (< 9)
         Nothing -> expectationFailure "no profile through rest"
       [] -> expectationFailure "no seed variants"
+
+  it "a long route that ends in motion is seeded through rest first, the legal fallback while the meet runs (the 12 m route at 0.17 ms: 1.5-2 s through rest, 5-12 s in the meet); a short one and one that ends at rest are not" $ do
+    pb <- either (error . show) id . validate <$> runInFine12m
+    let plan = seedPlan pb
+    spRestFirst plan `shouldBe` True
+    case spThroughRest plan of
+      Just w -> do
+        map vRule (check pb (Profile (pbDt pb) w (pbA0 pb) (pbAEnd pb))) `shouldSatisfy` all (== Crawl)
+        fromIntegral (U.length w - 1) * pbDt pb `shouldSatisfy` (< 9)
+      Nothing -> expectationFailure "no seed through rest"
+    -- the variants follow without it (it would be the first of them)
+    length (spVariants plan) `shouldBe` length (seedVariants pb) - 1
+    let short = pb { pbLength = 0.5 }
+        atRest = pb { pbVEnd = 0, pbAEnd = 0 }
+    map (spRestFirst . seedPlan) [short, atRest] `shouldBe` [False, False]
+    -- the shorter of a seed and the seed through rest, or the one there is
+    let a = U.replicate 5 1; b = U.replicate 3 1
+    withRest (Just b) (Right a) `shouldBe` Right b
+    withRest (Just a) (Right b) `shouldBe` Right b
+    withRest (Just a) (Left (LandingFailed "x")) `shouldBe` Right a
+
+  it "the 12 m route at 0.17 ms ending at 1 m/s under a budget the meet fits in: the same 8.9 s profile through rest, converged" $ do
+    r <- generate . (\rq -> rq { rqTimeBudget = Just (60 *~ second) }) =<< runInFine12m
+    resOutcome r `shouldBe` Generated
+    resConverged r `shouldBe` True
+    durationOf r `shouldSatisfy` maybe False (< 8.92)
 
   it "thesis mode is compared where its least work to beat the answer is within its cap (test/data's cases it beat), and not where it is beyond (the 6.6 m route, and a 9.9 m route whose run-in from rest to 1.29 m/s the estimate once left out)" $ do
     let leastWorks rq = do

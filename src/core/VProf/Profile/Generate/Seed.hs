@@ -16,6 +16,10 @@ module VProf.Profile.Generate.Seed
   ( seed
   , seedWithLeadIn
   , bestSeed
+  , SeedPlan (..)
+  , seedPlan
+  , firstSeed
+  , withRest
   , variantsApply
   , ladderSamples
   , seedVariants
@@ -40,7 +44,7 @@ import VProf.Profile.Legality (Rule (..), Violation (..), check, legalButCrawl)
 import VProf.Profile.Problem (Problem (..))
 import VProf.Profile.Sampled (Profile (..), trapezoidDistances)
 import VProf.Profile.Problem.Transform (mirror, scaleJerk)
-import VProf.Profile.Request (maxSamples)
+import VProf.Profile.Request (leastSamples, maxSamples)
 
 -- | Levels of lead-in: a first step, and one more within the rest.
 leadInDepth :: Int
@@ -210,8 +214,62 @@ type Variant = Int -> Maybe (U.Vector Double)
 -- limits never makes the default generator's profile faster.
 bestSeed :: Problem -> Either SeedFailure (U.Vector Double)
 bestSeed pb = do
-  v0 <- seed pb
-  pure $ if variantsApply pb v0 then foldl' (improveSeed pb) v0 (seedVariants pb) else v0
+  let plan = seedPlan pb
+  v0 <- firstSeed plan
+  pure $ if variantsApply pb v0 then foldl' (improveSeed pb) v0 (spVariants plan) else v0
+
+-- | The order in which 'bestSeed' finds its seed, which the wall-clock generator walks
+-- with a snapshot after each step. On a long route that ends in motion (at least
+-- 'restFirstSamples' samples by the fewest the route needs) the variant through rest is
+-- found first, whole, and the two-sided meet after it (not the other way round, the
+-- variant cut off at the meet's length): it costs about one greedy pass, where the meet
+-- can cost many (a 12 m route at a 0.17 ms step: 1.5-2 s against 5-12 s),
+-- so that a budget the meet would spend still leaves a legal seed. The first seed is then
+-- the shorter of the two ('firstSeed'; either alone when the other fails), and the
+-- variants follow without it. Elsewhere the first seed is 'seed' and the variants are
+-- 'seedVariants'.
+data SeedPlan = SeedPlan
+  { spRestFirst :: Bool
+    -- ^ whether the seed through rest is found first
+  , spThroughRest :: Maybe (U.Vector Double)
+    -- ^ then the seed through rest, when it is legal for the problem
+  , spSeed :: Either SeedFailure (U.Vector Double)
+    -- ^ 'seed': the meet, or the landing of a route that ends at rest
+  , spVariants :: [Variant]
+  }
+
+-- | 'bestSeed''s order for a problem (lazy: each part is computed when it is used).
+seedPlan :: Problem -> SeedPlan
+seedPlan pb
+  | restFirst = SeedPlan True rest (seed pb) (drop 1 variants)
+  | otherwise = SeedPlan False Nothing (seed pb) variants
+  where
+    variants = seedVariants pb
+    moving = pbVEnd pb > 0 || pbAEnd pb /= 0
+    restFirst = moving && pbSeedSearch pb
+                && leastSamples (pbLength pb) (pbDt pb) (zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb)))
+                   >= fromIntegral restFirstSamples
+    -- (the head of a moving end's variants is this one: 'seedVariants'; what it returns
+    -- the checker has found legal for the problem, a crawl aside)
+    rest = throughRest pb ladderSamples
+
+-- | The first seed of a plan: the seed through rest when it is shorter than 'seed''s or
+-- 'seed' fails, else 'seed''s.
+firstSeed :: SeedPlan -> Either SeedFailure (U.Vector Double)
+firstSeed plan = withRest (spThroughRest plan) (spSeed plan)
+
+-- | A seed and the seed through rest (if any): the shorter, or the one there is.
+withRest :: Maybe (U.Vector Double) -> Either SeedFailure (U.Vector Double) -> Either SeedFailure (U.Vector Double)
+withRest rest sd = case (sd, rest) of
+  (Right v, Just r) | U.length r < U.length v -> Right r
+  (Right v, _) -> Right v
+  (Left _, Just r) -> Right r
+  (Left f, Nothing) -> Left f
+
+-- | A route that ends in motion and needs at least this many samples is seeded through
+-- rest first ('seedPlan').
+restFirstSamples :: Int
+restFirstSamples = 16384
 
 -- | The variants of a problem whose seeds 'bestSeed' compares: the problem with symmetric
 -- jerk ranges, with symmetric acceleration and jerk ranges, and the same three with every
@@ -223,7 +281,7 @@ bestSeed pb = do
 -- of the problem and of the lowered one ('exactJoinFewer').
 seedVariants :: Problem -> [Variant]
 seedVariants pb
-  | moving = map viaRest (dedupe [] problems) ++ [ loweredSeed | lowerable, lowered /= pb ]
+  | moving = map throughRest (dedupe [] problems) ++ [ loweredSeed | lowerable, lowered /= pb ]
              ++ [ fewerSteps q | q <- pb : [ lowered | lowerable, lowered /= pb ] ]
   | otherwise = map landed (dedupe [pb] problems)
   where
@@ -252,31 +310,32 @@ seedVariants pb
     landed q limit
       | sinksBelowZero q = Nothing
       | otherwise = either (const Nothing) Just (landing limit q)
-    -- thesis mode's way to a moving end ("VProf.Profile.Generate.Thesis"): at rest where
-    -- the hardest braking from the end state, backwards in time, begins; two samples at
-    -- rest there, so that the acceleration is zero between the landing and the run-in.
-    -- The run-in brakes at the full jerk; where the rounding of the velocities puts that
-    -- beyond the jerk rule (a fine step, 'fullJerkHolds'), it is planned a little inside
-    -- the jerk range, with the margins in turn while the profile breaks only the jerk
-    -- rule (a 12 m route at 0.17 ms: the run-in of 9,072 samples broke it by 3e-9 m/s³ in
-    -- 418 samples, and the 8.9 s profile through rest lost to the meet's 11.2 s)
-    viaRest q limit = firstLegal (runInProblems q)
-      where
-        firstLegal [] = Nothing
-        firstLegal (tq : rest) = case throughRest tq of
-          Nothing -> Nothing
-          Just w -> case check q (Profile (pbDt q) w (pbA0 q) (pbAEnd q)) of
-            vs | all ((== Crawl) . vRule) vs -> Just w
-               | all ((`elem` [Crawl, JerkRule]) . vRule) vs -> firstLegal rest
-               | otherwise -> Nothing
-        throughRest tq = do
-          tailV <- either (const Nothing) (Just . U.reverse) (restFrom (mirror tq))
-          let dE = U.last (trapezoidDistances (pbDt q) tailV)
-              restPb = q { pbLength = pbLength q - dE, pbVEnd = 0, pbAEnd = 0 }
-          if pbLength restPb <= 0 || sinksBelowZero restPb then Nothing else Just ()
-          v <- either (const Nothing) Just (landing (limit - U.length tailV) restPb)
-          pure (v U.++ tailV)
-    runInProblems q =
+-- | Thesis mode's way to a moving end ("VProf.Profile.Generate.Thesis") as a seed variant:
+-- at rest where the hardest braking from the end state, backwards in time, begins; two
+-- samples at rest there, so that the acceleration is zero between the landing and the
+-- run-in. The run-in brakes at the full jerk; where the rounding of the velocities puts
+-- that beyond the jerk rule (a fine step, 'fullJerkHolds'), it is planned a little inside
+-- the jerk range, with the margins in turn while the profile breaks only the jerk rule (a
+-- 12 m route at 0.17 ms: the run-in of 9,072 samples broke it by 3e-9 m/s³ in 418
+-- samples, and the 8.9 s profile through rest lost to the meet's 11.2 s).
+throughRest :: Problem -> Variant
+throughRest q limit = firstLegal runInProblems
+  where
+    firstLegal [] = Nothing
+    firstLegal (tq : rest) = case throughRestWith tq of
+      Nothing -> Nothing
+      Just w -> case check q (Profile (pbDt q) w (pbA0 q) (pbAEnd q)) of
+        vs | all ((== Crawl) . vRule) vs -> Just w
+           | all ((`elem` [Crawl, JerkRule]) . vRule) vs -> firstLegal rest
+           | otherwise -> Nothing
+    throughRestWith tq = do
+      tailV <- either (const Nothing) (Just . U.reverse) (restFrom (mirror tq))
+      let dE = U.last (trapezoidDistances (pbDt q) tailV)
+          restPb = q { pbLength = pbLength q - dE, pbVEnd = 0, pbAEnd = 0 }
+      if pbLength restPb <= 0 || sinksBelowZero restPb then Nothing else Just ()
+      v <- either (const Nothing) Just (landing (limit - U.length tailV) restPb)
+      pure (v U.++ tailV)
+    runInProblems =
       let narrowed = [ scaleJerk (1 - m) q | m <- jerkPlanMargins q ]
       in if fullJerkHolds q then q : narrowed else narrowed ++ [q]
 
