@@ -189,7 +189,7 @@ hardLimit :: Problem -> Double
 hardLimit pb = pbBudget pb + min 0.05 (max 0.01 (pbBudget pb / 20)) - reserve
   where
     reserve = min (pbBudget pb / 2) (0.15 * least / fromIntegral maxSamples)
-    least = leastSamples (pbLength pb) (pbDt pb) (zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb)))
+    least = problemLeastSamples pb
 
 -- | What a generation does before its first profile: the words for a timeout then.
 seedStage :: Problem -> String

@@ -24,6 +24,7 @@ module VProf.Profile.Request
   , defaultMaxIterations
   , maxSamples
   , leastSamples
+  , problemLeastSamples
   , autoVelocityStep
   , largestVelocityStep
   , thesisVelocityStep
@@ -128,6 +129,10 @@ leastSamples :: Double -> Double -> [(Double, Double)] -> Double
 leastSamples len dt zones =
   let ends = drop 1 (map fst zones) ++ [len]
   in sum [ max 0 (min len e - max 0 st) / v | ((st, v), e) <- zip zones ends ] / dt
+
+-- | 'leastSamples' of a validated problem.
+problemLeastSamples :: Problem -> Double
+problemLeastSamples pb = leastSamples (pbLength pb) (pbDt pb) (zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb)))
 
 -- | The automatic velocity step: the largest power of two that is at most a quarter of
 -- the smallest of |j|·dt² and |a|·dt, so that one step of velocity changes acceleration

@@ -44,7 +44,7 @@ import VProf.Profile.Legality (Rule (..), Violation (..), check, legalButCrawl)
 import VProf.Profile.Problem (Problem (..))
 import VProf.Profile.Sampled (Profile (..), trapezoidDistances)
 import VProf.Profile.Problem.Transform (mirror, scaleJerk)
-import VProf.Profile.Request (leastSamples, maxSamples)
+import VProf.Profile.Request (maxSamples, problemLeastSamples)
 
 -- | Levels of lead-in: a first step, and one more within the rest.
 leadInDepth :: Int
@@ -246,9 +246,7 @@ seedPlan pb
   where
     variants = seedVariants pb
     moving = pbVEnd pb > 0 || pbAEnd pb /= 0
-    restFirst = moving && pbSeedSearch pb
-                && leastSamples (pbLength pb) (pbDt pb) (zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb)))
-                   >= fromIntegral restFirstSamples
+    restFirst = moving && pbSeedSearch pb && problemLeastSamples pb >= fromIntegral restFirstSamples
     -- (the head of a moving end's variants is this one: 'seedVariants'; what it returns
     -- the checker has found legal for the problem, a crawl aside)
     rest = throughRest pb ladderSamples
