@@ -31,6 +31,7 @@ import VProf.Profile.Generate.Seed
 import VProf.Profile.Generate.Thesis
 import VProf.Profile.Legality
 import VProf.Profile.Sampled
+import VProf.Profile.Problem (endsInMotion)
 import VProf.Profile.Request
 import VProf.Profile.Result
 import VProf.Validation (FieldValue (..))
@@ -325,7 +326,7 @@ thesisLeastWork pb n0 dv = case runIn of
   _ -> 1 / 0
   where
     runIn
-      | pbVEnd pb > 0 || pbAEnd pb /= 0 =
+      | endsInMotion pb =
           either (const Nothing) (\t -> Just (U.length t, U.last (trapezoidDistances (pbDt pb) t))) (restFrom (mirror pb))
       | otherwise = Just (0, 0)
 

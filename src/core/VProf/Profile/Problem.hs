@@ -8,6 +8,7 @@
 module VProf.Profile.Problem
   ( Problem (..)
   , Algorithm (..)
+  , endsInMotion
   ) where
 
 import qualified Data.Vector.Unboxed as U
@@ -40,3 +41,7 @@ data Problem = Problem
   , pbAlgorithm  :: !Algorithm
   , pbSeedSearch :: !Bool     -- ^ try the seed's variants and thesis mode ('rqSeedSearch')
   } deriving (Eq, Show)
+
+-- | The route ends in motion: a moving end velocity or a nonzero end acceleration.
+endsInMotion :: Problem -> Bool
+endsInMotion pb = pbVEnd pb > 0 || pbAEnd pb /= 0

@@ -41,7 +41,7 @@ import VProf.Profile.Generate.Seed.Greedy (forwardMarked, passCapMessage, passSt
 import VProf.Profile.Generate.Seed.LeadIn (leadIn, leadInMayHelp)
 import VProf.Profile.Generate.Seed.Meet (meet)
 import VProf.Profile.Legality (Rule (..), Violation (..), check, legalButCrawl)
-import VProf.Profile.Problem (Problem (..))
+import VProf.Profile.Problem (Problem (..), endsInMotion)
 import VProf.Profile.Sampled (Profile (..), trapezoidDistances)
 import VProf.Profile.Problem.Transform (mirror, scaleJerk)
 import VProf.Profile.Request (maxSamples, problemLeastSamples)
@@ -65,14 +65,14 @@ seedWithLeadIn depth pb = case seedFrom pb of
     Left (Just (LandingFailed m)) -> Left (LandingFailed ("seen from the end, backwards in time: " ++ m))
     Left _ -> Left f
   r -> r
-  where moving = pbVEnd pb > 0 || pbAEnd pb /= 0
+  where moving = endsInMotion pb
 
 -- | The seed without a lead-in: a start acceleration that sinks the velocity is refused,
 -- a moving end is met from both sides, and an end at rest is landed by one pass.
 seedFrom :: Problem -> Either SeedFailure (U.Vector Double)
 seedFrom pb
   | sinksBelowZero pb = Left (startSinks pb)
-  | pbVEnd pb > 0 || pbAEnd pb /= 0 = meet pb
+  | endsInMotion pb = meet pb
   | otherwise = landing passStepCap pb
 
 -- | Ending at rest: the pass brakes to a standstill on the route end; near rest it
@@ -245,8 +245,7 @@ seedPlan pb
   | otherwise = SeedPlan False Nothing (seed pb) variants
   where
     variants = seedVariants pb
-    moving = pbVEnd pb > 0 || pbAEnd pb /= 0
-    restFirst = moving && pbSeedSearch pb && problemLeastSamples pb >= fromIntegral restFirstSamples
+    restFirst = endsInMotion pb && pbSeedSearch pb && problemLeastSamples pb >= fromIntegral restFirstSamples
     -- (the head of a moving end's variants is this one: 'seedVariants'; what it returns
     -- the checker has found legal for the problem, a crawl aside)
     rest = throughRest pb ladderSamples
@@ -283,7 +282,7 @@ seedVariants pb
              ++ [ fewerSteps q | q <- pb : [ lowered | lowerable, lowered /= pb ] ]
   | otherwise = map landed (dedupe [pb] problems)
   where
-    moving = pbVEnd pb > 0 || pbAEnd pb /= 0
+    moving = endsInMotion pb
     vLow = U.minimum (pbZoneSpeeds pb)
     lowerable = pbV0 pb <= vLow && pbVEnd pb <= vLow
     problems = [ t q | q <- pb : [ lowered | lowerable ], t <- [id, symJerk, symJerk . symAcc] ]

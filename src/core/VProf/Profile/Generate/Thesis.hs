@@ -47,6 +47,7 @@ import Numeric (showFFloat)
 import VProf.Profile.Generate.RubberBand (Sweep (..), accelerationAt, stepLimit, stepMargin, sweep)
 import VProf.Profile.Generate.Seed (SeedFailure (..), mirror, restFrom)
 import VProf.Profile.Sampled (trapezoidDistances)
+import VProf.Profile.Problem (endsInMotion)
 import VProf.Profile.Request (Problem (..), maxSamples)
 
 -- | The profile after a number of passes.
@@ -111,7 +112,7 @@ thesisStages pb = do
              in st : if done || bPasses b' >= pbMaxIter pb then [] else go b'
   pure (Stage (assemble b0) 0 0 False : go b0)
   where
-    moving = pbVEnd pb > 0 || pbAEnd pb /= 0
+    moving = endsInMotion pb
     -- the end state's run-in from rest: the hardest braking to rest from the end state
     -- on the mirror, reversed (0 .. v_end); nothing when the end is at rest
     runIn
