@@ -5,10 +5,14 @@
 -- log-uniform; start and end at rest or in motion. The same distribution as
 -- @bench/fuzz-requests@, drawn with QuickCheck so that the properties shrink and replay.
 -- Every request it draws passes the contract's field rules; a request the sample cap refuses
--- is valid input that gets a clear refusal, and the properties count it apart.
+-- is valid input that gets a clear refusal, and the properties count it apart. A second
+-- distribution, 'genFine', draws the fine time steps of real controllers (0.1-1 ms), as
+-- @bench/fuzz-requests --fine@ does.
 module Support.Wide
   ( WideRequest (..)
   , genWide
+  , FineRequest (..)
+  , genFine
   , wideTimeSteps
   , lowered
   , logUniform
@@ -84,6 +88,49 @@ genWide = do
       v <- sig4 <$> choose (0, lim)
       a <- sig4 <$> ((*) <$> choose (aMin, aMax) <*> choose (0, 1))
       pure (min lim v, max aMin (min aMax a))
+
+newtype FineRequest = FineRequest Request deriving (Show)
+
+instance Arbitrary FineRequest where
+  arbitrary = FineRequest <$> genFine
+
+-- | The fine-step distribution of @bench/fuzz-requests --fine@: time steps 0.1-1 ms
+-- (log-uniform), where a braking takes thousands of steps and rounding shows in the jerk;
+-- routes 1-300 m with 1-30 zones at 0.03-30 m/s, shortened (zones and all) where the zones at
+-- their limits would take more than half the cap of samples, so that the request stays valid
+-- and the answer has room for its brakings; acceleration 0.3-10 and jerk 0.3-30 in magnitude
+-- (log-uniform, the negative side up to 2x either way); a third start in motion, half end in
+-- it (at rest acceleration).
+genFine :: Gen Request
+genFine = do
+  len0 <- logUniform 1 300
+  nz <- (1 +) . floor <$> logUniform 1 30
+  cuts <- vectorOf (nz - 1) (choose (0, len0))
+  let starts0 = 0 : nub (sort [ s | s <- map sig4 cuts, s > 0, s < len0 ])
+  vmax <- logUniform 0.3 30
+  speeds <- vectorOf (length starts0) (sig4 . (vmax *) <$> logUniform 0.1 1)
+  dt <- sig4 <$> logUniform 1e-4 1e-3
+  let ends0 = drop 1 starts0 ++ [len0]
+      least = sum (zipWith3 (\a b v -> (b - a) / v) starts0 ends0 speeds) / dt
+      f = if least > fromIntegral maxSamples / 2 then fromIntegral maxSamples / 2 / least else 1
+      len = len0 * f
+      starts = map (* f) starts0
+  aMag <- logUniform 0.3 10
+  jMag <- logUniform 0.3 30
+  ra <- logUniform 0.5 2
+  rj <- logUniform 0.5 2
+  startMoving <- (< (1 / 3 :: Double)) <$> choose (0, 1)
+  endMoving <- (< (0.5 :: Double)) <$> choose (0, 1)
+  v0 <- if startMoving then choose (0, head speeds) else pure 0
+  vE <- if endMoving then choose (0, last speeds) else pure 0
+  pure defaultRequest
+    { rqRouteLength = len *~ meter
+    , rqZones = zipWith (\s v -> SpeedZone (s *~ meter) (v *~ mps)) starts speeds
+    , rqMinAcceleration = negate (aMag * ra) *~ mps2, rqMaxAcceleration = aMag *~ mps2
+    , rqMinJerk = negate (jMag * rj) *~ mps3, rqMaxJerk = jMag *~ mps3
+    , rqStartVelocity = v0 *~ mps, rqEndVelocity = vE *~ mps
+    , rqTimeStep = Just (dt *~ second)
+    }
 
 -- | The request with every zone lowered to its lowest limit (one zone), when its start and end
 -- velocities still fit under it.
