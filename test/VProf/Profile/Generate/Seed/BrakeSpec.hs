@@ -1,4 +1,5 @@
--- | The oracle's fast test and the jerk margins. 'quickNeed' accepts a state without running
+-- | The oracle's bounds, its fast test and the jerk margins. 'brakeBound' bounds the
+-- distance and the peak velocity of the hardest stop, run step by step. 'quickNeed' accepts a state without running
 -- the brake policy, from continuous-time braking distances and a margin; it must never
 -- accept a state whose braking, run step by step ('brakeSimulate'), breaks a rule beyond
 -- rounding, from a rising acceleration as from a falling one. The margins a landing is planned again with
@@ -48,8 +49,35 @@ roundingOnly pb (Term p vt) (St v _ s, St v' a' s') =
                       , let next = if i + 1 < length zones then fst (zones !! (i + 1)) else 1 / 0
                       , z <= max s s', next > min s s' ]
 
+-- | The hardest stop from a state, run step by step by the hard brake policy: its distance,
+-- its highest velocity, its duration, and whether it came to rest within the steps allowed.
+hardStop :: Problem -> St -> (Double, Double, Double, Bool)
+hardStop pb st0 = go st0 (stV st0) (0 :: Int)
+  where
+    e = seedEnv pb (Term (1 / 0) (1 / 0)) True
+    go st vTop n
+      | atRest e st = (stS st - stS st0, vTop, fromIntegral n * pbDt pb, True)
+      | n > 4000000 = (stS st - stS st0, vTop, fromIntegral n * pbDt pb, False)
+      | otherwise = let st' = stepTo e st (brakeAcc e st) in go st' (max vTop (stV st')) (n + 1)
+
 spec :: Spec
-spec = describe "the oracle's fast test and the jerk margins" $ do
+spec = describe "the oracle's bounds, its fast test and the jerk margins" $ do
+  it "brakeBound bounds the distance and the top velocity of the hardest stop, run step by step (strong jerk and weak, rising and falling accelerations); short of a_min the stop lasts at most the continuous triangle of jerk ramps and six steps" $
+    withMaxSuccess 2000 $ forAllBlind genCase $ \(pb, st, _) ->
+      let (d, vPeak) = brakeBound (seedEnv pb (Term (1 / 0) (1 / 0)) True) st
+          (dist, vTop, dur, stopped) = hardStop pb st
+          jm = negate (pbJMin pb); jp = pbJMax pb; am = negate (pbAMin pb)
+          aUp = max 0 (stA st); aDown = negate (min 0 (stA st))
+          c = 1 / jm + 1 / jp
+          -- the velocity when a positive acceleration is down, against what a_min needs
+          v1 = stV st + aUp * aUp / (2 * jm)
+          short = 2 * v1 + aDown * aDown / jm <= am * am * c
+          triangle = aUp / jm + aDown / jp + sqrt (2 * v1 * c) + 6 * pbDt pb
+      in classify short "short of a_min (the triangle)" $ classify (stA st < 0) "falling" $
+           counterexample (show (pb, stV st, stA st, (d, vPeak), (dist, vTop, dur, stopped), triangle)) $
+             stopped ==> dist <= d * (1 + 1e-12) && vTop <= vPeak + 1e-12 * max 1 vPeak
+                         && (not short || dur <= triangle * (1 + 1e-12))
+
   it "quickNeed accepts only states whose braking, run step by step, keeps every rule (rising and falling accelerations)" $
     withMaxSuccess 3000 $ forAllBlind genCase $ \(pb, st, term) ->
       let e = seedEnv pb term False

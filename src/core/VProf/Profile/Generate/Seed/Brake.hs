@@ -305,17 +305,38 @@ atRest e (St v a _) = v == 0 && a >= negate (pbJMax (ePb e) * dtE e) && a <= neg
 {-# INLINE atRest #-}
 
 -- | An upper bound on the distance the brake policy needs from a state, and on the
--- highest velocity it reaches on the way.
+-- highest velocity it reaches on the way: the time of the hardest stop, times that peak
+-- velocity. The stop brings a positive acceleration down (a/|j_min|; the velocity peaks at
+-- v + a²/(2|j_min|), and a step more), then sheds the peak velocity: with full ramps to
+-- a_min and back (a_min/|j_min| + a_min/j_max) and a hold whose distance is at most
+-- vPeak²/(2|a_min|); or, when the peak velocity is too small to need a_min (a deceleration
+-- already under way counted in), in a triangle of jerk ramps: |a|/j_max to bring a falling
+-- acceleration back, and sqrt(2·vPeak·(1/|j_min| + 1/j_max)) more (derivation in
+-- docs/profile-generator.md). The triangle is much the shorter where the jerk is weak
+-- against the acceleration range (0.53 m/s³ against 16.9 m/s²: 7 s against 76 s from
+-- 5.8 m/s); the reach it gives decides which limits the brake policy aims at, and a reach
+-- grown to the terminal made a pass brake for a standstill there, through the lower limit
+-- before it (a 187 m route at 0.13 ms dipped to 0.16 m/s at the start of its last zone of
+-- 2.1 m/s). Each time has 'boundExtraSteps' steps added for the discrete ramps' rounding.
 brakeBound :: SeedEnv -> St -> (Double, Double)
 brakeBound e (St v a _) =
   let pb = ePb e; dt = dtE e
       ap = max 0 a
-      jm = abs (pbJMin pb); am = abs (pbAMin pb)
+      af = max 0 (negate a)
+      jm = abs (pbJMin pb); jp = pbJMax pb; am = abs (pbAMin pb)
       vPeak = v + ap * ap / (2 * jm) + ap * dt
+      extra = boundExtraSteps * dt
       -- ramping down to a_min and back up to zero take at most these times, at no more
       -- than vPeak; holding a_min from at most vPeak covers at most vPeak²/(2|a_min|)
-      tRamps = ap / jm + am / jm + am / pbJMax pb + boundExtraSteps * dt
-  in (vPeak * tRamps + vPeak * vPeak / (2 * am), vPeak)
+      full = vPeak * (ap / jm + am / jm + am / jp + extra) + vPeak * vPeak / (2 * am)
+      -- short of a_min: a ramp from the falling acceleration's magnitude up to a peak and
+      -- both ramps back shed vPeak; the peak stays within a_min while
+      -- 2·vPeak + a_f²/|j_min| <= a_min²·(1/|j_min| + 1/j_max)
+      c = 1 / jm + 1 / jp
+      triangle
+        | 2 * vPeak + af * af / jm <= am * am * c = vPeak * (ap / jm + af / jp + sqrt (2 * vPeak * c) + extra)
+        | otherwise = 1 / 0
+  in (min full triangle, vPeak)
 {-# INLINE brakeBound #-}
 
 -- | The continuous-time distance to bring (v, a >= 0) down to velocity l with the
