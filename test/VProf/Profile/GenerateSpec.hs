@@ -583,7 +583,13 @@ spec = do
                               , rqTimeBudget = Just (1e-3 *~ second) }
       r <- generate rq
       case resOutcome r of
-        Failed (NotConverged m) -> m `shouldContain` "time budget"
+        Failed (NotConverged m) -> do
+          m `shouldContain` "time budget"
+          -- the advice, with the fewest samples the route needs: each 20 m zone at its limit,
+          -- at the default step of 0.125 s
+          let least = ceiling (sum [ 20 / (1 + fromIntegral (i `mod` 9)) | i <- [0 .. 999 :: Int] ] / 0.125 :: Double) :: Int
+          m `shouldContain` ("; the profile needs at least " ++ show least
+                             ++ " samples at time_step 0.125 s: give time_budget more room, or use a coarser time_step")
         other -> expectationFailure ("expected NOT_CONVERGED, got " ++ show other)
       resSeconds r `shouldSatisfy` (< 1)
     it "a tiny time budget still returns the best profile with the checker's verdict on it" $ do

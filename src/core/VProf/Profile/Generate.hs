@@ -170,7 +170,7 @@ generateProblem pb = do
       (best, stage) <- readIORef latest
       let spent = "time budget of " ++ show (pbBudget pb) ++ " s spent "
       res <- case best of
-        Nothing -> pure (failed pb (NotConverged (spent ++ stage ++ ", before the first pass finished")))
+        Nothing -> pure (failed pb (NotConverged (spent ++ stage ++ ", before the first pass finished" ++ roomHint pb)))
         Just (sn, kept) -> do
           -- (a fixed point reached just before the limit: only its verdict ran out of time)
           let reason | snDone sn = Nothing
@@ -180,6 +180,15 @@ generateProblem pb = do
           pure r0
       t1 <- getMonotonicTime
       pure res { resSeconds = t1 - t0 }
+
+-- | What a budget spent before the first profile suggests, with the fewest samples the route
+-- needs: a seed costs some microseconds a sample, and a fine time step makes hundreds of
+-- thousands of them (at 0.1-1 ms a third or more of random routes of 1-300 m are still seeding after
+-- 1 s, the default budget; within 20 s every one is answered).
+roomHint :: Problem -> String
+roomHint pb =
+  "; the profile needs at least " ++ show (ceiling (problemLeastSamples pb) :: Int) ++ " samples at time_step "
+  ++ show (pbDt pb) ++ " s: give time_budget more room, or use a coarser time_step"
 
 -- | The wall-clock time after which a running stage is stopped (s): the budget and a
 -- twentieth of it (10-50 ms), less the time a long answer's verdict, garbage collection
