@@ -71,6 +71,28 @@ timed rq = do
   t1 <- n `seq` length (resViolations r) `seq` getMonotonicTime
   pure (r, t1 - t0)
 
+-- | The promises on a request generated within a budget (s): within the budget and 'grace'
+-- of wall time, within the cap of samples, and legal, a confirmed infeasibility, a refusal
+-- the given test accepts, or NOT_CONVERGED.
+keepsPromises :: Double -> (Result -> Bool) -> Request -> PropertyM IO ()
+keepsPromises b refusalOk rq0 = do
+  let rq = rq0 { rqTimeBudget = Just (b *~ second) }
+  (r, secs0) <- run (timed rq)
+  -- wall time is the machine's too: an overrun must repeat to count (a systematic one
+  -- does; a moment of preemption by another process does not)
+  secs <- if secs0 <= b + grace then pure secs0 else run (snd <$> timed rq)
+  monitor (tabulate "answers" [kind r])
+  monitor (counterexample ("answer: " ++ kind r ++ " after " ++ show secs0 ++ " s (again: " ++ show secs ++ " s); "
+                           ++ show (maybe 0 sampleCount (resProfile r)) ++ " samples\n"
+                           ++ unlines (map renderViolation (take 5 (resViolations r)))))
+  assert (secs <= b + grace)
+  assert (maybe 0 sampleCount (resProfile r) <= maxSamples)
+  assert $ case resOutcome r of
+    Generated -> sound rq r
+    Failed (InfeasibleRequest _ _) -> sound rq r
+    Failed (InvalidRequest _) -> refusalOk r
+    Failed (NotConverged _) -> True
+
 -- | The class of an answer, for the report of shares.
 kind :: Result -> String
 kind r = case resOutcome r of
@@ -194,40 +216,10 @@ spec = describe "the wide world of requests" $ do
     (durationOf band <= durationOf thesis) `shouldBe` True
 
   it "every answer is legal, a confirmed infeasibility, the cap's refusal or NOT_CONVERGED; within the cap and the budget" $
-    withMaxSuccess cases $ property $ \(WideRequest rq0) -> monadicIO $ do
-      let rq = withBudget rq0
-      (r, secs0) <- run (timed rq)
-      -- wall time is the machine's too: an overrun must repeat to count (a systematic one
-      -- does; a moment of preemption by another process does not)
-      secs <- if secs0 <= budget + grace then pure secs0 else run (snd <$> timed rq)
-      monitor (tabulate "answers" [kind r])
-      monitor (counterexample ("answer: " ++ kind r ++ " after " ++ show secs0 ++ " s (again: " ++ show secs ++ " s); "
-                               ++ show (maybe 0 sampleCount (resProfile r)) ++ " samples\n"
-                               ++ unlines (map renderViolation (take 5 (resViolations r)))))
-      assert (secs <= budget + grace)
-      assert (maybe 0 sampleCount (resProfile r) <= maxSamples)
-      assert $ case resOutcome r of
-        Generated -> sound rq r
-        Failed (InfeasibleRequest _ _) -> sound rq r
-        Failed (InvalidRequest _) -> capRefusal r
-        Failed (NotConverged _) -> True
+    withMaxSuccess cases $ property $ \(WideRequest rq0) -> monadicIO (keepsPromises budget capRefusal rq0)
 
   it "fine time steps (0.1-1 ms, as bench/fuzz-requests --fine): every answer is legal, a confirmed infeasibility or NOT_CONVERGED; within the cap and the budget" $
-    withMaxSuccess (max 1 (cases `div` fineShare)) $ property $ \(FineRequest rq0) -> monadicIO $ do
-      let rq = rq0 { rqTimeBudget = Just (fineBudget *~ second) }
-      (r, secs0) <- run (timed rq)
-      secs <- if secs0 <= fineBudget + grace then pure secs0 else run (snd <$> timed rq)
-      monitor (tabulate "answers" [kind r])
-      monitor (counterexample ("answer: " ++ kind r ++ " after " ++ show secs0 ++ " s (again: " ++ show secs ++ " s); "
-                               ++ show (maybe 0 sampleCount (resProfile r)) ++ " samples\n"
-                               ++ unlines (map renderViolation (take 5 (resViolations r)))))
-      assert (secs <= fineBudget + grace)
-      assert (maybe 0 sampleCount (resProfile r) <= maxSamples)
-      assert $ case resOutcome r of
-        Generated -> sound rq r
-        Failed (InfeasibleRequest _ _) -> sound rq r
-        Failed (InvalidRequest _) -> False
-        Failed (NotConverged _) -> True
+    withMaxSuccess (max 1 (cases `div` fineShare)) $ property $ \(FineRequest rq0) -> monadicIO (keepsPromises fineBudget (const False) rq0)
 
   it "the infeasibility claims of bench/fuzz-requests (test/data/claims, or $VPROF_CLAIMS_DIR) are made again and confirmed by an independent proof" $ do
     dir <- maybe "test/data/claims" id <$> lookupEnv "VPROF_CLAIMS_DIR"
