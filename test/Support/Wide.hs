@@ -100,7 +100,7 @@ instance Arbitrary FineRequest where
 -- their limits would take more than half the cap of samples, so that the request stays valid
 -- and the answer has room for its brakings; acceleration 0.3-10 and jerk 0.3-30 in magnitude
 -- (log-uniform, the negative side up to 2x either way); a third start in motion, half end in
--- it (at rest acceleration).
+-- it (with zero acceleration).
 genFine :: Gen Request
 genFine = do
   len0 <- logUniform 1 300

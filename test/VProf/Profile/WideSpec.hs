@@ -286,11 +286,25 @@ spec = describe "the wide world of requests" $ do
     withRest (Just a) (Right b) `shouldBe` Right b
     withRest (Just a) (Left (LandingFailed "x")) `shouldBe` Right a
 
-  it "the 12 m route at 0.17 ms ending at 1 m/s under a budget the meet fits in: the same 8.9 s profile through rest, converged" $ do
+  it "the 12 m route at 0.17 ms ending at 1 m/s under a budget the meet fits in: converged, and faster than the 8.913 s profile through rest (6.954 s: with the whole route's end in the brake bound's reach the passes stopped at 11.15 m before the run-in)" $ do
     r <- generate . (\rq -> rq { rqTimeBudget = Just (60 *~ second) }) =<< runInFine12m
     resOutcome r `shouldBe` Generated
     resConverged r `shouldBe` True
-    durationOf r `shouldSatisfy` maybe False (< 8.92)
+    durationOf r `shouldSatisfy` maybe False (< 6.96)
+
+  it "the 187 m route with weak jerk against a wide acceleration range: no dip below the last zone's limit, where the brake bound once put the route's end in reach 88 m early (81.215 s, 0.16 m/s at 137.5 m; now 77.953 s)" $ do
+    rq <- loadRequest "test/data/weak-jerk-dip-187m.json"
+    r <- generate rq { rqTimeBudget = Just (60 *~ second) }
+    resOutcome r `shouldBe` Generated
+    resConverged r `shouldBe` True
+    sound rq r `shouldBe` True
+    durationOf r `shouldSatisfy` maybe False (< 78)
+    Just p <- pure (resProfile r)
+    let v = prVelocities p
+        s = trapezoidDistances (prDt p) v
+        -- from the last zone's start (135.17 m) to 5 m before the end, where the stop begins
+        inZone = [ x | (x, d) <- zip (U.toList v) (U.toList s), d >= 135.18, d <= 181 ]
+    minimum inZone `shouldSatisfy` (> 2.1)
 
   it "thesis mode is compared where its least work to beat the answer is within its cap (test/data's cases it beat), and not where it is beyond (the 6.6 m route, and a 9.9 m route whose run-in from rest to 1.29 m/s the estimate once left out)" $ do
     let leastWorks rq = do
