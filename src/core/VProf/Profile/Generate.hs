@@ -214,8 +214,9 @@ type Latest = IORef (Maybe (Snapshot, String), String)
 
 -- | The default generator's seed within the wall-clock budget, in 'seedPlan''s order: on a
 -- long route that ends in motion the seed through rest and then the two-sided meet, while
--- the budget allows (a 12 m route at 0.17 ms, whose meet alone takes 5-12 s, converges in
--- 2.2 s of a 3 s budget), else the greedy seed; then the variants one after
+-- the budget allows (a 12 m route at 0.17 ms, whose meet alone took 5-12 s while
+-- 'brakeBound' had no triangle, converged in 2.2 s of a 3 s budget; its meet takes 0.7 s
+-- now, the seed through rest 0.9 s), else the greedy seed; then the variants one after
 -- the other while less than half the budget is spent (each at most a pass of the seed's
 -- length); the best so far is the latest snapshot. The same seed as 'bestSeed' when the
 -- budget does not run out.
@@ -245,8 +246,8 @@ seedWithin pb elapsed latest = do
     -- until what is left of the budget is what the seed through rest took (about a pass or
     -- two of the band), stopped there; then the shorter of the two, or the one there is
     -- ('withRest'). With no legal seed through rest, the meet runs as it would alone. (The
-    -- two side by side on two threads did worse: each slowed the other, and the 12 m route
-    -- above no longer converged within 3 s.)
+    -- two side by side on two threads did worse, when the meet was the slow one: each slowed
+    -- the other, and the 12 m route above no longer converged within 3 s.)
     restAndMeet plan = do
       writeIORef latest (Nothing, "in the seed through rest")
       restStart <- elapsed

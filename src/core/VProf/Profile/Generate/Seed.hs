@@ -223,7 +223,8 @@ bestSeed pb = do
 -- 'restFirstSamples' samples by the fewest the route needs) the variant through rest is
 -- found first, whole, and the two-sided meet after it (not the other way round, the
 -- variant cut off at the meet's length): it costs about one greedy pass, where the meet
--- can cost many (a 12 m route at a 0.17 ms step: 1.5-2 s against 5-12 s),
+-- could cost many (a 12 m route at a 0.17 ms step: 1.5-2 s against 5-12 s while
+-- 'brakeBound' had no triangle; 0.9 s against 0.7 s with it),
 -- so that a budget the meet would spend still leaves a legal seed. The first seed is then
 -- the shorter of the two ('firstSeed'; either alone when the other fails), and the
 -- variants follow without it. Elsewhere the first seed is 'seed' and the variants are
