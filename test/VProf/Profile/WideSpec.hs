@@ -31,7 +31,8 @@ import Support.Wide
 import VProf.Profile.Format.Json (requestFromJson)
 import VProf.Profile.Generate
 import qualified Data.Vector.Unboxed as U
-import VProf.Profile.Generate.Seed (SeedFailure (..), SeedPlan (..), seedPlan, seedVariants, withRest)
+import VProf.Profile.Generate.Seed (SeedFailure (..), SeedPlan (..), ladderSamples, seed, seedPlan, seedVariants)
+import VProf.Profile.Problem (endsInMotion)
 import VProf.Profile.Generate.Seed.Brake (fullJerkHolds)
 import VProf.Profile.Legality (Rule (..), Violation (..), check, renderViolation)
 import VProf.Profile.Request
@@ -266,25 +267,33 @@ spec = describe "the wide world of requests" $ do
         Nothing -> expectationFailure "no profile through rest"
       [] -> expectationFailure "no seed variants"
 
-  it "a long route that ends in motion is seeded through rest first, the legal fallback while the meet runs (the 12 m route at 0.17 ms: 1.5-2 s through rest, 5-12 s in the meet); a short one and one that ends at rest are not" $ do
+  it "the 12 m route at 0.17 ms ending at 1 m/s: the first seed is the meet's (shorter than the 8.9 s through rest), and every variant follows it" $ do
     pb <- either (error . show) id . validate <$> runInFine12m
     let plan = seedPlan pb
-    spRestFirst plan `shouldBe` True
-    case spThroughRest plan of
-      Just w -> do
-        map vRule (check pb (Profile (pbDt pb) w (pbA0 pb) (pbAEnd pb))) `shouldSatisfy` all (== Crawl)
-        fromIntegral (U.length w - 1) * pbDt pb `shouldSatisfy` (< 9)
-      Nothing -> expectationFailure "no seed through rest"
-    -- the variants follow without it (it would be the first of them)
-    length (spVariants plan) `shouldBe` length (seedVariants pb) - 1
-    let short = pb { pbLength = 0.5 }
-        atRest = pb { pbVEnd = 0, pbAEnd = 0 }
-    map (spRestFirst . seedPlan) [short, atRest] `shouldBe` [False, False]
-    -- the shorter of a seed and the seed through rest, or the one there is
-    let a = U.replicate 5 1; b = U.replicate 3 1
-    withRest (Just b) (Right a) `shouldBe` Right b
-    withRest (Just a) (Right b) `shouldBe` Right b
-    withRest (Just a) (Left (LandingFailed "x")) `shouldBe` Right a
+    case (spSeed plan, spVariants plan) of
+      (Right v, viaRest : _) -> do
+        fromIntegral (U.length v - 1) * pbDt pb `shouldSatisfy` (< 8)
+        length (spVariants plan) `shouldBe` length (seedVariants pb)
+        fmap U.length (viaRest maxSamples) `shouldSatisfy` maybe False (> U.length v)
+      (Left f, _) -> expectationFailure ("no seed: " ++ show f)
+      (_, []) -> expectationFailure "no seed variants"
+
+  it "a moving end's first seed is the meet's, legal, or where the meet finds no join the seed through rest: never a failure to join where the seed through rest is legal" $
+    withMaxSuccess cases $ property $ \(WideRequest rq) -> case validate rq of
+      Left _ -> label "refused by validation" True
+      Right pb
+        | not (endsInMotion pb && pbSeedSearch pb) -> label "ends at rest" True
+        | problemLeastSamples pb > 20000 -> label "over 20,000 samples (left out)" True
+        | otherwise -> case spSeed (seedPlan pb) of
+            Left (LandingFailed m) ->
+              label "the meet finds no join" $ counterexample m $
+                case seedVariants pb of
+                  viaRest : _ -> counterexample "the seed through rest is legal" (null (viaRest ladderSamples))
+                  [] -> property True
+            Left _ -> label "proven unreachable or over the cap" True
+            Right v -> label (either (const "seeded through rest: the meet finds no join") (const "seeded by the meet") (seed pb)) $
+              let bad = filter ((/= Crawl) . vRule) (check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)))
+              in counterexample (show (take 3 bad)) (null bad)
 
   it "the 12 m route at 0.17 ms ending at 1 m/s under a budget the meet fits in: converged, and faster than the 8.913 s profile through rest (6.954 s: with the whole route's end in the brake bound's reach the passes stopped at 11.15 m before the run-in)" $ do
     r <- generate . (\rq -> rq { rqTimeBudget = Just (60 *~ second) }) =<< runInFine12m

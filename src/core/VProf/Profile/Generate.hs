@@ -24,7 +24,6 @@ import System.Timeout (timeout)
 import Control.Exception (evaluate)
 import Data.IORef (IORef, newIORef, readIORef, writeIORef)
 import Data.List (sortOn)
-import Data.Maybe (fromMaybe)
 
 import VProf.Profile.Generate.RubberBand
 import VProf.Profile.Generate.Seed
@@ -212,19 +211,14 @@ seedStage pb = case pbAlgorithm pb of
 -- now: what a timeout answers with.
 type Latest = IORef (Maybe (Snapshot, String), String)
 
--- | The default generator's seed within the wall-clock budget, in 'seedPlan''s order: on a
--- long route that ends in motion the seed through rest and then the two-sided meet, while
--- the budget allows (a 12 m route at 0.17 ms, whose meet alone took 5-12 s while
--- 'brakeBound' had no triangle, converged in 2.2 s of a 3 s budget; its meet takes 0.7 s
--- now, the seed through rest 0.9 s), else the greedy seed; then the variants one after
--- the other while less than half the budget is spent (each at most a pass of the seed's
--- length); the best so far is the latest snapshot. The same seed as 'bestSeed' when the
--- budget does not run out.
+-- | The default generator's seed within the wall-clock budget, in 'seedPlan''s order: the
+-- greedy seed, then the variants one after the other while less than half the budget is
+-- spent (each at most a pass of the seed's length); the best so far is the latest
+-- snapshot. The same seed as 'bestSeed' when the budget does not run out.
 seedWithin :: Problem -> IO Double -> Latest -> IO (Either Failure [Snapshot])
 seedWithin pb elapsed latest = do
   let plan = seedPlan pb
-  first <- if spRestFirst plan then restAndMeet plan else pure (spSeed plan)
-  case first of
+  case spSeed plan of
     Left f -> pure (Left (seedFailure pb f))
     Right v0 -> do
       _ <- evaluate v0
@@ -241,32 +235,6 @@ seedWithin pb elapsed latest = do
                 compareWith (k + 1 :: Int) best' qs
       best <- if variantsApply pb v0 then compareWith 1 v0 variants else pure v0
       pure (Right (bandFrom pb best))
-  where
-    -- the seed through rest first (the snapshot from then on), then the two-sided meet
-    -- until what is left of the budget is what the seed through rest took (about a pass or
-    -- two of the band), stopped there; then the shorter of the two, or the one there is
-    -- ('withRest'). With no legal seed through rest, the meet runs as it would alone. (The
-    -- two side by side on two threads did worse, when the meet was the slow one: each slowed
-    -- the other, and the 12 m route above no longer converged within 3 s.)
-    restAndMeet plan = do
-      writeIORef latest (Nothing, "in the seed through rest")
-      restStart <- elapsed
-      rest <- evaluate (spThroughRest plan)
-      restCost <- subtract restStart <$> elapsed
-      case rest of
-        Nothing -> do
-          writeIORef latest (Nothing, "in the two-sided meet")
-          pure (spSeed plan)
-        Just r -> do
-          writeIORef latest (Just (Snapshot r 0 0 False, "the seed through rest"), "in the two-sided meet")
-          secs <- elapsed
-          let left = pbBudget pb - restCost - secs
-              meetForced = do
-                f <- evaluate (spSeed plan)
-                either (\e -> () <$ evaluate e) (\v -> () <$ evaluate v) f
-                pure f
-          m <- if left <= 0 then pure Nothing else timeout (ceiling (left * 1e6)) meetForced
-          pure (withRest rest (fromMaybe (Right r) m))
 
 generateWithin :: Problem -> Double -> Latest -> IO Result
 generateWithin pb t0 latest = do

@@ -18,8 +18,6 @@ module VProf.Profile.Generate.Seed
   , bestSeed
   , SeedPlan (..)
   , seedPlan
-  , firstSeed
-  , withRest
   , variantsApply
   , ladderSamples
   , seedVariants
@@ -44,7 +42,7 @@ import VProf.Profile.Legality (Rule (..), Violation (..), check, legalButCrawl)
 import VProf.Profile.Problem (Problem (..), endsInMotion)
 import VProf.Profile.Sampled (Profile (..), trapezoidDistances)
 import VProf.Profile.Problem.Transform (mirror, scaleJerk)
-import VProf.Profile.Request (maxSamples, problemLeastSamples)
+import VProf.Profile.Request (maxSamples)
 
 -- | Levels of lead-in: a first step, and one more within the rest.
 leadInDepth :: Int
@@ -215,59 +213,43 @@ type Variant = Int -> Maybe (U.Vector Double)
 bestSeed :: Problem -> Either SeedFailure (U.Vector Double)
 bestSeed pb = do
   let plan = seedPlan pb
-  v0 <- firstSeed plan
+  v0 <- spSeed plan
   pure $ if variantsApply pb v0 then foldl' (improveSeed pb) v0 (spVariants plan) else v0
 
 -- | The order in which 'bestSeed' finds its seed, which the wall-clock generator walks
--- with a snapshot after each step. On a long route that ends in motion (at least
--- 'restFirstSamples' samples by the fewest the route needs) the variant through rest is
--- found first, whole, and the two-sided meet after it (not the other way round, the
--- variant cut off at the meet's length): it costs about one greedy pass, where the meet
--- could cost many (a 12 m route at a 0.17 ms step: 1.5-2 s against 5-12 s while
--- 'brakeBound' had no triangle; 0.9 s against 0.7 s with it),
--- so that a budget the meet would spend still leaves a legal seed. The first seed is then
--- the shorter of the two ('firstSeed'; either alone when the other fails), and the
--- variants follow without it. Elsewhere the first seed is 'seed' and the variants are
--- 'seedVariants'.
+-- with a snapshot after each step: 'seed' first (the two-sided meet, or the landing of a
+-- route that ends at rest), then the variants. Where the meet of a route that ends in
+-- motion finds no join, the seed through rest (the head of its variants) is the first seed
+-- when it is legal, and the variants follow without it.
+--
+-- (Long routes ending in motion were once seeded through rest first, the meet after it,
+-- because the meet could cost many greedy passes: 5-12 s against 1.5-2 s on a 12 m route
+-- at 0.17 ms. That cost was 'brakeBound''s, which put the route's end in reach far too
+-- early; with its triangle the meet takes 0.7 s there and the seed through rest 0.9 s, and
+-- the order only spent a pass before the meet: without it the 12 m routes of test/data
+-- converge to 6.954 s and 6.798 s within 1 s, where they gave 8.783 s and 8.803 s, and
+-- dented-join-fine-31m to 16.853 s within 3 s, where it gave 18.408 s. Figures in
+-- docs/profile-generator.md, "The seed through rest as a fallback".)
 data SeedPlan = SeedPlan
-  { spRestFirst :: Bool
-    -- ^ whether the seed through rest is found first
-  , spThroughRest :: Maybe (U.Vector Double)
-    -- ^ then the seed through rest, when it is legal for the problem
-  , spSeed :: Either SeedFailure (U.Vector Double)
-    -- ^ 'seed': the meet, or the landing of a route that ends at rest
+  { spSeed :: Either SeedFailure (U.Vector Double)
+    -- ^ 'seed', or where the meet finds no join the seed through rest
   , spVariants :: [Variant]
   }
 
 -- | 'bestSeed''s order for a problem (lazy: each part is computed when it is used).
 seedPlan :: Problem -> SeedPlan
-seedPlan pb
-  | restFirst = SeedPlan True rest (seed pb) (drop 1 variants)
-  | otherwise = SeedPlan False Nothing (seed pb) variants
+seedPlan pb = SeedPlan first (if fellBack then drop 1 variants else variants)
   where
     variants = seedVariants pb
-    restFirst = endsInMotion pb && pbSeedSearch pb && problemLeastSamples pb >= fromIntegral restFirstSamples
-    -- (the head of a moving end's variants is this one: 'seedVariants'; what it returns
-    -- the checker has found legal for the problem, a crawl aside)
-    rest = throughRest pb ladderSamples
-
--- | The first seed of a plan: the seed through rest when it is shorter than 'seed''s or
--- 'seed' fails, else 'seed''s.
-firstSeed :: SeedPlan -> Either SeedFailure (U.Vector Double)
-firstSeed plan = withRest (spThroughRest plan) (spSeed plan)
-
--- | A seed and the seed through rest (if any): the shorter, or the one there is.
-withRest :: Maybe (U.Vector Double) -> Either SeedFailure (U.Vector Double) -> Either SeedFailure (U.Vector Double)
-withRest rest sd = case (sd, rest) of
-  (Right v, Just r) | U.length r < U.length v -> Right r
-  (Right v, _) -> Right v
-  (Left _, Just r) -> Right r
-  (Left f, Nothing) -> Left f
-
--- | A route that ends in motion and needs at least this many samples is seeded through
--- rest first ('seedPlan').
-restFirstSamples :: Int
-restFirstSamples = 16384
+    moving = endsInMotion pb && pbSeedSearch pb
+    -- (the head of a moving end's variants is the seed through rest: 'seedVariants'; what
+    -- it returns the checker has found legal for the problem, a crawl aside)
+    -- (a proof that the end state cannot be reached is kept: no profile can be legal)
+    (first, fellBack) = case seed pb of
+      Left f@(LandingFailed _) | moving -> case throughRest pb ladderSamples of
+        Just r -> (Right r, True)
+        Nothing -> (Left f, False)
+      r -> (r, False)
 
 -- | The variants of a problem whose seeds 'bestSeed' compares: the problem with symmetric
 -- jerk ranges, with symmetric acceleration and jerk ranges, and the same three with every
