@@ -282,7 +282,7 @@ spec = describe "the wide world of requests" $ do
     withMaxSuccess cases $ property $ \(WideRequest rq) -> case validate rq of
       Left _ -> label "refused by validation" True
       Right pb
-        | not (endsInMotion pb && pbSeedSearch pb) -> label "ends at rest" True
+        | not (endsInMotion pb && pbSeedSearch pb) -> label "ends at rest, or no seed search" True
         | problemLeastSamples pb > 20000 -> label "over 20,000 samples (left out)" True
         | otherwise -> case spSeed (seedPlan pb) of
             Left (LandingFailed m) ->

@@ -134,8 +134,9 @@ topSpeed q = maximum (pbV0 q : pbVEnd q : U.toList (pbZoneSpeeds q))
 -- to 150 times 'roundingJerk' (the velocity ends a few 1e-16 m/s below zero and is set to
 -- zero, which raises the last jerk by that over dt²): the first margin broke the jerk rule
 -- in its last step in 10 of the 24 such landings of bench/fuzz-requests --fine (seeds 5
--- and 6), each a whole pass of up to 640,000 samples lost, and the hundredfold in none; it
--- lengthened those ten by at most 4 samples.
+-- and 6), each a whole pass of up to 640,000 samples lost, and the hundredfold in none:
+-- those ten keep their answers a pass sooner, and the other fourteen changed by at most 2
+-- samples.
 jerkPlanMargins :: Problem -> [Double]
 jerkPlanMargins q
   | fullJerkHolds q = takeWhile (<= 0.25) [ m, 100 * m, 10000 * m ]
