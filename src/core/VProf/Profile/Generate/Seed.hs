@@ -238,18 +238,14 @@ data SeedPlan = SeedPlan
 
 -- | 'bestSeed''s order for a problem (lazy: each part is computed when it is used).
 seedPlan :: Problem -> SeedPlan
-seedPlan pb = SeedPlan first (if fellBack then drop 1 variants else variants)
-  where
-    variants = seedVariants pb
-    moving = endsInMotion pb && pbSeedSearch pb
-    -- (the head of a moving end's variants is the seed through rest: 'seedVariants'; what
-    -- it returns the checker has found legal for the problem, a crawl aside)
-    -- (a proof that the end state cannot be reached is kept: no profile can be legal)
-    (first, fellBack) = case seed pb of
-      Left f@(LandingFailed _) | moving -> case throughRest pb ladderSamples of
-        Just r -> (Right r, True)
-        Nothing -> (Left f, False)
-      r -> (r, False)
+seedPlan pb = uncurry SeedPlan $ case seed pb of
+  -- the head of a moving end's variants is the seed through rest ('seedVariants'); what it
+  -- returns the checker has found legal for the problem, a crawl aside. A proof that the
+  -- end state cannot be reached is kept: no profile can be legal.
+  Left f@(LandingFailed _) | endsInMotion pb && pbSeedSearch pb, viaRest : rest <- variants ->
+    maybe (Left f, variants) (\r -> (Right r, rest)) (viaRest ladderSamples)
+  r -> (r, variants)
+  where variants = seedVariants pb
 
 -- | The variants of a problem whose seeds 'bestSeed' compares: the problem with symmetric
 -- jerk ranges, with symmetric acceleration and jerk ranges, and the same three with every
