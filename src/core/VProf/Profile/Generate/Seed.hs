@@ -102,21 +102,21 @@ hardBraking e st
   | otherwise = let st' = stepTo e st (brakeAcc e st) in st' : hardBraking e st'
 
 -- | 'landing' with the terminal on the route end, the first legal one of: the pass that
--- probes long manoeuvres only now and then ('forward'); when that one lands but breaks a
--- rule, the same planning every step a little inside the jerk range, with wider margins
--- while it still does ('jerkPlanMargins': at a 1 ms step the rounding of the velocities can
--- put a ramp at the full jerk 1e-9 to 8e-8 m/s³ beyond it; where that rounding alone is
--- beyond the checker's slack, 'roundingJerk', the margins come first); when the schedule
--- skipped a probe and the pass did not just run out of its @limit@ steps, the pass that
--- probes at every step, and it with the margins when it too lands but breaks a rule. Else
--- the answer of the last kind of pass at the full jerk. (A
--- scheduled pass that skipped no probe is the every-step pass: every pass at a coarse
+-- probes long manoeuvres only now and then ('forward'); when that one lands but breaks the
+-- jerk rule alone, the same planning every step a little inside the jerk range, with wider
+-- margins while it still does ('jerkPlanMargins': at a 1 ms step the rounding of the
+-- velocities can put a ramp at the full jerk 1e-9 to 8e-8 m/s³ beyond it; where that
+-- rounding alone is beyond the checker's slack, 'roundingJerk', the margins come first);
+-- when the schedule skipped a probe and the pass did not just run out of its @limit@
+-- steps, the pass that probes at every step, and it with the margins when it too lands but
+-- breaks the jerk rule alone. Else the answer of the last kind of pass at the full jerk.
+-- (A scheduled pass that skipped no probe is the every-step pass: every pass at a coarse
 -- step. One that ran out of steps is most often a seed variant cut off once it is no
 -- shorter than the best ('improveSeed'), which the every-step pass, at most a few steps
 -- faster, would rarely beat: it is not worth a second pass.)
 landingOnEnd :: Int -> Problem -> Either SeedFailure (U.Vector Double)
 landingOnEnd limit pb =
-  case [ v | (Right v, True) <- tries ] of
+  case [ v | (Right v, (True, _)) <- tries ] of
     v : _ -> Right v
     [] -> fst (if retry then failedAs False everyLadder else failedAs True schedLadder)
   where
@@ -125,16 +125,22 @@ landingOnEnd limit pb =
     fullJerk = fullJerkHolds pb
     margins = [ 0 | fullJerk ] ++ jerkPlanMargins pb
     landed s m = landingBy s m limit pb
-    verdict l = let r = lResult l in (r, either (const False) (legalButCrawl pb) r)
+    -- a landing's answer, whether it is legal (a crawl aside), and whether a wider margin
+    -- can cure what it breaks: the jerk rule's rounding, and nothing else
+    verdict l = let r = lResult l
+                    broken = either (const []) (\v -> [ vRule x | x <- check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)), vRule x /= Crawl ]) r
+                in (r, (either (const False) (const (null broken)) r, all (== JerkRule) broken))
     -- lazily: a legal first landing costs one pass; each landing is run and checked once
     firstSched = landed True (head margins)
     Landing _ skipped ranOut = firstSched
     retry = skipped && not ranOut
-    landedIllegal (r, ok) = either (const False) (const (not ok)) r
-    -- each wider margin only while the landing before it lands and breaks a rule
+    marginMayCure (r, (ok, jerkOnly)) = either (const False) (const (not ok && jerkOnly)) r
+    -- each wider margin only while the landing before it lands and breaks the jerk rule
+    -- alone (a variant's landing that stepped to rest at -293 m/s², beyond the acceleration
+    -- range, was landed three more times, each with the same violation)
     ladder s l0 = go l0 (drop 1 margins)
       where go l ms = let r = verdict l
-                      in r : (if landedIllegal r then case ms of { m : rest -> go (landed s m) rest; [] -> [] } else [])
+                      in r : (if marginMayCure r then case ms of { m : rest -> go (landed s m) rest; [] -> [] } else [])
     schedLadder = ladder True firstSched
     everyLadder = ladder False (landed False (head margins))
     tries = schedLadder ++ (if retry then everyLadder else [])
