@@ -31,7 +31,7 @@ import Support.Wide
 import VProf.Profile.Format.Json (requestFromJson)
 import VProf.Profile.Generate
 import qualified Data.Vector.Unboxed as U
-import VProf.Profile.Generate.Seed (SeedFailure (..), SeedPlan (..), ladderSamples, seed, seedPlan, seedVariants)
+import VProf.Profile.Generate.Seed (SeedFailure (..), SeedPlan (..), ladderSamples, mirror, restFrom, restWithinJerk, seed, seedPlan, seedVariants)
 import VProf.Profile.Problem (endsInMotion)
 import VProf.Profile.Generate.Seed.Brake (fullJerkHolds)
 import VProf.Profile.Legality (Rule (..), Violation (..), check, renderViolation)
@@ -222,6 +222,18 @@ spec = describe "the wide world of requests" $ do
   it "fine time steps (0.1-1 ms, as bench/fuzz-requests --fine): every answer is legal, a confirmed infeasibility or NOT_CONVERGED; within the cap and the budget" $
     withMaxSuccess (max 1 (cases `div` fineShare)) $ property $ \(FineRequest rq0) -> monadicIO (keepsPromises fineBudget (const False) rq0)
 
+  it "fine time steps: thesis mode's braking of a moving start and its run-in to a moving end keep the jerk rule (the full jerk's rounding breaks it in many; jerks recomputed from the velocities)" $
+    withMaxSuccess cases $ property $ \(FineRequest rq) -> case validate rq of
+      Left _ -> label "refused by validation" True
+      Right pb ->
+        let ends = [ ("start", pb) | pbV0 pb > 0 ] ++ [ ("end", mirror pb) | endsInMotion pb ]
+            brokeAtFull = or [ either (const False) (not . jerksWithin q) (restFrom q) | (_, q) <- ends ]
+        in cover 10 brokeAtFull "the full jerk's braking breaks the jerk rule" $
+             label (if null ends then "at rest at both ends" else "in motion") $
+               conjoin [ counterexample (which ++ ": " ++ show (pbDt q, pbV0 q, pbJMin q, pbJMax q)) $
+                           either (const (property True)) (property . jerksWithin q) (restWithinJerk q)
+                       | (which, q) <- ends ]
+
   it "the infeasibility claims of bench/fuzz-requests (test/data/claims, or $VPROF_CLAIMS_DIR) are made again and confirmed by an independent proof" $ do
     dir <- maybe "test/data/claims" id <$> lookupEnv "VPROF_CLAIMS_DIR"
     files <- sort . filter (".json" `isSuffixOf`) <$> listDirectory dir
@@ -266,6 +278,13 @@ spec = describe "the wide world of requests" $ do
           fromIntegral (U.length w - 1) * pbDt pb `shouldSatisfy` (< 9)
         Nothing -> expectationFailure "no profile through rest"
       [] -> expectationFailure "no seed variants"
+
+  it "the 12 m route at 0.17 ms starting at 1.95 m/s: thesis mode brakes its start inside the jerk range (at the full jerk the rounding put it 7.1e-9 m/s³ beyond, and no thesis profile was legal)" $ do
+    pb <- either (error . show) id . validate <$> runInFine12m
+    fmap (jerksWithin pb) (restFrom pb) `shouldBe` Right False
+    fmap (jerksWithin pb) (restWithinJerk pb) `shouldBe` Right True
+    -- the margin costs no sample here
+    fmap U.length (restWithinJerk pb) `shouldBe` fmap U.length (restFrom pb)
 
   it "the 12 m route at 0.17 ms ending at 1 m/s: the first seed is the meet's (shorter than the 8.9 s through rest), and every variant follows it" $ do
     pb <- either (error . show) id . validate <$> runInFine12m
@@ -401,3 +420,14 @@ settle claim rq0 = do
 -- | The full search's budget (s): ample for every wide request to try all its seed variants.
 fullBudget :: Double
 fullBudget = 30
+
+-- | The jerks of a braking v_0 .. v_N, from the start acceleration on, within the problem's
+-- jerk range and the checker's slack (1e-9 relative, at least 1e-9 m/s³): recomputed here
+-- from the velocities' second differences, apart from the checker.
+jerksWithin :: Problem -> U.Vector Double -> Bool
+jerksWithin q w = all ok js
+  where
+    dt = pbDt q
+    accs = pbA0 q : zipWith (\a b -> (b - a) / dt) (U.toList w) (drop 1 (U.toList w))
+    js = zipWith (\a b -> (b - a) / dt) accs (drop 1 accs)
+    ok j = j <= pbJMax q + 1e-9 * max 1 (abs (pbJMax q)) && j >= pbJMin q - 1e-9 * max 1 (abs (pbJMin q))

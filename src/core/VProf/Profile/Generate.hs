@@ -306,7 +306,7 @@ thesisLeastWork pb n0 dv = case runIn of
   where
     runIn
       | endsInMotion pb =
-          either (const Nothing) (\t -> Just (U.length t, U.last (trapezoidDistances (pbDt pb) t))) (restFrom (mirror pb))
+          either (const Nothing) (\t -> Just (U.length t, U.last (trapezoidDistances (pbDt pb) t))) (restWithinJerk (mirror pb))
       | otherwise = Just (0, 0)
 
 -- | The last variant of the default generator's seed, with what is left of the budget:

@@ -27,6 +27,7 @@ module VProf.Profile.Generate.Seed
   , brakeStopDistance
   , mirror
   , restFrom
+  , restWithinJerk
   ) where
 
 import Data.List (foldl')
@@ -328,6 +329,31 @@ improveSeed :: Problem -> U.Vector Double -> Variant -> U.Vector Double
 improveSeed pb best variant = case variant (U.length best - 2) of
   Just v | U.length v < U.length best, legalButCrawl pb v -> v
   _ -> best
+
+-- | 'restFrom' for thesis mode, whose braking of a moving start and run-in to a moving end
+-- are the profile's own: planned a little inside the jerk range, with the margins in turn
+-- ('jerkPlanMargins'), while the braking breaks the problem's jerk rule (the rounding of
+-- the velocities at a fine step: a 12 m route at 0.17 ms braked its start from 1.95 m/s
+-- 7.1e-9 m/s³ beyond the limit, 925 samples of its thesis-mode profile broke the jerk rule,
+-- and thesis mode had no legal profile to give).
+-- The full jerk first where it can hold ('fullJerkHolds'), last where it cannot; when no
+-- braking keeps the rule, the full jerk's answer.
+restWithinJerk :: Problem -> Either SeedFailure (U.Vector Double)
+restWithinJerk q
+  | fullJerkHolds q, either (const True) keepsJerk full = full
+  | otherwise = firstKeeping (map restFrom narrowed ++ [ full | not (fullJerkHolds q) ])
+  where
+    narrowed = [ scaleJerk (1 - m) q | m <- jerkPlanMargins q ]
+    full = restFrom q
+    firstKeeping [] = full
+    firstKeeping (r : rest) = case r of
+      Right w | keepsJerk w -> r
+      _ -> firstKeeping rest
+    -- the braking's own jerks, from the start acceleration on (it ends with its own last
+    -- acceleration: how it goes on is the caller's)
+    keepsJerk w =
+      let aLast = if U.length w >= 2 then (U.last w - w U.! (U.length w - 2)) / pbDt q else pbA0 q
+      in null [ x | x <- check q (Profile (pbDt q) w (pbA0 q) aLast), vRule x == JerkRule ]
 
 -- | The hardest legal braking from the start state to a standstill within the route,
 -- v_0 .. 0 (just v_0 when the start is at rest): the thesis mode's way into its band,

@@ -23,11 +23,12 @@
 -- everywhere, no single sample can rise any more, and it stalls far below its limits.
 --
 -- A moving start is braked to rest first (the thesis extended its profile before the
--- start for the same purpose; 'restFrom'); the band then raises those samples where their
--- windows allow. A moving end state is reached from rest: the band lands at rest where
--- the end state's run-in begins (the hardest braking to rest from the end state,
--- backwards in time, on the 'mirror'), so the profile stops once before it: legal, but
--- slower than the default generator's meet.
+-- start for the same purpose; 'restWithinJerk', planned inside the jerk range where the
+-- rounding of the velocities would put it beyond); the band then raises those samples
+-- where their windows allow. A moving end state is reached from rest: the band lands at
+-- rest where the end state's run-in begins (the hardest braking to rest from the end
+-- state, backwards in time, on the 'mirror', planned as the start's), so the profile
+-- stops once before it: legal, but slower than the default generator's meet.
 --
 -- Only the samples that can still change are visited: a sample whose window and
 -- position did not change in the last pass and whose forward margins only shrank cannot
@@ -45,7 +46,7 @@ import qualified Data.Vector.Unboxed.Mutable as M
 import Numeric (showFFloat)
 
 import VProf.Profile.Generate.RubberBand (Sweep (..), accelerationAt, stepLimit, stepMargin, sweep)
-import VProf.Profile.Generate.Seed (SeedFailure (..), mirror, restFrom)
+import VProf.Profile.Generate.Seed (SeedFailure (..), mirror, restWithinJerk)
 import VProf.Profile.Sampled (trapezoidDistances)
 import VProf.Profile.Problem (endsInMotion)
 import VProf.Profile.Request (Problem (..), maxSamples)
@@ -94,7 +95,7 @@ thesisStages pb = do
     then Left (LandingFailed ("thesis mode reaches the end state from rest, and its run-in needs "
                               ++ showFFloat (Just 3) dE " m, more than route_length"))
     else Right ()
-  braking <- restFrom bandPb
+  braking <- restWithinJerk bandPb
   let m = U.length braking
       aRest = if m >= 2 then (U.last braking - braking U.! (m - 2)) / pbDt pb else pbA0 pb
       -- at rest with the acceleration back at zero (one more sample at rest), and the
@@ -117,7 +118,7 @@ thesisStages pb = do
     -- on the mirror, reversed (0 .. v_end); nothing when the end is at rest
     runIn
       | not moving = Right U.empty
-      | otherwise = U.reverse <$> restFrom (mirror pb)
+      | otherwise = U.reverse <$> restWithinJerk (mirror pb)
 
 -- | Passes per stage, for a horizon of @n@ samples: the wall-clock budget is checked
 -- between stages, and each stage copies the profile out, so long profiles take longer
