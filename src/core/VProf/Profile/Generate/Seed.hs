@@ -318,9 +318,16 @@ throughRest q limit = firstLegal runInProblems
       if pbLength restPb <= 0 || sinksBelowZero restPb then Nothing else Just ()
       v <- either (const Nothing) Just (landing (limit - U.length tailV) restPb)
       pure (v U.++ tailV)
-    runInProblems =
-      let narrowed = [ scaleJerk (1 - m) q | m <- jerkPlanMargins q ]
-      in if fullJerkHolds q then q : narrowed else narrowed ++ [q]
+    runInProblems = jerkPlanLadder q
+
+-- | The problems a braking is planned on in turn while it breaks the jerk rule alone: the
+-- problem itself, then its jerk range narrowed by each of the 'jerkPlanMargins'; where the
+-- full jerk cannot hold ('fullJerkHolds'), the narrowed ones first and the problem last.
+jerkPlanLadder :: Problem -> [Problem]
+jerkPlanLadder q
+  | fullJerkHolds q = q : narrowed
+  | otherwise = narrowed ++ [q]
+  where narrowed = [ scaleJerk (1 - m) q | m <- jerkPlanMargins q ]
 
 -- | The better of a seed and a variant's: the variant's when it is shorter and legal for
 -- the problem. The variant's pass stops once it is no shorter, so it costs at most a pass
@@ -339,11 +346,8 @@ improveSeed pb best variant = case variant (U.length best - 2) of
 -- The full jerk first where it can hold ('fullJerkHolds'), last where it cannot; when no
 -- braking keeps the rule, the full jerk's answer.
 restWithinJerk :: Problem -> Either SeedFailure (U.Vector Double)
-restWithinJerk q
-  | fullJerkHolds q, either (const True) keepsJerk full = full
-  | otherwise = firstKeeping (map restFrom narrowed ++ [ full | not (fullJerkHolds q) ])
+restWithinJerk q = firstKeeping [ if tq == q then full else restFrom tq | tq <- jerkPlanLadder q ]
   where
-    narrowed = [ scaleJerk (1 - m) q | m <- jerkPlanMargins q ]
     full = restFrom q
     firstKeeping [] = full
     firstKeeping (r : rest) = case r of
