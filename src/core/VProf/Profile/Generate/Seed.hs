@@ -129,8 +129,9 @@ landingOnEnd limit pb =
     -- a landing's answer, whether it is legal (a crawl aside), and whether a wider margin
     -- can cure what it breaks: the jerk rule's rounding, and nothing else
     verdict l = let r = lResult l
-                    broken = either (const []) (\v -> [ vRule x | x <- check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)), vRule x /= Crawl ]) r
+                    broken = either (const []) (filter (/= Crawl) . map vRule . checkAgainst) r
                 in (r, (either (const False) (const (null broken)) r, all (== JerkRule) broken))
+    checkAgainst v = check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
     -- lazily: a legal first landing costs one pass; each landing is run and checked once
     firstSched = landed True (head margins)
     Landing _ skipped ranOut = firstSched
@@ -302,7 +303,7 @@ seedVariants pb
 -- 12 m route at 0.17 ms: the run-in of 9,072 samples broke it by 3e-9 m/s³ in 418
 -- samples, and the 8.9 s profile through rest lost to the meet's 11.2 s).
 throughRest :: Problem -> Variant
-throughRest q limit = firstLegal runInProblems
+throughRest q limit = firstLegal (jerkPlanLadder q)
   where
     firstLegal [] = Nothing
     firstLegal (tq : rest) = case throughRestWith tq of
@@ -318,7 +319,6 @@ throughRest q limit = firstLegal runInProblems
       if pbLength restPb <= 0 || sinksBelowZero restPb then Nothing else Just ()
       v <- either (const Nothing) Just (landing (limit - U.length tailV) restPb)
       pure (v U.++ tailV)
-    runInProblems = jerkPlanLadder q
 
 -- | The problems a braking is planned on in turn while it breaks the jerk rule alone: the
 -- problem itself, then its jerk range narrowed by each of the 'jerkPlanMargins'; where the
@@ -346,10 +346,9 @@ improveSeed pb best variant = case variant (U.length best - 2) of
 -- The full jerk first where it can hold ('fullJerkHolds'), last where it cannot; when no
 -- braking keeps the rule, the full jerk's answer.
 restWithinJerk :: Problem -> Either SeedFailure (U.Vector Double)
-restWithinJerk q = firstKeeping [ if tq == q then full else restFrom tq | tq <- jerkPlanLadder q ]
+restWithinJerk q = firstKeeping (map restFrom (jerkPlanLadder q))
   where
-    full = restFrom q
-    firstKeeping [] = full
+    firstKeeping [] = restFrom q
     firstKeeping (r : rest) = case r of
       Right w | keepsJerk w -> r
       _ -> firstKeeping rest
