@@ -117,7 +117,7 @@ hardBraking e st
 -- faster, would rarely beat: it is not worth a second pass.)
 landingOnEnd :: Int -> Problem -> Either SeedFailure (U.Vector Double)
 landingOnEnd limit pb =
-  case [ v | (Right v, (True, _)) <- tries ] of
+  case [ v | (Right v, Legal) <- tries ] of
     v : _ -> Right v
     [] -> fst (if retry then failedAs False everyLadder else failedAs True schedLadder)
   where
@@ -126,29 +126,37 @@ landingOnEnd limit pb =
     fullJerk = fullJerkHolds pb
     margins = [ 0 | fullJerk ] ++ jerkPlanMargins pb
     landed s m = landingBy s m limit pb
-    -- a landing's answer, whether it is legal (a crawl aside), and whether a wider margin
-    -- can cure what it breaks: the jerk rule's rounding, and nothing else
-    verdict l = let r = lResult l
-                    broken = either (const []) (filter (/= Crawl) . map vRule . checkAgainst) r
-                in (r, (either (const False) (const (null broken)) r, all (== JerkRule) broken))
-    checkAgainst v = check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))
+    -- a landing's answer and the checker's verdict on it (a pass that did not land: broken)
+    verdict l = let r = lResult l in (r, either (const Broken) (verdictOf pb) r)
     -- lazily: a legal first landing costs one pass; each landing is run and checked once
     firstSched = landed True (head margins)
     Landing _ skipped ranOut = firstSched
     retry = skipped && not ranOut
-    marginMayCure (r, (ok, jerkOnly)) = either (const False) (const (not ok && jerkOnly)) r
     -- each wider margin only while the landing before it lands and breaks the jerk rule
-    -- alone (a variant's landing that stepped to rest at -293 m/s², beyond the acceleration
-    -- range, was landed three more times, each with the same violation)
+    -- alone, which a margin may cure (a variant's landing that stepped to rest at
+    -- -293 m/s², beyond the acceleration range, was landed three more times, each with the
+    -- same violation)
     ladder s l0 = go l0 (drop 1 margins)
       where go l ms = let r = verdict l
-                      in r : (if marginMayCure r then case ms of { m : rest -> go (landed s m) rest; [] -> [] } else [])
+                      in r : (if snd r == JerkOnly then case ms of { m : rest -> go (landed s m) rest; [] -> [] } else [])
     schedLadder = ladder True firstSched
     everyLadder = ladder False (landed False (head margins))
     tries = schedLadder ++ (if retry then everyLadder else [])
     -- when none is legal: the landing at the full jerk (a narrowed problem's failure, such as a
     -- start it cannot save, is no claim about this one)
     failedAs s lad = if fullJerk then head lad else verdict (landed s 0)
+-- | The checker's verdict on velocities for a problem, a crawl aside (the generator cuts a
+-- profile at its arrival): legal; broken in the jerk rule alone, which planning a little
+-- inside the jerk range may cure (the velocities' rounding); or broken otherwise.
+data Verdict = Legal | JerkOnly | Broken
+  deriving (Eq, Show)
+
+verdictOf :: Problem -> U.Vector Double -> Verdict
+verdictOf pb v = case [ r | x <- check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)), let r = vRule x, r /= Crawl ] of
+  [] -> Legal
+  rs | all (== JerkRule) rs -> JerkOnly
+     | otherwise -> Broken
+
 -- | A landing pass's answer, whether its schedule skipped a probe, and whether it ran out of
 -- its steps.
 data Landing = Landing
@@ -308,10 +316,10 @@ throughRest q limit = firstLegal (jerkPlanLadder q)
     firstLegal [] = Nothing
     firstLegal (tq : rest) = case throughRestWith tq of
       Nothing -> Nothing
-      Just w -> case check q (Profile (pbDt q) w (pbA0 q) (pbAEnd q)) of
-        vs | all ((== Crawl) . vRule) vs -> Just w
-           | all ((`elem` [Crawl, JerkRule]) . vRule) vs -> firstLegal rest
-           | otherwise -> Nothing
+      Just w -> case verdictOf q w of
+        Legal -> Just w
+        JerkOnly -> firstLegal rest
+        Broken -> Nothing
     throughRestWith tq = do
       tailV <- either (const Nothing) (Just . U.reverse) (restFrom (mirror tq))
       let dE = U.last (trapezoidDistances (pbDt q) tailV)
