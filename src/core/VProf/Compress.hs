@@ -19,14 +19,16 @@ import Prelude
 
 import VProf.Compress.Fit
 import VProf.Compress.KnotFit
+import VProf.Compress.KnotTolerance
 import VProf.Compress.Metrics
 import VProf.Compress.Objective
 import VProf.Compress.Rdp
 import VProf.Compress.Types
 import VProf.Validation
 
--- | 'MethodKnots': the knot fit ("VProf.Compress.KnotFit") for a number of points; with a
--- margin or a tolerance it runs the thesis algorithm, which owns those stopping rules.
+-- | 'MethodKnots': the knot fit ("VProf.Compress.KnotFit") for a number of points, or to a
+-- tolerance the fewest points it finds within it ("VProf.Compress.KnotTolerance"); with a
+-- margin it runs the thesis algorithm, which owns that stopping rule.
 -- 'MethodThesis': the thesis's grow/shrink algorithm ("VProf.Compress.Fit").
 data Method = MethodKnots | MethodThesis | MethodRdp deriving (Show, Eq)
 
@@ -90,13 +92,18 @@ validateSettings n s = concat
   where Weights p o v = sWeights s
 
 -- | Compress a recording. For RDP, a tolerance is the classic RDP epsilon (geometric
--- distance); for the thesis method it bounds the time-synchronous position error.
+-- distance); for the knot fit and the thesis method it bounds the time-synchronous
+-- position error, and a number of points with it is the fewest allowed.
 compress :: Settings -> Recording -> Either [FieldError] Compressed
 compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
-    MethodKnots | sMargin s == Nothing && tolM == Nothing ->
-      let k = maybe (max 2 (round (0.03 * fromIntegral n :: Double))) (max 2) (sPoints s)
-          pa = fitKnots defaultKnotConfig { kcSearch = sSearch s } pr (sWeights s) k
-      in Compressed (fromPathA pa) (computeMetrics pr pa) True (totalCost pr (sWeights s) pa) (show ReachedPoints)
+    MethodKnots | sMargin s == Nothing -> case tolM of
+      Nothing ->
+        let k = maybe (max 2 (round (0.03 * fromIntegral n :: Double))) (max 2) (sPoints s)
+            pa = fitKnots defaultKnotConfig { kcSearch = sSearch s } pr (sWeights s) k
+        in Compressed (fromPathA pa) (computeMetrics pr pa) True (totalCost pr (sWeights s) pa) (show ReachedPoints)
+      Just tol ->
+        let pa = tfPath (fitKnotsTolerance defaultKnotConfig pr (sWeights s) (maybe 2 id (sPoints s)) tol)
+        in Compressed (fromPathA pa) (computeMetrics pr pa) True (totalCost pr (sWeights s) pa) (show ReachedTolerance)
     MethodRdp -> rdp
     _ ->
       let cfg = defaultFitConfig { fcWeights = sWeights s, fcPoints = sPoints s

@@ -235,11 +235,11 @@ spec = describe "vprof compress" $ do
       e2 `shouldSatisfy` ("--times" `isInfixOf`)
       tr2 <- writtenTum dir "kitti2.txt" [copy, "--times", tf, "--points", "50"]
       tTime tr2 `shouldBe` tTime tr
-  it "exits 1 when the tolerance cannot be met (and still writes the best path)" $
+  it "exits 1 when the thesis method cannot meet the tolerance (and still writes the best path)" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       rec <- dataFile "freiburg1_xyz-groundtruth.txt"
       let out = dir </> "path.txt"
-      (c, e) <- captureStderr (dir </> "e.txt") (runCli [rec, "--tolerance", "0.001", "-o", out])
+      (c, e) <- captureStderr (dir </> "e.txt") (runCli [rec, "--method", "thesis", "--tolerance", "0.001", "-o", out])
       c `shouldBe` ExitFailure 1
       -- what was reached and what to do instead
       e `shouldSatisfy` (\m -> all (`isInfixOf` m) ["tolerance not met", "mm with 450 points", "--points N"])

@@ -95,19 +95,41 @@ spec = describe "recovery of a known K-waypoint path" $ do
       in counterexample (show (map mOrientationRmse [o0, o30])) $
            mOrientationRmse o30 < mOrientationRmse o0
 
--- | Any tolerance, from far below the noise to above the motion: the fit says it is met
--- exactly when the largest time-synchronous error, measured here from the path and the
--- samples, is within it (and then has no more points than samples).
+-- | The largest time-synchronous position error of a path against a recording's samples,
+-- measured here by interpolating the path at each sample's time.
+worstError :: Recording -> Compressed -> Double
+worstError (Recording raw) o =
+  let Track pt pp pq = pathTrack (oPath o)
+  in maximum [ distance (fst (polylineAt pt pp pq t)) p | (t, p) <- zip (U.toList (tTime raw)) (ptoList (tPos raw)) ]
+
+-- | Any tolerance, from far below the noise to above the motion. The thesis method says it
+-- is met exactly when the largest time-synchronous error, measured here from the path and
+-- the samples, is within it (and then has no more points than samples). The knot fit (the
+-- default) always meets it, and its count is the fewest it found: the knot fit to one
+-- point fewer breaks the tolerance.
 toleranceMet :: Spec
-toleranceMet =
-  it "a tolerance (1e-7 m to 0.3 m, log-uniform; noise up to 5 mm) is reported met exactly when the largest error at the samples, measured independently, is within it" $
+toleranceMet = do
+  it "knot fit: a tolerance (1e-7 m to 0.3 m, log-uniform; noise up to 5 mm) is always met, measured independently, and one point fewer breaks it" $
     checkCoverage $ forAll genTruth $ \tr -> forAll (choose (0, 5e-3)) $ \amp -> forAllBlind (sampleTruth tr (Just (amp, 0.2 * pi / 180))) $ \rec ->
       forAll (choose (-7, log 0.3 / log 10)) $ \e ->
         let tol = 10 ** e :: Double
             Recording raw = rec
             o = either (error . show) id (compress defaultSettings { sTolerance = Just (tol *~ metre) } rec)
-            Track pt pp pq = pathTrack (oPath o)
-            worst = maximum [ distance (fst (polylineAt pt pp pq t)) p | (t, p) <- zip (U.toList (tTime raw)) (ptoList (tPos raw)) ]
+            k = trackLength (pathTrack (oPath o))
+            n = trackLength raw
+            fewer = either (error . show) id (compress defaultSettings { sPoints = Just (k - 1) } rec)
+            worst = worstError rec o
+        in cover 10 (k == n) "every sample a waypoint" $ cover 20 (k > 2 && k < n) "between" $
+           counterexample (show (tol, worst, k, n, if k > 2 then worstError rec fewer else 0)) $
+             oToleranceMet o .&&. worst <= tol * (1 + 1e-9) .&&. abs (mPositionMax (oMetrics o) - worst) <= 1e-9 * max 1 worst
+               .&&. (k <= 2 || worstError rec fewer > tol)
+  it "thesis method: a tolerance (1e-7 m to 0.3 m, log-uniform; noise up to 5 mm) is reported met exactly when the largest error at the samples, measured independently, is within it" $
+    checkCoverage $ forAll genTruth $ \tr -> forAll (choose (0, 5e-3)) $ \amp -> forAllBlind (sampleTruth tr (Just (amp, 0.2 * pi / 180))) $ \rec ->
+      forAll (choose (-7, log 0.3 / log 10)) $ \e ->
+        let tol = 10 ** e :: Double
+            Recording raw = rec
+            o = either (error . show) id (compress defaultSettings { sMethod = MethodThesis, sTolerance = Just (tol *~ metre) } rec)
+            worst = worstError rec o
         in cover 10 (oToleranceMet o) "met" $ cover 10 (not (oToleranceMet o)) "not met" $
            counterexample (show (tol, worst, oToleranceMet o, trackLength (pathTrack (oPath o)), trackLength raw)) $
              if oToleranceMet o then worst <= tol * (1 + 1e-9) .&&. trackLength (pathTrack (oPath o)) <= trackLength raw

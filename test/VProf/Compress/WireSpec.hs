@@ -95,10 +95,13 @@ spec = describe "serveCompress" $ do
     fmap head xs `shouldNotBe` Just (let P3 x _ _ = pindex (tPos tr) 0 in x)
     bad <- serveCompress (request tr 12) { crqFreeEnds = putField (Just True), crqMethod = putField (Just CompressRdp) }
     errorShouldBe (getField (cpError bad)) ErrInvalidArgument "free_ends" "free_ends = true"
-  it "answers NOT_CONVERGED naming search_rounds when the compression outlasts the time limit (was the server's INTERNAL)" $ do
+  it "answers NOT_CONVERGED naming search_rounds (or the tolerance) when the compression outlasts the time limit (was the server's INTERNAL)" $ do
     Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
     rsp <- serveCompressWithin 0.05 (request tr 90) { crqSearchRounds = putField (Just 50) }
     errorShouldBe (getField (cpError rsp)) ErrNotConverged "search_rounds" "0.05 s"
+    -- the search for the fewest points within a tolerance names the tolerance
+    tolRsp <- serveCompressWithin 0.05 (request tr 0) { crqTolerance = putField (Just 1e-6) }
+    errorShouldBe (getField (cpError tolRsp)) ErrNotConverged "tolerance" "tolerance = 0.000001 m"
   it "refuses a method number it does not know (7, -1 as sent) naming method, instead of running the default" $ do
     Recording tr0 <- loadTum "freiburg1_xyz-groundtruth.txt"
     let tr = Track (U.take 300 (tTime tr0)) (pifilter (< 300) (tPos tr0)) (pifilter (< 300) (tRot tr0))
@@ -180,9 +183,20 @@ spec = describe "serveCompress" $ do
     rsp <- serveCompress req
     let Just err = getField (cpError rsp)
     getField (errField err) `shouldBe` Just (T.pack "recording")
-  it "reports an unmet tolerance as INFEASIBLE with the best path" $ do
+  it "to a tolerance by default (the knot fit): met, no error, and points is the fewest allowed" $ do
     Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
-    let req = (request tr 0) { crqTolerance = putField (Just 1e-7) }
+    let maxOf rsp = fmap (getField . cmPositionMax) (getField (cpMetrics rsp))
+        count rsp = fmap (length . getField . posTime) (getField (cpPath rsp))
+    free <- serveCompress (request tr 0) { crqTolerance = putField (Just 10e-3) }
+    floored <- serveCompress (request tr 120) { crqTolerance = putField (Just 10e-3) }
+    mapM_ (\rsp -> do
+             getField (cpError rsp) `shouldBe` Nothing
+             maxOf rsp `shouldSatisfy` maybe False (maybe False (<= 10e-3))) [free, floored]
+    count free `shouldSatisfy` maybe False (\k -> k > 2 && k < 120)
+    count floored `shouldSatisfy` maybe False (>= 120)
+  it "reports a tolerance the thesis method does not meet as INFEASIBLE with the best path" $ do
+    Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"
+    let req = (request tr 0) { crqTolerance = putField (Just 1e-7), crqMethod = putField (Just CompressThesis) }
     rsp <- serveCompress req
     let Just err = getField (cpError rsp)
     getEnum (getField (errCode err)) `shouldBe` ErrInfeasible

@@ -42,6 +42,7 @@ module VProf.Compress.Fit
   , swapPass
   , insertionGains
   , removalCosts
+  , maxPositionError
   ) where
 
 import Control.Monad (forM_, when)

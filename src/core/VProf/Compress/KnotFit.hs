@@ -22,6 +22,10 @@ module VProf.Compress.KnotFit
   , exchangeKnots
   , optimiseKnots
   , searchKnots
+  , finishKnots
+  , removalCost
+  , dropKnot
+  , insertKnotAt
   ) where
 
 import Data.Bits (shiftR, xor)
@@ -118,15 +122,7 @@ exchangeKnots pr iters passes kn0 = go passes kn0
         tryPairs ((_, (j, s)) : rest) = case exchange kn j s of
           Just kn' -> Just kn'
           Nothing -> tryPairs rest
-    -- remove waypoint j: stretch j−2 .. j+2 becomes j−2 .. j+1 (worked on a slice, so
-    -- each estimate costs only the stretch's samples)
-    removalDelta kn j =
-      let k = U.length (kT kn)
-          ja = max 0 (j - 2); jb = min (k - 1) (j + 2)
-          sub = sliceKnots ja jb kn
-          m = jb - ja
-          kr = solveSlicePositions pr (ja == 0, jb == k - 1) (dropKnot (j - ja) sub) 0 (m - 1)
-      in stretchSse pr kr 0 (m - 1) - stretchSse pr sub 0 m
+    removalDelta = removalCost pr
     -- insert into segment s at its middle: stretch s−1 .. s+2 becomes s−1 .. s+3
     insertionDelta kn s =
       let k = U.length (kT kn)
@@ -135,7 +131,6 @@ exchangeKnots pr iters passes kn0 = go passes kn0
           m = jb - ja
           ki = solveSlicePositions pr (ja == 0, jb == k - 1) (insertKnot (s - ja) sub) 0 (m + 1)
       in stretchSse pr ki 0 (m + 1) - stretchSse pr sub 0 m
-    sliceKnots ja jb (Knots ts (V3s v)) = Knots (U.slice ja (jb - ja + 1) ts) (V3s (U.slice (3 * ja) (3 * (jb - ja + 1)) v))
     -- the exchange with both stretches re-optimised (3 waypoints each side held outside)
     exchange kn j s =
       let k = U.length (kT kn)
@@ -152,13 +147,35 @@ exchangeKnots pr iters passes kn0 = go passes kn0
           (kn3, _) = uncurry (refineStretch pr iters) w2 kn2
           f3 = knotSse pr kn3
       in if k1 == k && f3 < f0 * (1 - 1e-9) then Just kn3 else Nothing
-    dropKnot j (Knots ts ps) = Knots (U.ifilter (\i _ -> i /= j) ts) (pifilter (/= j) ps)
-    insertKnot s (Knots ts ps) =
-      let tm = 0.5 * (ts U.! s + ts U.! (s + 1))
-          pm = 0.5 *^ (pindex ps s ^+^ pindex ps (s + 1))
-          kk = U.length ts
-      in Knots (U.generate (kk + 1) (\i -> if i <= s then ts U.! i else if i == s + 1 then tm else ts U.! (i - 1)))
-               (pgenerate (kk + 1) (\i -> if i <= s then pindex ps i else if i == s + 1 then pm else pindex ps (i - 1)))
+    insertKnot s kn = insertKnotAt s (0.5 * (kT kn U.! s + kT kn U.! (s + 1)))
+                                     (0.5 *^ (pindex (kP kn) s ^+^ pindex (kP kn) (s + 1))) kn
+
+-- | The estimated change of the position error when interior waypoint j is removed: the
+-- stretch j−2 .. j+2 becomes j−2 .. j+1 with its interior positions re-solved (worked on
+-- a slice, so an estimate costs only the stretch's samples).
+removalCost :: Prepared -> Knots -> Int -> Double
+removalCost pr kn j =
+  let k = U.length (kT kn)
+      ja = max 0 (j - 2); jb = min (k - 1) (j + 2)
+      sub = sliceKnots ja jb kn
+      m = jb - ja
+      kr = solveSlicePositions pr (ja == 0, jb == k - 1) (dropKnot (j - ja) sub) 0 (m - 1)
+  in stretchSse pr kr 0 (m - 1) - stretchSse pr sub 0 m
+
+-- | Waypoints ja .. jb alone.
+sliceKnots :: Int -> Int -> Knots -> Knots
+sliceKnots ja jb (Knots ts (V3s v)) = Knots (U.slice ja (jb - ja + 1) ts) (V3s (U.slice (3 * ja) (3 * (jb - ja + 1)) v))
+
+-- | Waypoint j removed.
+dropKnot :: Int -> Knots -> Knots
+dropKnot j (Knots ts ps) = Knots (U.ifilter (\i _ -> i /= j) ts) (pifilter (/= j) ps)
+
+-- | A waypoint at time t and position pm inserted into segment s (t inside it).
+insertKnotAt :: Int -> Double -> P3 -> Knots -> Knots
+insertKnotAt s t pm (Knots ts ps) =
+  let kk = U.length ts
+  in Knots (U.generate (kk + 1) (\i -> if i <= s then ts U.! i else if i == s + 1 then t else ts U.! (i - 1)))
+           (pgenerate (kk + 1) (\i -> if i <= s then pindex ps i else if i == s + 1 then pm else pindex ps (i - 1)))
 
 -- | Steps 2 and 3 of the fit from given knots: all times and positions refined together,
 -- the exchanges, and the refinement again when an exchange was kept.
@@ -246,12 +263,18 @@ below m g = let (u, g') = unit g in (min (m - 1) (floor (u * fromIntegral m)), g
 fitKnots :: KnotConfig -> Prepared -> Weights -> Int -> PathA
 fitKnots cfg pr w k0
   | k >= n = PathA (rcT pr) (rcP pr) (rcQ pr)
-  | otherwise = polish (orient (solvePositions pr w (PathA ts ps qs0)))
+  | otherwise = finishKnots cfg pr w (searchKnots cfg pr (optimiseKnots cfg pr (startKnots cfg pr k)))
+  where
+    n = U.length (rcT pr)
+    k = max 2 k0
+
+-- | Step 4 of the fit: the values at the knots' times under the full weights (orientations
+-- by Gauss–Newton, positions by least squares, then the thesis's update rounds).
+finishKnots :: KnotConfig -> Prepared -> Weights -> Knots -> PathA
+finishKnots cfg pr w (Knots ts ps) = polish (orient (solvePositions pr w (PathA ts ps qs0)))
   where
     st = rcT pr
-    n = U.length st
-    k = max 2 k0
-    Knots ts ps = searchKnots cfg pr (optimiseKnots cfg pr (startKnots cfg pr k))
+    k = U.length ts
     qs0 = pgenerate k (\j -> snd (polylineAt st (rcP pr) (rcQ pr) (ts U.! j)))
     oriW = Weights 0 1 0
     polish pa = if kcPolish cfg > 0 then updatePathWith pr w TimesAll (kcPolish cfg) pa else pa

@@ -12,6 +12,7 @@ module VProf.Compress.KnotTimes
   ( Knots (..)
   , knotSse
   , stretchSse
+  , worstSample
   , solveStretchPositions
   , solveSlicePositions
   , refineStretch
@@ -34,7 +35,18 @@ data Knots = Knots { kT :: !(U.Vector Double), kP :: !V3s } deriving (Show, Eq)
 
 -- | Position SSE of the samples with T_ja <= t <= T_jb.
 stretchSse :: Prepared -> Knots -> Int -> Int -> Double
-stretchSse pr (Knots ts ps) ja jb = go i0 ja 0
+stretchSse pr kn ja jb = stretchFold (\s _ e2 -> s + e2) 0 pr kn ja jb
+
+-- | The sample of the largest position error (its index, the error in m).
+worstSample :: Prepared -> Knots -> (Int, Double)
+worstSample pr kn = fmap sqrt (stretchFold (\acc@(_, w) i e2 -> if e2 > w then (i, e2) else acc) (0, -1)
+                                           pr kn 0 (U.length (kT kn) - 1))
+
+-- | A strict left fold over the samples with T_ja <= t <= T_jb of (sample index, squared
+-- position error).
+stretchFold :: (a -> Int -> Double -> a) -> a -> Prepared -> Knots -> Int -> Int -> a
+{-# INLINE stretchFold #-}
+stretchFold f a0 pr (Knots ts ps) ja jb = go i0 ja a0
   where
     (i0, i1) = samplesIn pr (ts U.! ja) (ts U.! jb)
     st = rcT pr
@@ -46,7 +58,7 @@ stretchSse pr (Knots ts ps) ja jb = go i0 ja 0
               t0 = U.unsafeIndex ts j'; t1 = U.unsafeIndex ts (j' + 1)
               u = max 0 (min 1 ((t - t0) / (t1 - t0)))
               ph = pindex ps j' ^+^ u *^ (pindex ps (j' + 1) ^-^ pindex ps j')
-          in go (i + 1) j' (s + quadrance (pindex (rcP pr) i ^-^ ph))
+          in go (i + 1) j' (f s i (quadrance (pindex (rcP pr) i ^-^ ph)))
     advance j t | j + 1 < jb && U.unsafeIndex ts (j + 1) <= t = advance (j + 1) t
                 | otherwise = j
 

@@ -82,7 +82,7 @@ compressOptions' = CompressOptions
         <> help "weights of position, orientation and velocity error as the thesis's vekt = [p o v], in its units (mm, degrees, m/s) (default 1,1,1)")
   <*> optional stopP
   <*> option (eitherReader method) (long "method" <> metavar "knots|thesis|rdp" <> value MethodKnots
-        <> help "knots: weighted least squares with the waypoint times optimised from a line-partition start (default; with --margin or --tolerance it runs thesis); thesis: the thesis's grow/shrink weighted least squares; rdp: 3-D Ramer-Douglas-Peucker baseline")
+        <> help "knots: weighted least squares with the waypoint times optimised from a line-partition start (default; to --tolerance the fewest points it finds within it; with --margin it runs thesis); thesis: the thesis's grow/shrink weighted least squares; rdp: 3-D Ramer-Douglas-Peucker baseline")
   <*> option (eitherReader searchRounds) (long "search" <> metavar "N" <> value 0
         <> help "knot fit only: N more rounds from random starts and from perturbations of the best path, the best kept (each round costs about one fit; default 0)")
   <*> option (eitherReader ends) (long "ends" <> metavar "pinned|free" <> value EndsPinned
@@ -118,7 +118,7 @@ compressOptions' = CompressOptions
       _ -> Left ("--outlier-factor " ++ s ++ ": expected a number from 1 to 10^6 (times the local step; 5 is --reject-outliers)")
     stopP = (StopPoints <$> option (eitherReader posInt) (long "points" <> metavar "K" <> help "waypoints wanted (default: 3 % of the samples)"))
         <|> (StopMargin <$> option auto (long "margin" <> metavar "M" <> help "stop removing points when the error passes M times the grown path's error"))
-        <|> (StopTolerance <$> option auto (long "tolerance" <> metavar "MM" <> help "largest position error allowed, mm"))
+        <|> (StopTolerance <$> option auto (long "tolerance" <> metavar "MM" <> help "largest position error allowed, mm (time-synchronous); the fewest points found within it"))
     rapidP = RapidOptions
       <$> option (eitherReader (rapidName "--rapid-module")) (long "rapid-module" <> metavar "NAME" <> value (roModule defaultRapidOptions) <> showDefault <> help "RAPID module name")
       <*> option (eitherReader (rapidName "--rapid-speed")) (long "rapid-speed" <> metavar "SPEED" <> value (roSpeed defaultRapidOptions) <> showDefault <> help "RAPID speed data")
@@ -298,9 +298,15 @@ runCompress o = do
             Just asked | k < asked -> hPutStrLn stderr ("vprof compress: note: " ++ file ++ ": " ++ show k ++ " points, fewer than the "
                                                          ++ show asked ++ " asked: no further waypoint lowered the error (stop: " ++ oStop out ++ ")")
             _ -> pure ()
+          -- a tolerance near the recording's noise keeps most samples: say so
+          case sTolerance settings of
+            Just _ | coMethod o == MethodKnots && 2 * k > mSamples (oMetrics out) ->
+              hPutStrLn stderr ("vprof compress: note: " ++ file ++ ": " ++ show k ++ " of the " ++ show (mSamples (oMetrics out))
+                                ++ " samples are waypoints: the tolerance is near the recording's noise (--report shows the errors)")
+            _ -> pure ()
           let
-              -- the knot fit hands a margin or a tolerance to the thesis method: name what ran
-              ran = if coMethod o == MethodKnots && (sMargin settings /= Nothing || sTolerance settings /= Nothing)
+              -- the knot fit hands a margin to the thesis method: name what ran
+              ran = if coMethod o == MethodKnots && sMargin settings /= Nothing
                       then MethodThesis else coMethod o
               other = if coMethod o == MethodRdp then MethodKnots else MethodRdp
               cmpSettings = settings { sMethod = other, sPoints = Just k, sMargin = Nothing, sTolerance = Nothing, sSearch = 0

@@ -54,11 +54,16 @@ serveCompressWithin limitS req = do
   pure $ case r of
     Right Nothing ->
       let rounds = orDefault (getField (crqSearchRounds req))
-      in errorResponse rid secs ErrNotConverged (if rounds > 0 then "search_rounds" else "points")
+          tol = orDefault (getField (crqTolerance req))
+          (field, advice)
+            | rounds > 0 = ("search_rounds", " (search_rounds = " ++ show rounds ++ ": each round costs about one fit; ask fewer)")
+            | tol > 0 = ("tolerance", " (tolerance = " ++ showNumber tol ++ " m: the search for the fewest points fits"
+                                      ++ " the recording a dozen times, and a tolerance near its noise keeps most samples;"
+                                      ++ " allow a larger one, or send a shorter recording)")
+            | otherwise = ("points", " (ask fewer points, or send a shorter recording)")
+      in errorResponse rid secs ErrNotConverged field
            ("the compression did not finish within " ++ showNumber limitS
-            ++ " s, the daemon's limit for one request"
-            ++ (if rounds > 0 then " (search_rounds = " ++ show rounds ++ ": each round costs about one fit; ask fewer)"
-                              else " (ask fewer points, or send a shorter recording)"))
+            ++ " s, the daemon's limit for one request" ++ advice)
     Left e -> errorResponse rid secs ErrInternal "" ("internal error: " ++ show (e :: SomeException))
     Right (Just (Left errs@(e1 : _))) ->
       errorResponse rid secs ErrInvalidArgument (feField e1) (renderFieldErrors errs)

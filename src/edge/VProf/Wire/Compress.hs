@@ -52,8 +52,7 @@ requestToDomainW m = do
       pts = orDefault (getField (crqPoints m))
       margin = orDefault (getField (crqMargin m))
       tol = orDefault (getField (crqTolerance m))
-      -- the default is the CLI's: the knot fit (which runs the thesis method for a margin or
-      -- a tolerance)
+      -- the default is the CLI's: the knot fit (which runs the thesis method for a margin)
       method = case getEnum (getField (crqMethod m)) of
         CompressRdp -> MethodRdp
         CompressThesis -> MethodThesis

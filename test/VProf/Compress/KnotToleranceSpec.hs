@@ -1,0 +1,77 @@
+-- | The knot fit to a tolerance: the search for the fewest points (the count it answers
+-- meets the tolerance, one fewer breaks it, no count it tried is reported with a larger
+-- error than the knot fit's there) and its exchanges for the largest error (same count,
+-- times in order and apart, ends held, the largest error lower). Errors are measured
+-- independently: the path interpolated at every sample's time.
+module VProf.Compress.KnotToleranceSpec (spec) where
+
+import qualified Data.Vector.Unboxed as U
+import Test.Hspec
+import Test.QuickCheck
+
+import VProf.Compress.KnotFit
+import VProf.Compress.KnotTimes
+import VProf.Compress.KnotTolerance
+import VProf.Compress.Objective
+import VProf.Compress.Types
+import VProf.Geometry.Polyline (polylineAt)
+import VProf.Geometry.Quaternion
+import VProf.Geometry.Vec
+
+-- | A random walk of n samples (steps up to 2 cm, 10 ms apart with jitter) with a few
+-- sharp turns, turning slowly in orientation.
+genWalk :: Int -> Gen Prepared
+genWalk n = do
+  dts <- vectorOf (n - 1) (choose (0.008, 0.012))
+  steps <- vectorOf (n - 1) (P3 <$> choose (-0.02, 0.02) <*> choose (-0.02, 0.02) <*> choose (-0.02, 0.02))
+  kicks <- vectorOf (n - 1) (frequency [(40, pure (P3 0 0 0)), (1, P3 <$> choose (-0.3, 0.3) <*> choose (-0.3, 0.3) <*> choose (-0.3, 0.3))])
+  rots <- vectorOf (n - 1) (P3 <$> choose (-0.02, 0.02) <*> choose (-0.02, 0.02) <*> choose (-0.02, 0.02))
+  t0 <- choose (0, 1.0e9)
+  let ts = scanl (+) t0 dts
+      ps = scanl (\p (s, kk) -> p ^+^ s ^+^ kk) (P3 0 0 0) (zip steps kicks)
+      qs = scanl (\q r -> qnormalize (qmul (qexp r) q)) (Q4 1 0 0 0) rots
+  pure (prepareRecording (either error id (recordingFromArrays (U.fromList ts) (pfromList ps) (pfromList qs))))
+
+-- | Largest distance from a sample to the positions interpolated linearly in time.
+worstOf :: Prepared -> U.Vector Double -> V3s -> Double
+worstOf pr t p = maximum [ distance (fst (polylineAt t p qs (rcT pr U.! i))) (pindex (rcP pr) i) | i <- [0 .. U.length (rcT pr) - 1] ]
+  where qs = pgenerate (U.length t) (const (Q4 1 0 0 0)) :: Qs
+
+spec :: Spec
+spec = do
+  describe "fitKnotsTolerance" $
+    it "answers the fewest count it tried within the tolerance (measured here), one fewer tried and above it, no try's error above the knot fit's as measured here" $
+      property $ forAll (choose (60, 200)) $ \n -> forAllBlind (genWalk n) $ \pr ->
+        forAll (choose (-2, -0.3)) $ \e -> forAll (frequency [(3, pure 2), (1, choose (2, n `div` 4))]) $ \kMin ->
+          let tol = 10 ** e :: Double
+              r = fitKnotsTolerance defaultKnotConfig pr defaultWeights kMin tol
+              PathA t p _ = tfPath r
+              k = U.length t
+              worst = worstOf pr t p
+              -- a try's largest error is the knot fit's, or lower where the exchanges for the
+              -- largest error lowered it
+              measured (kk, ek) | kk >= n = ek == 0
+                                | otherwise = let PathA t' p' _ = fitKnots defaultKnotConfig pr defaultWeights kk
+                                              in ek <= worstOf pr t' p' * (1 + 1e-9)
+              tried = tfTried r
+          in counterexample (show (tol, k, worst, tried)) $
+               cover 30 (k > kMin && k < n) "between" $
+               worst <= tol * (1 + 1e-9) .&&. abs (tfMaxError r - worst) <= 1e-9 * max 1 worst
+               .&&. k >= kMin
+               .&&. (k == kMin || any (\(kk, ek) -> kk == k - 1 && ek > tol) tried)
+               .&&. (k == n || any (\(kk, ek) -> kk == k && ek <= tol) tried)
+               .&&. conjoin [ counterexample (show t') (measured t') | t'@(kk, _) <- tried, kk /= k ]
+  describe "repairWorst" $
+    it "keeps the count, the ends and times in order at least the least gap apart, and lowers the largest error when it changes the knots" $
+      property $ forAll (choose (60, 400)) $ \n -> forAll (choose (4, n `div` 10)) $ \k -> forAllBlind (genWalk n) $ \pr ->
+        let kn0 = optimiseKnots defaultKnotConfig pr (startKnots defaultKnotConfig pr k)
+            w0 = worstOf pr (kT kn0) (kP kn0)
+        in case repairWorst pr (kcIterations defaultKnotConfig) 0 kn0 of
+             Nothing -> label "no exchange kept" True
+             Just kn ->
+               let ts = kT kn
+               in label "exchanged" $ counterexample (show (w0, worstOf pr ts (kP kn))) $
+                    U.length ts === k .&&. U.head ts === U.head (kT kn0) .&&. U.last ts === U.last (kT kn0)
+                    .&&. pindex (kP kn) 0 === pindex (kP kn0) 0 .&&. pindex (kP kn) (k - 1) === pindex (kP kn0) (k - 1)
+                    .&&. U.and (U.zipWith (\a b -> b - a >= rcMinGap pr * (1 - 1e-9)) ts (U.tail ts))
+                    .&&. worstOf pr ts (kP kn) < w0
