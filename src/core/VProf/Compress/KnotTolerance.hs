@@ -4,11 +4,13 @@
 -- keeps a bracket, the largest count tried whose largest error is above the bound and the
 -- smallest tried within it, and narrows it until the two are adjacent: by interpolating
 -- log error against log count (a linear fit's error on a smooth motion falls about as
--- 1/k²) and, every other step, by halving. The largest error need not fall monotonically
--- with the count, so a count below the bracket can meet the bound too: the answer is the
--- fewest the search found, not a proven minimum (docs/compress.md, "To a tolerance").
--- Every sample a waypoint (the recording itself) meets any bound, so the bound is always
--- met.
+-- 1/k²) and, every other step, by halving. A count whose fit breaks the bound gets a few
+-- exchanges that aim at the largest error ('repairWorst') before it is judged, since the
+-- fit's times are chosen for the sum of squares. The largest error need not fall
+-- monotonically with the count, so a count below the bracket can meet the bound too: the
+-- answer is the fewest the search found, not a proven minimum (docs/compress.md, "To a
+-- tolerance"). Every sample a waypoint (the recording itself) meets any bound, so the
+-- bound is always met.
 module VProf.Compress.KnotTolerance
   ( ToleranceFit (..)
   , fitKnotsTolerance
@@ -87,7 +89,6 @@ fitKnotsTolerance cfg pr w kMin0 tol = go (0 :: Int) lo0 hi0 [] k0
                                                * (log (fromIntegral kh) - log (fromIntegral kl)) :: Double
             in round (exp lk)
       where mid = kl + (kh - kl) `div` 2
-
 
 -- | Exchanges for the largest error: while the worst sample's error is above the bound, a
 -- waypoint is inserted at its time (on the recording's position there) and one removed
