@@ -1,6 +1,6 @@
 -- | The knot fit (the default) and the thesis method against the RDP baseline on real
 -- recordings, at 3 % of the samples; the knot fit against the free least-squares fit of
--- bench/COMPRESSION.md.
+-- bench/COMPRESSION.md, and against the thesis method to a tolerance.
 module VProf.Compress.RealDataSpec (spec) where
 
 import qualified Data.Vector.Unboxed as U
