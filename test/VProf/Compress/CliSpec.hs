@@ -235,6 +235,22 @@ spec = describe "vprof compress" $ do
       e2 `shouldSatisfy` ("--times" `isInfixOf`)
       tr2 <- writtenTum dir "kitti2.txt" [copy, "--times", tf, "--points", "50"]
       tTime tr2 `shouldBe` tTime tr
+  it "to a tolerance (the knot fit): exit 0, and a note when most samples become waypoints (not for a path of two)" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      -- a zigzag of 60 samples, 1 cm apart, every other one 2 mm off the line
+      let rec = dir </> "zigzag.txt"
+          line i = unwords (map show [fromIntegral i * 0.1 :: Double, fromIntegral i * 0.01, if even i then 0 else 0.002, 0, 0, 0, 0, 1])
+      writeFile rec (unlines (map line [0 .. 59 :: Int]))
+      (c1, e1) <- captureStderr (dir </> "e1.txt") (runCli [rec, "--tolerance", "0.5", "-o", dir </> "fine.txt"])
+      c1 `shouldBe` ExitSuccess
+      e1 `shouldSatisfy` ("of the 60 samples are waypoints: the tolerance is near the recording's noise" `isInfixOf`)
+      Right fine <- parseTum <$> B.readFile (dir </> "fine.txt")
+      trackLength fine `shouldSatisfy` (> 30)
+      (c2, e2) <- captureStderr (dir </> "e2.txt") (runCli [rec, "--tolerance", "5", "-o", dir </> "coarse.txt"])
+      c2 `shouldBe` ExitSuccess
+      e2 `shouldNotSatisfy` ("samples are waypoints" `isInfixOf`)
+      Right coarse <- parseTum <$> B.readFile (dir </> "coarse.txt")
+      trackLength coarse `shouldBe` 2
   it "exits 1 when the thesis method cannot meet the tolerance (and still writes the best path)" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       rec <- dataFile "freiburg1_xyz-groundtruth.txt"

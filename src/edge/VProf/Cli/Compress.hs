@@ -300,7 +300,7 @@ runCompress o = do
             _ -> pure ()
           -- a tolerance near the recording's noise keeps most samples: say so
           case sTolerance settings of
-            Just _ | coMethod o == MethodKnots && 2 * k > mSamples (oMetrics out) ->
+            Just _ | coMethod o == MethodKnots && k > 2 && 2 * k > mSamples (oMetrics out) ->
               hPutStrLn stderr ("vprof compress: note: " ++ file ++ ": " ++ show k ++ " of the " ++ show (mSamples (oMetrics out))
                                 ++ " samples are waypoints: the tolerance is near the recording's noise (--report shows the errors)")
             _ -> pure ()
