@@ -14,7 +14,7 @@ import VProf.Compress.KnotTimes
 import VProf.Compress.KnotTolerance
 import VProf.Compress.Objective
 import VProf.Compress.Types
-import VProf.Geometry.Polyline (polylineAt)
+import Support.PathError (worstPositionError)
 import VProf.Geometry.Quaternion
 import VProf.Geometry.Vec
 
@@ -34,8 +34,8 @@ genWalk n = do
 
 -- | Largest distance from a sample to the positions interpolated linearly in time.
 worstOf :: Prepared -> U.Vector Double -> V3s -> Double
-worstOf pr t p = maximum [ distance (fst (polylineAt t p qs (rcT pr U.! i))) (pindex (rcP pr) i) | i <- [0 .. U.length (rcT pr) - 1] ]
-  where qs = pgenerate (U.length t) (const (Q4 1 0 0 0)) :: Qs
+worstOf pr t p = worstPositionError (Track t p (still (U.length t))) (Track (rcT pr) (rcP pr) (still (U.length (rcT pr))))
+  where still m = pgenerate m (const (Q4 1 0 0 0)) :: Qs
 
 spec :: Spec
 spec = do

@@ -10,6 +10,7 @@ import VProf.Geometry.Polyline
 import VProf.Geometry.Quaternion
 import VProf.Compress.Objective
 import VProf.Geometry.Vec
+import Support.PathError (worstPositionError)
 import Numeric.Units.Dimensional.Prelude (metre, (*~))
 
 -- | A random path: K waypoints, segment durations 1–2.5 s, positions in a 1 m cube,
@@ -98,9 +99,7 @@ spec = describe "recovery of a known K-waypoint path" $ do
 -- | The largest time-synchronous position error of a path against a recording's samples,
 -- measured here by interpolating the path at each sample's time.
 worstError :: Recording -> Compressed -> Double
-worstError (Recording raw) o =
-  let Track pt pp pq = pathTrack (oPath o)
-  in maximum [ distance (fst (polylineAt pt pp pq t)) p | (t, p) <- zip (U.toList (tTime raw)) (ptoList (tPos raw)) ]
+worstError (Recording raw) o = worstPositionError (pathTrack (oPath o)) raw
 
 -- | Any tolerance, from far below the noise to above the motion. The thesis method says it
 -- is met exactly when the largest time-synchronous error, measured here from the path and

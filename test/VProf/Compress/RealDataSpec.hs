@@ -9,7 +9,7 @@ import Test.Hspec
 import VProf.Compress
 import VProf.Geometry.Quaternion (qangle, qdot)
 import VProf.Compress.Objective
-import VProf.Geometry.Polyline (polylineAt)
+import Support.PathError (worstPositionError)
 import Numeric.Units.Dimensional.Prelude (metre, (*~))
 import Support.Recordings
 import VProf.Geometry.Vec
@@ -117,9 +117,7 @@ toTolerance name tols = describe (name ++ ", to a tolerance") $
         at m = either (error . show) id (compress defaultSettings { sMethod = m, sTolerance = Just (tol *~ metre) } rec)
         kn = at MethodKnots
         th = at MethodThesis
-        Path p = oPath kn
-        worst = maximum [ distance (fst (polylineAt (tTime p) (tPos p) (tRot p) t)) x
-                        | (t, x) <- zip (U.toList (tTime raw)) (ptoList (tPos raw)) ]
+        worst = worstPositionError (pathTrack (oPath kn)) raw
     oToleranceMet kn `shouldBe` True
     worst `shouldSatisfy` (<= tol * (1 + 1e-9))
     if oToleranceMet th
