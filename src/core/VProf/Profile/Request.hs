@@ -23,7 +23,9 @@ module VProf.Profile.Request
   , defaultEndTolerance
   , defaultMaxIterations
   , maxSamples
+  , speedResolution
   , leastSamples
+  , dynamicLeastSamples
   , problemLeastSamples
   , autoVelocityStep
   , largestVelocityStep
@@ -32,8 +34,10 @@ module VProf.Profile.Request
   ) where
 
 import Data.List (sortOn)
+import Numeric (showGFloat)
 import qualified Data.Vector.Unboxed as U
 
+import VProf.Profile.LeastTime (Limits (..), leastTime)
 import VProf.Profile.Problem (Algorithm (..), Problem (..))
 import VProf.Units
 import VProf.Validation
@@ -130,9 +134,34 @@ leastSamples len dt zones =
   let ends = drop 1 (map fst zones) ++ [len]
   in sum [ max 0 (min len e - max 0 st) / v | ((st, v), e) <- zip zones ends ] / dt
 
--- | 'leastSamples' of a validated problem.
+-- | The change of speed (m/s) that one time step at a jerk or acceleration limit must
+-- exceed: the checker's resolution at zero (its slack for a limit below 1 is 1e-9 in the
+-- limit's unit, "VProf.Profile.Legality"). A weaker limit moves a profile by less than the
+-- checker can tell from standing still, and the generator, whose thresholds for rest and
+-- rounding lie at 1e-10 m/s and below, cannot plan it (it stood still, or spent its budget).
+speedResolution :: Double
+speedResolution = 1e-9
+
+-- | The samples a profile needs at the very least under its jerk and acceleration limits
+-- ("VProf.Profile.LeastTime": the fastest run-up from the start state and to the end
+-- state, the speed at most the highest limit), less four: on its grid a profile can be
+-- about half a step ahead of the continuous run-up at either end.
+dynamicLeastSamples :: Limits -> Double -> Double -> Double
+dynamicLeastSamples lm len dt = max 0 (leastTime lm len / dt - 4)
+
+-- | The fewest samples a validated problem's profile needs: the larger of 'leastSamples'
+-- (every zone at its limit) and 'dynamicLeastSamples' (the jerk and acceleration limits).
 problemLeastSamples :: Problem -> Double
-problemLeastSamples pb = leastSamples (pbLength pb) (pbDt pb) (zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb)))
+problemLeastSamples pb =
+  max (leastSamples (pbLength pb) (pbDt pb) (zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb))))
+      (dynamicLeastSamples (problemLimits pb) (pbLength pb) (pbDt pb))
+
+-- | The limits of a validated problem, for "VProf.Profile.LeastTime".
+problemLimits :: Problem -> Limits
+problemLimits pb = Limits
+  { lmV0 = pbV0 pb, lmA0 = pbA0 pb, lmVEnd = pbVEnd pb, lmAEnd = pbAEnd pb
+  , lmAMin = pbAMin pb, lmAMax = pbAMax pb, lmJMax = pbJMax pb
+  , lmVTop = U.maximum (pbZoneSpeeds pb) }
 
 -- | The automatic velocity step: the largest power of two that is at most a quarter of
 -- the smallest of |j|·dt² and |a|·dt, so that one step of velocity changes acceleration
@@ -239,8 +268,31 @@ validate rq =
           , check (not lenOk || tol < len) "end_tolerance" tol "m"
               ("must be smaller than route_length, " ++ num len ++ " m: a profile that stands still would reach the end within it")
           ]
-      , sizeErrors
+      , resolutionErrors
+      , if null resolutionErrors then sizeErrors else []
       ]
+
+    -- One step at each jerk and acceleration limit must change the speed by more than
+    -- 'speedResolution': from zero acceleration a step at the jerk j gives the acceleration
+    -- j·dt and the speed j·dt², a step at the acceleration a the speed a·dt.
+    resolutionErrors
+      | finite dt && dt >= minTimeStep && dt <= maxTimeStep = concat
+          [ weak "min_jerk" jMin "m/s³" "time_step²" (dt * dt) 2
+          , weak "max_jerk" jMax "m/s³" "time_step²" (dt * dt) 2
+          , weak "min_acceleration" aMin "m/s²" "time_step" dt 1
+          , weak "max_acceleration" aMax "m/s²" "time_step" dt 1 ]
+      | otherwise = []
+    weak f x unit by scale power
+      | finite x && x /= 0 && abs x * scale <= speedResolution =
+          let least = speedResolution / scale
+              dtLeast = (speedResolution / abs x) ** (1 / power)
+          in err f x unit
+               ("is too weak for time_step " ++ num dt ++ " s: one step at it changes the speed by "
+                ++ sig (abs x * scale) ++ " m/s (|" ++ f ++ "|·" ++ by ++ "), not more than the checker's resolution of "
+                ++ show speedResolution ++ " m/s; at this time_step its magnitude must be above " ++ sig least ++ " " ++ unit
+                ++ (if dtLeast < maxTimeStep then ", or keep it with a time_step above " ++ sig dtLeast ++ " s" else ""))
+      | otherwise = []
+    sig x = showGFloat (Just 2) x ""
 
     zoneErrors
       | null zones = [literalError "speed_limits" "[]" "must hold at least one zone"]
@@ -280,11 +332,36 @@ validate rq =
                  ("is too slow: its zone alone needs " ++ (if n < 1e15 then show (ceiling n :: Integer) else showNumber n)
                   ++ " samples at time_step " ++ num dt ++ " s, above the cap of " ++ show maxSamples
                   ++ " samples; raise it, split the route or raise time_step")
-               [] -> check (lower <= fromIntegral maxSamples) "route_length" len "m"
+               [] | lower > fromIntegral maxSamples -> err "route_length" len "m"
                        ("needs at least " ++ (if lower < 1e15 then show (ceiling lower :: Integer) else showNumber lower) ++ " samples at time_step " ++ num dt
                         ++ " s (each zone at its speed limit), above the cap of " ++ show maxSamples
                         ++ " samples; split the route or raise time_step")
+                  | otherwise -> dynamicErrors
       | otherwise = []
+
+    -- The same cap under the jerk and acceleration limits (the fastest run-up from the
+    -- start state and to the end state): where they make the route too long, the limit
+    -- that does is named, the first of max_jerk, max_acceleration and min_acceleration
+    -- whose removal (with those before it) brings the bound under the cap.
+    dynamicErrors
+      | lenOk, all finite [v0, a0, vE, aE, aMin, aMax, jMax] && aMin < 0 && aMax > 0 && jMax > 0
+      , a0 >= aMin && a0 <= aMax && aE >= aMin && aE <= aMax && v0 >= 0 && vE >= 0
+      , need > fromIntegral maxSamples =
+          let inf = 1 / 0
+              under l = dynamicLeastSamples l len dt <= fromIntegral maxSamples
+              (f, x, unit)
+                | under lm { lmJMax = inf } = ("max_jerk", jMax, "m/s³")
+                | under lm { lmJMax = inf, lmAMax = inf } = ("max_acceleration", aMax, "m/s²")
+                | otherwise = ("min_acceleration", aMin, "m/s²")
+          in err f x unit
+               ("makes the route too long: with it the profile needs at least "
+                ++ (if need < 1e15 then show (ceiling need :: Integer) else showNumber need) ++ " samples at time_step " ++ num dt
+                ++ " s (" ++ showGFloat (Just 1) (need * dt) "" ++ " s for route_length " ++ num len ++ " m, the fastest run-up from the start state and to the end state),"
+                ++ " above the cap of " ++ show maxSamples ++ " samples; raise its magnitude or time_step, or split the route")
+      | otherwise = []
+      where
+        lm = problemLimits problem
+        need = dynamicLeastSamples lm len dt
 
     sorted = sortOn fst zones
     problem = Problem
