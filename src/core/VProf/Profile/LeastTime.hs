@@ -18,6 +18,7 @@ module VProf.Profile.LeastTime
   , leastTime
   , reachSpeed
   , reachDistance
+  , reachesWithin
   ) where
 
 -- | The limits a bound is taken under (SI units). A relaxed bound (say, without the jerk
@@ -48,8 +49,12 @@ reachSpeed v0 a0 aCap j vTop t = max 0 (min vTop v)
 -- run-ups' speeds (both rise with their own time, so on a step the larger ends bound
 -- them). Each step's term grows with @tEnd@, so the bound does too.
 reachDistance :: Limits -> Double -> Double
-reachDistance lm tEnd = sum [ h * min (fwd (fromIntegral (i + 1) * h)) (bwd (tEnd - fromIntegral i * h)) | i <- [0 .. cells - 1] ]
+reachDistance lm tEnd = go 0 0
   where
+    go :: Int -> Double -> Double
+    go i acc
+      | i >= cells = acc
+      | otherwise = go (i + 1) (acc + h * min (fwd (fromIntegral (i + 1) * h)) (bwd (tEnd - fromIntegral i * h)))
     h = tEnd / fromIntegral cells
     fwd = reachSpeed (lmV0 lm) (lmA0 lm) (lmAMax lm) (lmJMax lm) vTop
     bwd = reachSpeed (lmVEnd lm) (negate (lmAEnd lm)) (negate (lmAMin lm)) (lmJMax lm) vTop
@@ -57,6 +62,12 @@ reachDistance lm tEnd = sum [ h * min (fwd (fromIntegral (i + 1) * h)) (bwd (tEn
 
 cells :: Int
 cells = 1024
+
+-- | Can a legal profile under the limits cover @len@ within @t@ seconds, as far as the bound
+-- knows ('reachDistance' ≥ @len@)? Then 'leastTime' is at most @t@: one evaluation of the
+-- bound, where 'leastTime' takes some thirty.
+reachesWithin :: Limits -> Double -> Double -> Bool
+reachesWithin lm len t = reachDistance lm t >= len
 
 -- | The least duration (s) in which a legal profile under the limits can cover @len@ (m):
 -- the least T with 'reachDistance' ≥ @len@, by doubling and then bisection to a relative

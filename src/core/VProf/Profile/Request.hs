@@ -37,7 +37,7 @@ import Data.List (sortOn)
 import Numeric (showGFloat)
 import qualified Data.Vector.Unboxed as U
 
-import VProf.Profile.LeastTime (Limits (..), leastTime)
+import VProf.Profile.LeastTime (Limits (..), leastTime, reachesWithin)
 import VProf.Profile.Problem (Algorithm (..), Problem (..))
 import VProf.Units
 import VProf.Validation
@@ -150,11 +150,18 @@ dynamicLeastSamples :: Limits -> Double -> Double -> Double
 dynamicLeastSamples lm len dt = max 0 (leastTime lm len / dt - 4)
 
 -- | The fewest samples a validated problem's profile needs: the larger of 'leastSamples'
--- (every zone at its limit) and 'dynamicLeastSamples' (the jerk and acceleration limits).
+-- (every zone at its limit) and 'dynamicLeastSamples' (the jerk and acceleration limits),
+-- the latter searched for only where one evaluation of it does not already put it below
+-- the former (every request asks this once).
 problemLeastSamples :: Problem -> Double
-problemLeastSamples pb =
-  max (leastSamples (pbLength pb) (pbDt pb) (zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb))))
-      (dynamicLeastSamples (problemLimits pb) (pbLength pb) (pbDt pb))
+problemLeastSamples pb
+  | reachesWithin lm len ((bySpeed + 4) * dt) = bySpeed
+  | otherwise = max bySpeed (dynamicLeastSamples lm len dt)
+  where
+    bySpeed = leastSamples len dt (zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb)))
+    lm = problemLimits pb
+    len = pbLength pb
+    dt = pbDt pb
 
 -- | The limits of a validated problem, for "VProf.Profile.LeastTime".
 problemLimits :: Problem -> Limits
@@ -346,6 +353,7 @@ validate rq =
     dynamicErrors
       | lenOk, all finite [v0, a0, vE, aE, aMin, aMax, jMax] && aMin < 0 && aMax > 0 && jMax > 0
       , a0 >= aMin && a0 <= aMax && aE >= aMin && aE <= aMax && v0 >= 0 && vE >= 0
+      , not (reachesWithin lm len ((fromIntegral maxSamples + 4) * dt))   -- one evaluation, where 'need' takes some thirty
       , need > fromIntegral maxSamples =
           let inf = 1 / 0
               under l = dynamicLeastSamples l len dt <= fromIntegral maxSamples
