@@ -41,6 +41,7 @@ import qualified Data.Vector.Unboxed as U
 import Numeric (showEFloat, showFFloat)
 
 import VProf.Profile.Sampled
+import VProf.Profile.Problem (checkerSlack)
 import VProf.Profile.Request (Problem (..))
 
 data Rule
@@ -101,7 +102,7 @@ renderViolation (Violation r k v l) =
 
 -- | The rounding slack allowed around a limit.
 slack :: Double -> Double
-slack l = 1e-9 * max 1 (abs l)
+slack l = checkerSlack * max 1 (abs l)
 
 isLegal :: Problem -> Profile -> Bool
 isLegal pb = null . check pb

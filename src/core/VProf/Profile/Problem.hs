@@ -9,6 +9,7 @@ module VProf.Profile.Problem
   ( Problem (..)
   , Algorithm (..)
   , endsInMotion
+  , checkerSlack
   ) where
 
 import qualified Data.Vector.Unboxed as U
@@ -45,3 +46,9 @@ data Problem = Problem
 -- | The route ends in motion: a moving end velocity or a nonzero end acceleration.
 endsInMotion :: Problem -> Bool
 endsInMotion pb = pbVEnd pb > 0 || pbAEnd pb /= 0
+
+-- | The legality checker's rounding slack: 1e-9 relative to a limit, and at least 1e-9 in
+-- the limit's unit ("VProf.Profile.Legality"'s @slack@). Validation's floor on weak limits
+-- ("VProf.Profile.Request"'s @speedResolution@) is the same figure at zero speed.
+checkerSlack :: Double
+checkerSlack = 1e-9

@@ -38,7 +38,7 @@ import Numeric (showGFloat)
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Profile.LeastTime (Limits (..), leastTime, reachesWithin)
-import VProf.Profile.Problem (Algorithm (..), Problem (..))
+import VProf.Profile.Problem (Algorithm (..), Problem (..), checkerSlack)
 import VProf.Units
 import VProf.Validation
 
@@ -135,12 +135,12 @@ leastSamples len dt zones =
   in sum [ max 0 (min len e - max 0 st) / v | ((st, v), e) <- zip zones ends ] / dt
 
 -- | The change of speed (m/s) that one time step at a jerk or acceleration limit must
--- exceed: the checker's resolution at zero (its slack for a limit below 1 is 1e-9 in the
--- limit's unit, "VProf.Profile.Legality"). A weaker limit moves a profile by less than the
+-- exceed: the checker's resolution at zero ('checkerSlack': its slack for a limit below 1
+-- is 1e-9 in the limit's unit, "VProf.Profile.Legality"). A weaker limit moves a profile by less than the
 -- checker can tell from standing still, and the generator, whose thresholds for rest and
 -- rounding lie at 1e-10 m/s and below, cannot plan it (it stood still, or spent its budget).
 speedResolution :: Double
-speedResolution = 1e-9
+speedResolution = checkerSlack
 
 -- | The samples a profile needs at the very least under its jerk and acceleration limits
 -- ("VProf.Profile.LeastTime": the fastest run-up from the start state and to the end
