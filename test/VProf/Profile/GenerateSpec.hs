@@ -464,6 +464,32 @@ spec = do
                             (abs (sEnd - len) <= len / 10 * (1 + 1e-9) .&&. check (problemOf rq) p === [] .&&. sEnd >= 0.9 * len)
              Nothing -> property False
 
+    it "a 10 µm route at a 10 ms step from rest to 1 mm/s gets a legal profile (the meet's passes stood at rest short of the end for the sample cap, a million steps a pass, until a 5 s budget ran out)" $ do
+      let rq = defaultRequest { rqRouteLength = 1e-5 *~ meter, rqZones = [SpeedZone (0 *~ meter) (2 *~ mps)]
+                              , rqMinAcceleration = (-10) *~ mps2, rqMaxAcceleration = 10 *~ mps2
+                              , rqMinJerk = (-100) *~ mps3, rqMaxJerk = 100 *~ mps3
+                              , rqEndVelocity = 0.001 *~ mps
+                              , rqTimeStep = Just (0.01 *~ second), rqTimeBudget = Just (5 *~ second) }
+      r <- generate rq
+      resOutcome r `shouldBe` Generated
+      sound rq r `shouldBe` True
+      fmap (\p -> check (problemOf rq) p) (resProfile r) `shouldBe` Just []
+    it "an 8 mm route at a 1 µs step ending in motion (the jerk moves the speed 1e-8 m/s a step) gets a legal profile within a 10 s budget (the oracle's fast test kept a millimetre's margin on any route and refused most of this one, so each probe ran the braking step by step and the seed spent the budget)" $ do
+      -- bench/weak-limits' request at dt = 1 µs, c = |j|·dt² = 1e-8 m/s, 30 000 samples, from
+      -- rest to half the mean speed
+      let dt = 1e-6; j = 1e-8 / dt / dt; t = 30000 * dt
+          len = j * t ^ (3 :: Int) / 32
+          a = j * t
+          rq = defaultRequest { rqRouteLength = len *~ meter, rqZones = [SpeedZone (0 *~ meter) (4 *~ mps)]
+                              , rqMinAcceleration = negate a *~ mps2, rqMaxAcceleration = a *~ mps2
+                              , rqMinJerk = negate j *~ mps3, rqMaxJerk = j *~ mps3
+                              , rqEndVelocity = (0.5 * len / t) *~ mps
+                              , rqTimeStep = Just (dt *~ second), rqTimeBudget = Just (10 *~ second) }
+      r <- generate rq
+      resOutcome r `shouldBe` Generated
+      sound rq r `shouldBe` True
+      fmap (\p -> check (problemOf rq) p) (resProfile r) `shouldBe` Just []
+
   describe "no crawl" $
     it "a short fast route ends at rest in seconds, not after a creep of days (examples/creep-29m.json)" $ do
       Right rq <- requestFromJson <$> BL.readFile "examples/creep-29m.json"

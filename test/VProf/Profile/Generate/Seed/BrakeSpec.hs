@@ -2,7 +2,7 @@
 -- distance and the peak velocity of the hardest stop, run step by step. 'quickNeed' accepts a state without running
 -- the brake policy, from continuous-time braking distances and a margin; it must never
 -- accept a state whose braking, run step by step ('brakeSimulate'), breaks a rule beyond
--- rounding, from a rising acceleration as from a falling one. The margins a landing is planned again with
+-- rounding, from a rising acceleration as from a falling one, on long routes and on short ones. The margins a landing is planned again with
 -- grow and stay inside the jerk range, and a pass planned with one keeps the problem's rules
 -- with the margin to spare.
 module VProf.Profile.Generate.Seed.BrakeSpec (spec) where
@@ -21,8 +21,20 @@ import VProf.Profile.Problem (Problem (..))
 -- across the whole range (falling ones half the time), and a terminal at the route end to be
 -- passed at rest or at up to the fastest limit.
 genCase :: Gen (Problem, St, Term)
-genCase = do
-  pb <- genRestRoute 5 (0.2, 30) (1, 2000) (0.1, 5) (0.05, 20) (const (logUniform 1e-4 0.1)) 1e-2
+genCase = genCaseOn (genRestRoute 5 (0.2, 30) (1, 2000) (0.1, 5) (0.05, 20) (const (logUniform 1e-4 0.1)) 1e-2)
+
+-- | The same on short routes, 10 µm to 1 m, where the fast test's margin shrinks with the
+-- route (a millimetre on a route of a metre or more, a thousandth of a shorter one): speeds
+-- of 1 mm/s to 1 m/s, steps of 1 µs to 10 ms, strong and weak jerks, an end tolerance of a
+-- thousandth of the route.
+genShortCase :: Gen (Problem, St, Term)
+genShortCase = genCaseOn $ do
+  pb <- genRestRoute 3 (1e-3, 1) (1e-5, 1) (0.01, 50) (0.1, 1e4) (const (logUniform 1e-6 1e-2)) 1e-2
+  pure pb { pbTol = 1e-3 * pbLength pb }
+
+genCaseOn :: Gen Problem -> Gen (Problem, St, Term)
+genCaseOn genPb = do
+  pb <- genPb
   let len = pbLength pb
       zones = zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb))
   s <- choose (0, len)
@@ -85,6 +97,22 @@ spec = describe "the oracle's bounds, its fast test and the jerk margins" $ do
       in classify (stA st < 0) "falling" $ classify accepted "accepted" $
            counterexample (show (pb, stV st, stA st, stS st, tP term, tV term)) $
              not accepted || either (roundingOnly pb term) (const True) (brakeSimulate e st)
+
+  it "quickNeed accepts only states whose braking, run step by step, keeps every rule, on routes of 10 µm to 1 m (the margin shrinks with the route)" $
+    withMaxSuccess 3000 $ forAllBlind genShortCase $ \(pb, st, term) ->
+      let e = seedEnv pb term False
+          accepted = quickNeed e st
+      in classify (stA st < 0) "falling" $ classify accepted "accepted" $
+           counterexample (show (pb, stV st, stA st, stS st, tP term, tV term)) $
+             not accepted || either (roundingOnly pb term) (const True) (brakeSimulate e st)
+
+  it "quickNeed accepts a slow state half a millimetre before the end of a 2 mm route (a margin of a whole millimetre refused every state of the last millimetre, and each probe ran the braking step by step)" $
+    let pb = restRoute 2e-3 [0.5] [] (Ranges 1 1 100 100) 1e-5 1e-6
+        e = seedEnv pb (Term 2e-3 0) False
+    in do
+      quickNeed e (St 1e-3 0 1.5e-3) `shouldBe` True
+      -- 10 cm/s needs some 5 mm to stop at 1 m/s²: not in 0.5 mm
+      quickNeed e (St 0.1 0 1.5e-3) `shouldBe` False
 
   it "quickNeed accepts some falling states far from every lower limit (the test is not vacuous)" $
     let pb = restRoute 100 [10, 3] [0.8] (Ranges 1.5 1 1 0.3) 1e-3 1e-2

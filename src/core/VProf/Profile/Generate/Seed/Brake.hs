@@ -417,7 +417,7 @@ quickNeed e st@(St v a s)
   where
     pb = ePb e
     (d, vPeak) = brakeBound e st
-    margin = vPeak * quickMarginSteps * pbDt pb + quickMarginM
+    margin = vPeak * quickMarginSteps * pbDt pb + quickMarginM * min 1 (pbLength pb)
     Term p vt = eTerm e
     need l | a >= 0 = Just (brakeNeed pb v a l)
            | otherwise = brakeNeedFalling pb v a l

@@ -277,16 +277,20 @@ forwardMarked scheduled e landTol limit st0 = go 0 (st0, startSched)
 
 -- | The greedy pass from a state: the states after it, up to the first for which @done@
 -- holds, at most @n@; with @scheduled@ probing a long braking only now and then
--- ('scheduledSteps'), without at every step.
+-- ('scheduledSteps'), without at every step. A pass that comes to rest and stays there
+-- ends ('standing'), as 'forwardMarked' does: it cannot go on, and standing still up to @n@
+-- steps (the sample cap) would spend seconds a pass (a 10 µm route at a 10 ms step, where
+-- the meet's passes stop short of the end, ran out of a 5 s budget in them).
 passFrom :: Bool -> SeedEnv -> Int -> (St -> Bool) -> St -> [St]
 passFrom scheduled e n done st0 = go n (st0, startSched)
   where
     steps sk@(st, sc) = if scheduled then map fst (scheduledSteps e sk) else [(choose e st, sc)]
-    go k sk
+    go k sk@(st, _)
       | k <= 0 = []
-      | otherwise = walk k (steps sk)
-    walk k (sk'@(st', _) : rest)
+      | otherwise = walk k st (steps sk)
+    walk k st (sk'@(st', _) : rest)
       | done st' = [st']
+      | standing st && standing st' = []
       | null rest || k - 1 <= 0 = st' : go (k - 1) sk'
-      | otherwise = st' : walk (k - 1) rest
-    walk _ [] = []
+      | otherwise = st' : walk (k - 1) st' rest
+    walk _ _ [] = []
