@@ -7,12 +7,15 @@
 -- Every request it draws passes the contract's field rules; a request the sample cap refuses
 -- is valid input that gets a clear refusal, and the properties count it apart. A second
 -- distribution, 'genFine', draws the fine time steps of real controllers (0.1-1 ms), as
--- @bench/fuzz-requests --fine@ does.
+-- @bench/fuzz-requests --fine@ does; a third, 'genTiny', the routes of a few micrometres
+-- to centimetres (a probe's approach, a fine adjustment) at steps of 1 µs to 10 ms.
 module Support.Wide
   ( WideRequest (..)
   , genWide
   , FineRequest (..)
   , genFine
+  , TinyRequest (..)
+  , genTiny
   , wideTimeSteps
   , lowered
   , logUniform
@@ -128,6 +131,42 @@ genFine = do
     , rqZones = zipWith (\s v -> SpeedZone (s *~ meter) (v *~ mps)) starts speeds
     , rqMinAcceleration = negate (aMag * ra) *~ mps2, rqMaxAcceleration = aMag *~ mps2
     , rqMinJerk = negate (jMag * rj) *~ mps3, rqMaxJerk = jMag *~ mps3
+    , rqStartVelocity = v0 *~ mps, rqEndVelocity = vE *~ mps
+    , rqTimeStep = Just (dt *~ second)
+    }
+
+newtype TinyRequest = TinyRequest Request deriving (Show)
+
+instance Arbitrary TinyRequest where
+  arbitrary = TinyRequest <$> genTiny
+
+-- | Short routes at any step: 10 µm to 5 cm, one zone at 1 mm/s to 2 m/s, time steps of 1 µs
+-- to 10 ms, acceleration 0.05-50 and jerk 0.05-10⁴ in magnitude (symmetric), all
+-- log-uniform; a limit whose step would move the speed by no more than 2e-9 m/s (twice the
+-- resolution validation keeps) is raised 1-100 times above that. Two in five start in
+-- motion, half end in it, at up to the limit. Where one step covers a good part of the
+-- route, or the route's samples run to hundreds of thousands, the request is valid and hard
+-- (the cap refuses the longest).
+genTiny :: Gen Request
+genTiny = do
+  len <- logUniform 1e-5 0.05
+  dt <- logUniform 1e-6 1e-2
+  v <- logUniform 1e-3 2
+  a0 <- logUniform 0.05 50
+  j0 <- logUniform 0.05 1e4
+  ja <- logUniform 1 100
+  aa <- logUniform 1 100
+  let j = if j0 * dt * dt <= 2e-9 then 2e-9 / (dt * dt) * ja else j0
+      a = if a0 * dt <= 2e-9 then 2e-9 / dt * aa else a0
+  startMoving <- (< (0.4 :: Double)) <$> choose (0, 1)
+  endMoving <- (< (0.5 :: Double)) <$> choose (0, 1)
+  v0 <- if startMoving then choose (0, v) else pure 0
+  vE <- if endMoving then choose (0, v) else pure 0
+  pure defaultRequest
+    { rqRouteLength = len *~ meter
+    , rqZones = [SpeedZone (0 *~ meter) (v *~ mps)]
+    , rqMinAcceleration = negate a *~ mps2, rqMaxAcceleration = a *~ mps2
+    , rqMinJerk = negate j *~ mps3, rqMaxJerk = j *~ mps3
     , rqStartVelocity = v0 *~ mps, rqEndVelocity = vE *~ mps
     , rqTimeStep = Just (dt *~ second)
     }

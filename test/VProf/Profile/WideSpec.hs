@@ -4,7 +4,8 @@
 -- that alone needs more samples), or
 -- NOT_CONVERGED when the time budget runs out; no answer carries more than the cap of
 -- samples; the wall time, measured here, stays within the budget and a quarter second. The
--- same over the fine time steps of real controllers ("Support.Wide".'genFine'). And
+-- same over the fine time steps of real controllers ("Support.Wide".'genFine') and over
+-- routes of micrometres to centimetres ('genTiny'). And
 -- two metamorphic properties: the default generator is never slower than thesis mode, and
 -- lowering the speed limits never makes a profile faster (both within one time step, and
 -- of the full search's answers: within a tight budget the search may stop early).
@@ -221,6 +222,9 @@ spec = describe "the wide world of requests" $ do
 
   it "fine time steps (0.1-1 ms, as bench/fuzz-requests --fine): every answer is legal, a confirmed infeasibility or NOT_CONVERGED; within the cap and the budget" $
     withMaxSuccess (max 1 (cases `div` fineShare)) $ property $ \(FineRequest rq0) -> monadicIO (keepsPromises fineBudget (const False) rq0)
+
+  it "tiny routes (10 µm-5 cm at steps of 1 µs-10 ms): every answer is legal, a confirmed infeasibility, the cap's refusal or NOT_CONVERGED; within the cap and the budget" $
+    withMaxSuccess (max 1 (cases `div` fineShare)) $ property $ \(TinyRequest rq0) -> monadicIO (keepsPromises fineBudget capRefusal rq0)
 
   it "fine time steps: thesis mode's braking of a moving start and its run-in to a moving end keep the jerk rule (the full jerk's rounding breaks it in many; jerks recomputed from the velocities)" $
     withMaxSuccess cases $ property $ \(FineRequest rq) -> case validate rq of
