@@ -72,6 +72,17 @@ hardStop pb st0 = go st0 (stV st0) (0 :: Int)
       | n > 4000000 = (stS st - stS st0, vTop, fromIntegral n * pbDt pb, False)
       | otherwise = let st' = stepTo e st (brakeAcc e st) in go st' (max vTop (stV st')) (n + 1)
 
+-- | Every state 'quickNeed' accepts keeps every rule when its braking is run step by step
+-- (beyond rounding), over the cases drawn.
+quickNeedSound :: Gen (Problem, St, Term) -> Property
+quickNeedSound gen =
+  withMaxSuccess 3000 $ forAllBlind gen $ \(pb, st, term) ->
+    let e = seedEnv pb term False
+        accepted = quickNeed e st
+    in classify (stA st < 0) "falling" $ classify accepted "accepted" $
+         counterexample (show (pb, stV st, stA st, stS st, tP term, tV term)) $
+           not accepted || either (roundingOnly pb term) (const True) (brakeSimulate e st)
+
 spec :: Spec
 spec = describe "the oracle's bounds, its fast test and the jerk margins" $ do
   it "brakeBound bounds the distance and the top velocity of the hardest stop, run step by step (strong jerk and weak, rising and falling accelerations); short of a_min the stop lasts at most the continuous triangle of jerk ramps and six steps" $
@@ -91,20 +102,10 @@ spec = describe "the oracle's bounds, its fast test and the jerk margins" $ do
                          && (not short || dur <= triangle * (1 + 1e-12))
 
   it "quickNeed accepts only states whose braking, run step by step, keeps every rule (rising and falling accelerations)" $
-    withMaxSuccess 3000 $ forAllBlind genCase $ \(pb, st, term) ->
-      let e = seedEnv pb term False
-          accepted = quickNeed e st
-      in classify (stA st < 0) "falling" $ classify accepted "accepted" $
-           counterexample (show (pb, stV st, stA st, stS st, tP term, tV term)) $
-             not accepted || either (roundingOnly pb term) (const True) (brakeSimulate e st)
+    quickNeedSound genCase
 
   it "quickNeed accepts only states whose braking, run step by step, keeps every rule, on routes of 10 µm to 1 m (the margin shrinks with the route)" $
-    withMaxSuccess 3000 $ forAllBlind genShortCase $ \(pb, st, term) ->
-      let e = seedEnv pb term False
-          accepted = quickNeed e st
-      in classify (stA st < 0) "falling" $ classify accepted "accepted" $
-           counterexample (show (pb, stV st, stA st, stS st, tP term, tV term)) $
-             not accepted || either (roundingOnly pb term) (const True) (brakeSimulate e st)
+    quickNeedSound genShortCase
 
   it "quickNeed accepts a slow state half a millimetre before the end of a 2 mm route (a margin of a whole millimetre refused every state of the last millimetre, and each probe ran the braking step by step)" $
     let pb = restRoute 2e-3 [0.5] [] (Ranges 1 1 100 100) 1e-5 1e-6
