@@ -58,10 +58,15 @@ reachDistance lm tEnd = go 0 0
     h = tEnd / fromIntegral cells
     fwd = reachSpeed (lmV0 lm) (lmA0 lm) (lmAMax lm) (lmJMax lm) vTop
     bwd = reachSpeed (lmVEnd lm) (negate (lmAEnd lm)) (negate (lmAMin lm)) (lmJMax lm) vTop
-    vTop = maximum [lmVTop lm, lmV0 lm, lmVEnd lm]
+    vTop = topSpeed lm
 
 cells :: Int
 cells = 1024
+
+-- | The highest speed a profile under the limits can have: the highest limit, or the start
+-- or end velocity where one is above it.
+topSpeed :: Limits -> Double
+topSpeed lm = maximum [lmVTop lm, lmV0 lm, lmVEnd lm]
 
 -- | Can a legal profile under the limits cover @len@ within @t@ seconds, as far as the bound
 -- knows ('reachDistance' ≥ @len@)? Then 'leastTime' is at most @t@: one evaluation of the
@@ -80,7 +85,7 @@ leastTime lm len
   | reachDistance lm hugeTime < len = 1 / 0
   | otherwise = bisect lo0 (grow lo0)
   where
-    vTop = maximum [lmVTop lm, lmV0 lm, lmVEnd lm]
+    vTop = topSpeed lm
     lo0 = len / vTop / 2          -- below the bound: at vTop the whole way takes len / vTop
     hugeTime = 1e15
     grow t = if t >= hugeTime || reachDistance lm t >= len then t else grow (2 * t)

@@ -147,7 +147,13 @@ speedResolution = checkerSlack
 -- state, the speed at most the highest limit), less four: on its grid a profile can be
 -- about half a step ahead of the continuous run-up at either end.
 dynamicLeastSamples :: Limits -> Double -> Double -> Double
-dynamicLeastSamples lm len dt = max 0 (leastTime lm len / dt - 4)
+dynamicLeastSamples lm len dt = max 0 (leastTime lm len / dt - gridLead)
+
+-- | The steps a profile on its grid can be ahead of the continuous run-ups
+-- ('dynamicLeastSamples'); a duration this many steps above a sample count is what one
+-- evaluation of the bound ('reachesWithin') must reach for the count to stand.
+gridLead :: Double
+gridLead = 4
 
 -- | The fewest samples a validated problem's profile needs: the larger of 'leastSamples'
 -- (every zone at its limit) and 'dynamicLeastSamples' (the jerk and acceleration limits),
@@ -155,7 +161,7 @@ dynamicLeastSamples lm len dt = max 0 (leastTime lm len / dt - 4)
 -- the former (every request asks this once).
 problemLeastSamples :: Problem -> Double
 problemLeastSamples pb
-  | reachesWithin lm len ((bySpeed + 4) * dt) = bySpeed
+  | reachesWithin lm len ((bySpeed + gridLead) * dt) = bySpeed
   | otherwise = max bySpeed (dynamicLeastSamples lm len dt)
   where
     bySpeed = leastSamples len dt (zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb)))
@@ -353,7 +359,7 @@ validate rq =
     dynamicErrors
       | lenOk, all finite [v0, a0, vE, aE, aMin, aMax, jMax] && aMin < 0 && aMax > 0 && jMax > 0
       , a0 >= aMin && a0 <= aMax && aE >= aMin && aE <= aMax && v0 >= 0 && vE >= 0
-      , not (reachesWithin lm len ((fromIntegral maxSamples + 4) * dt))   -- one evaluation, where 'need' takes some thirty
+      , not (reachesWithin lm len ((fromIntegral maxSamples + gridLead) * dt))   -- one evaluation, where 'need' takes some thirty
       , need > fromIntegral maxSamples =
           let inf = 1 / 0
               under l = dynamicLeastSamples l len dt <= fromIntegral maxSamples
