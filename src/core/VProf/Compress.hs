@@ -24,6 +24,7 @@ import VProf.Compress.Metrics
 import VProf.Compress.Objective
 import VProf.Compress.Rdp
 import VProf.Compress.Types
+import VProf.Compress.WorstPolish (worstBudget)
 import VProf.Validation
 
 -- | 'MethodKnots': the knot fit ("VProf.Compress.KnotFit") for a number of points, or to a
@@ -40,10 +41,12 @@ data Settings = Settings
   , sTolerance :: !(Maybe (Length Double))  -- ^ largest position error allowed
   , sSearch    :: !Int   -- ^ rounds of the knot fit's wider search ('searchKnots'); 0: none
   , sEnds      :: !Ends  -- ^ first and last waypoint pinned to the recording's or fitted
+  , sPolishWorst :: !Bool -- ^ knot fit: lower the largest position error at up to 'worstBudget'
+                          -- more sum of squares ("VProf.Compress.WorstPolish"); False: least squares only
   } deriving (Show, Eq)
 
 defaultSettings :: Settings
-defaultSettings = Settings MethodKnots defaultWeights Nothing Nothing Nothing 0 EndsPinned
+defaultSettings = Settings MethodKnots defaultWeights Nothing Nothing Nothing 0 EndsPinned True
 
 -- | The most rounds of the wider search (each about one knot fit).
 maxSearchRounds :: Int
@@ -99,10 +102,10 @@ compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
     MethodKnots | sMargin s == Nothing -> case tolM of
       Nothing ->
         let k = maybe (max 2 (round (0.03 * fromIntegral n :: Double))) (max 2) (sPoints s)
-            pa = fitKnots defaultKnotConfig { kcSearch = sSearch s } pr (sWeights s) k
+            pa = fitKnots knotConfig { kcSearch = sSearch s } pr (sWeights s) k
         in Compressed (fromPathA pa) (computeMetrics pr pa) True (totalCost pr (sWeights s) pa) (show ReachedPoints)
       Just tol ->
-        let pa = tfPath (fitKnotsTolerance defaultKnotConfig pr (sWeights s) (maybe 2 id (sPoints s)) tol)
+        let pa = tfPath (fitKnotsTolerance knotConfig pr (sWeights s) (maybe 2 id (sPoints s)) tol)
         in Compressed (fromPathA pa) (computeMetrics pr pa) True (totalCost pr (sWeights s) pa) (show ReachedTolerance)
     MethodRdp -> rdp
     _ ->
@@ -122,5 +125,6 @@ compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
           tolOk = maybe True (\e -> mGeometricMax m <= e + 1e-12) tolM
       in Compressed (fromPathA pa) m tolOk (totalCost pr (sWeights s) pa) (show stop)
     pr = (prepareRecording rec) { rcEnds = sEnds s }
+    knotConfig = defaultKnotConfig { kcWorstBudget = if sPolishWorst s then worstBudget else 0 }
     tolM = fmap (/~ metre) (sTolerance s)
     n = U.length (rcT pr)

@@ -15,22 +15,8 @@ import VProf.Compress.KnotTolerance
 import VProf.Compress.Objective
 import VProf.Compress.Types
 import Support.PathError (worstPositionError)
-import VProf.Geometry.Quaternion
+import Support.Walks (genKickWalk)
 import VProf.Geometry.Vec
-
--- | A random walk of n samples (steps up to 2 cm, 10 ms apart with jitter) with a few
--- sharp turns, turning slowly in orientation.
-genWalk :: Int -> Gen Prepared
-genWalk n = do
-  dts <- vectorOf (n - 1) (choose (0.008, 0.012))
-  steps <- vectorOf (n - 1) (P3 <$> choose (-0.02, 0.02) <*> choose (-0.02, 0.02) <*> choose (-0.02, 0.02))
-  kicks <- vectorOf (n - 1) (frequency [(40, pure (P3 0 0 0)), (1, P3 <$> choose (-0.3, 0.3) <*> choose (-0.3, 0.3) <*> choose (-0.3, 0.3))])
-  rots <- vectorOf (n - 1) (P3 <$> choose (-0.02, 0.02) <*> choose (-0.02, 0.02) <*> choose (-0.02, 0.02))
-  t0 <- choose (0, 1.0e9)
-  let ts = scanl (+) t0 dts
-      ps = scanl (\p (s, kk) -> p ^+^ s ^+^ kk) (P3 0 0 0) (zip steps kicks)
-      qs = scanl (\q r -> qnormalize (qmul (qexp r) q)) (Q4 1 0 0 0) rots
-  pure (prepareRecording (either error id (recordingFromArrays (U.fromList ts) (pfromList ps) (pfromList qs))))
 
 -- | Largest distance from a sample to the positions interpolated linearly in time.
 worstOf :: Prepared -> U.Vector Double -> V3s -> Double
@@ -41,7 +27,7 @@ spec :: Spec
 spec = do
   describe "fitKnotsTolerance" $
     it "answers the fewest count it tried within the tolerance (measured here), one fewer tried and above it, no try's error above the knot fit's as measured here" $
-      property $ forAll (choose (60, 200)) $ \n -> forAllBlind (genWalk n) $ \pr ->
+      property $ forAll (choose (60, 200)) $ \n -> forAllBlind (genKickWalk 1 n) $ \pr ->
         forAll (choose (-2, -0.3)) $ \e -> forAll (frequency [(3, pure 2), (1, choose (2, n `div` 4))]) $ \kMin ->
           let tol = 10 ** e :: Double
               r = fitKnotsTolerance defaultKnotConfig pr defaultWeights kMin tol
@@ -63,7 +49,7 @@ spec = do
                .&&. conjoin [ counterexample (show t') (measured t') | t'@(kk, _) <- tried, kk /= k ]
   describe "repairWorst" $
     it "keeps the count, the ends and times in order at least the least gap apart, and lowers the largest error when it changes the knots" $
-      property $ forAll (choose (60, 400)) $ \n -> forAll (choose (4, n `div` 10)) $ \k -> forAllBlind (genWalk n) $ \pr ->
+      property $ forAll (choose (60, 400)) $ \n -> forAll (choose (4, n `div` 10)) $ \k -> forAllBlind (genKickWalk 1 n) $ \pr ->
         let kn0 = optimiseKnots defaultKnotConfig pr (startKnots defaultKnotConfig pr k)
             w0 = worstOf pr (kT kn0) (kP kn0)
         in case repairWorst pr (kcIterations defaultKnotConfig) 0 kn0 of

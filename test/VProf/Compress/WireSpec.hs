@@ -32,6 +32,7 @@ request tr pts = CompressRequestMsg
   , crqWeightVelocity = putField Nothing
   , crqSearchRounds = putField Nothing
   , crqFreeEnds = putField Nothing
+  , crqLeastSquaresOnly = putField Nothing
   }
 
 spec :: Spec
@@ -129,6 +130,7 @@ spec = describe "serveCompress" $ do
                          (putField [1, 1]) (putField [0, 0]) (putField [0, 0]) (putField [0, 0])
         req = CompressRequestMsg (putField Nothing) (putField (Just poses)) (putField Nothing) (putField Nothing)
                 (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
+                (putField Nothing)
     rsp <- serveCompress req
     let Just err = getField (cpError rsp)
     getEnum (getField (errCode err)) `shouldBe` ErrInvalidArgument
@@ -180,6 +182,7 @@ spec = describe "serveCompress" $ do
   it "names the missing recording" $ do
     let req = CompressRequestMsg (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
                 (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing) (putField Nothing)
+                (putField Nothing)
     rsp <- serveCompress req
     let Just err = getField (cpError rsp)
     getField (errField err) `shouldBe` Just (T.pack "recording")

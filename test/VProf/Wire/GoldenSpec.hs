@@ -210,6 +210,7 @@ compressRequest o = CompressRequestMsg
   <*> (putField <$> enum compressMethodNames o "method") <*> (putField <$> u32 o "points")
   <*> d "margin" <*> d "tolerance" <*> d "weight_position" <*> d "weight_orientation" <*> d "weight_velocity"
   <*> (putField <$> u32 o "search_rounds") <*> (putField <$> bool o "free_ends")
+  <*> (putField <$> bool o "least_squares_only")
   where d k = putField <$> dbl o k
 
 compressMetrics :: Obj -> Parser CompressMetricsMsg

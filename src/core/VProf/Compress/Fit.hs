@@ -34,6 +34,7 @@ module VProf.Compress.Fit
   , growPath
   , shrinkStep
   , solvePositions
+  , solvePositionsWeighted
   , solveOrientations
   , updateTimes
   , TimeMode (..)
@@ -147,7 +148,12 @@ updatePathUntil pr w mode stopBelow maxRounds pa0
 -- wp Σ|p_i − p̂(t_i)|² + wv Σ|v_i − v̂_i|², endpoints pinned unless 'rcEnds' frees them.
 -- Exact linear least squares.
 solvePositions :: Prepared -> Weights -> PathA -> PathA
-solvePositions pr (Weights wp _ wv) pa@(PathA ts ps qs)
+solvePositions pr w = solvePositionsWeighted pr w (U.replicate (U.length (rcT pr)) 1)
+
+-- | 'solvePositions' with sample i's position term weighted by @sw ! i@ as well (>= 0;
+-- "VProf.Compress.WorstPolish" weighs up the samples far from the path).
+solvePositionsWeighted :: Prepared -> Weights -> U.Vector Double -> PathA -> PathA
+solvePositionsWeighted pr (Weights wp _ wv) sw pa@(PathA ts ps qs)
   | wp == 0 && wv == 0 = pa
   | otherwise = case sol of
       Right ps' -> PathA ts ps' qs
@@ -167,7 +173,7 @@ solvePositions pr (Weights wp _ wv) pa@(PathA ts ps qs)
       bs <- newBand k band
       forM_ [0 .. n - 1] $ \i -> do
         let a = alpha i
-        addObs2 bs wp (seg U.! i) (1 - a) a (pindex (rcP pr) i)
+        addObs2 bs (wp * sw U.! i) (seg U.! i) (1 - a) a (pindex (rcP pr) i)
       when (wv > 0) $ forM_ [0 .. n - 2] $ \i -> do
         let d = rcDt pr U.! i
             j0 = seg U.! i; a0 = alpha i

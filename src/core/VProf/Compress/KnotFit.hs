@@ -7,7 +7,8 @@
 -- removed where it is least useful and one inserted where the error is largest, both places
 -- re-optimised, kept only if the position error falls), optimises the times again, and
 -- finally solves the orientations (Gauss–Newton, "VProf.Compress.Fit") and the positions
--- under the full weighted objective for those times. First and last waypoint pinned to the
+-- under the full weighted objective for those times, and lowers the largest position error
+-- within a small budget of the least-squares error ("VProf.Compress.WorstPolish"). First and last waypoint pinned to the
 -- first and last sample unless 'rcEnds' frees them. The times are chosen for the position
 -- error alone; the orientation and velocity weights act on the values at them. On request a
 -- wider search ('searchKnots') runs the same optimisation from a start that keeps continuity
@@ -40,6 +41,7 @@ import VProf.Compress.KnotTimes
 import VProf.Compress.Objective
 import VProf.Compress.Partition (linePartition)
 import VProf.Compress.Types
+import VProf.Compress.WorstPolish (polishWorst, worstBudget)
 import VProf.Geometry.Polyline (polylineAt)
 import VProf.Geometry.Vec
 
@@ -50,10 +52,11 @@ data KnotConfig = KnotConfig
   , kcOrientRounds :: !Int   -- ^ Gauss–Newton rounds for the orientations at most
   , kcPolish       :: !Int   -- ^ rounds of the thesis's update under the full weights at the end
   , kcSearch       :: !Int   -- ^ rounds of the wider search ('searchKnots'); 0: none
+  , kcWorstBudget  :: !Double -- ^ the worst-error polish's budget ('polishWorst'); 0: none
   } deriving (Show, Eq)
 
 defaultKnotConfig :: KnotConfig
-defaultKnotConfig = KnotConfig 4 100 30 10 3 0
+defaultKnotConfig = KnotConfig 4 100 30 10 3 0 worstBudget
 
 -- | The start: k waypoint times at the boundaries of a line partition into k−1 groups
 -- (midway between a group's last sample and the next group's first), positions the
@@ -268,10 +271,12 @@ fitKnots cfg pr w k0
     n = U.length (rcT pr)
     k = max 2 k0
 
--- | Step 4 of the fit: the values at the knots' times under the full weights (orientations
--- by Gauss–Newton, positions by least squares, then the thesis's update rounds).
+-- | Steps 4 and 5 of the fit: the values at the knots' times under the full weights
+-- (orientations by Gauss–Newton, positions by least squares, then the thesis's update
+-- rounds), then the worst-error polish of the positions ('polishWorst').
 finishKnots :: KnotConfig -> Prepared -> Weights -> Knots -> PathA
-finishKnots cfg pr w (Knots ts ps) = polish (orient (solvePositions pr w (PathA ts ps qs0)))
+finishKnots cfg pr w (Knots ts ps) =
+  polishWorst (kcWorstBudget cfg) pr w (polish (orient (solvePositions pr w (PathA ts ps qs0))))
   where
     st = rcT pr
     k = U.length ts

@@ -52,6 +52,7 @@ data CompressOptions = CompressOptions
   , coMethod       :: Method
   , coSearch       :: Int
   , coEnds         :: Ends
+  , coLeastSquares :: Bool
   , coOutput       :: Maybe FilePath
   , coOutputFormat :: Maybe OutFormat
   , coReport       :: Bool
@@ -87,6 +88,7 @@ compressOptions' = CompressOptions
         <> help "knot fit only: N more rounds from random starts and from perturbations of the best path, the best kept (each round costs about one fit; default 0)")
   <*> option (eitherReader ends) (long "ends" <> metavar "pinned|free" <> value EndsPinned
         <> help "pinned: the first and last waypoint are the first and last sample's pose (default); free: they are fitted by least squares like the others (lower error; the path starts near, not at, the first sample; not with rdp)")
+  <*> switch (long "least-squares-only" <> help "knot fit: skip the worst-error polish, which by default lowers the largest position error at up to 0.5 % more position RMSE")
   <*> optional (strOption (short 'o' <> long "output" <> metavar "OUT" <> help "write the path here"))
   <*> optional (option (eitherReader outFmt) (long "output-format" <> metavar "tum|mod|csv"
         <> help "format of OUT (default: from its extension, .mod RAPID, .csv CSV, else TUM)"))
@@ -284,6 +286,7 @@ runCompress o = do
       , sTolerance = case coStop o of Just (StopTolerance t) -> Just (t *~ milli metre); _ -> Nothing
       , sSearch = coSearch o
       , sEnds = coEnds o
+      , sPolishWorst = not (coLeastSquares o)
       }
     go warns rec = do
       t0 <- getMonotonicTime
@@ -331,6 +334,7 @@ runCompress o = do
                       ++ show k ++ " points (" ++ name ran ++ ", weights " ++ intercalate "," (map show [wp, wo, wv])
                       ++ (case sSearch settings of { 0 -> ""; 1 -> ", search 1 round"; r -> ", search " ++ show r ++ " rounds" })
                       ++ (if sEnds settings == EndsFree then ", ends free" else "")
+                      ++ (if coLeastSquares o && ran == MethodKnots then ", least squares only" else "")
                       ++ ", stop: " ++ oStop out ++ ")")
             mapM_ (\w -> putStrLn (label w ++ ": " ++ renderCleanWarning fileLocator w)) warns
             putStr (renderReport (wp, wo, wv) cols)

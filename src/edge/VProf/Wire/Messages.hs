@@ -245,6 +245,7 @@ data CompressRequestMsg = CompressRequestMsg
   , crqWeightVelocity    :: Optional 9 (Value Double)
   , crqSearchRounds      :: Optional 10 (Value Word32)
   , crqFreeEnds          :: Optional 11 (Value Bool)
+  , crqLeastSquaresOnly  :: Optional 12 (Value Bool)
   } deriving (Generic, Show, Eq)
 instance Encode CompressRequestMsg
 instance Decode CompressRequestMsg

@@ -1,0 +1,94 @@
+-- | The worst-error polish: it never raises the largest position error, keeps the sum of
+-- squares and the position-and-velocity objective within its budget, moves no time,
+-- orientation or pinned end, does nothing at budget 0, and on real recordings lowers the
+-- largest error by a tenth or more. Errors are measured independently of vprof's own code
+-- (the path interpolated at every sample's time, "Support.PathError").
+module VProf.Compress.WorstPolishSpec (spec) where
+
+import qualified Data.Vector.Unboxed as U
+import Test.Hspec
+import Test.QuickCheck
+
+import VProf.Compress
+import VProf.Compress.KnotFit
+import VProf.Compress.Objective
+import VProf.Compress.WorstPolish
+import VProf.Geometry.Vec
+import Support.PathError (positionErrorsOf)
+import Support.Recordings (loadTum)
+import Support.Walks (genKickWalk)
+
+-- | Every sample's position error of a path, measured by the oracle.
+errorsOf :: Prepared -> PathA -> [Double]
+errorsOf pr (PathA t p q) = positionErrorsOf (Track t p q) (Track (rcT pr) (rcP pr) (rcQ pr))
+
+sumSquares :: [Double] -> Double
+sumSquares = sum . map (^ (2 :: Int))
+
+-- | A recording, a knot fit of it without the polish, and the settings drawn: positions
+-- scaled by 1 mm to 1 km, 60-400 samples, 3 to a fifth of them waypoints, ends pinned or
+-- fitted, weights of position and velocity over four decades each.
+data Case = Case Prepared Weights Int Double
+
+genCase :: Gen Case
+genCase = do
+  n <- choose (60, 400)
+  scale <- (10 **) <$> choose (-3, 3)
+  pr0 <- genKickWalk scale n
+  ends <- elements [EndsPinned, EndsFree]
+  k <- choose (3, n `div` 5)
+  wv <- (10 **) <$> choose (-8, -4)
+  wp <- (10 **) <$> choose (-2, 2)
+  budget <- elements [0.001, 0.01, 0.05]
+  pure (Case pr0 { rcEnds = ends } (Weights wp 1e-3 wv) k budget)
+
+instance Show Case where
+  show (Case pr w k b) = show (U.length (rcT pr), rcEnds pr, w, k, b)
+
+spec :: Spec
+spec = describe "VProf.Compress.WorstPolish" $ do
+  it "measures each sample's position error as the oracle does" $
+    property $ forAll genCase $ \(Case pr w k _) ->
+      let pa = fitKnots defaultKnotConfig { kcWorstBudget = 0 } pr w k
+          ours = U.toList (positionErrors pr pa)
+          oracle = errorsOf pr pa
+          scale = maximum (map abs oracle) + 1e-300
+      in conjoin [ counterexample (show (i, a, b)) (abs (a - b) <= 1e-9 * scale) | (i, a, b) <- zip3 [0 :: Int ..] ours oracle ]
+
+  it "never raises the largest error, stays within its budget, and moves no time, orientation or pinned end" $
+    property $ forAll genCase $ \c@(Case pr w k b) ->
+      let pa0@(PathA t0 p0 q0) = fitKnots defaultKnotConfig { kcWorstBudget = 0 } pr w k
+          pa@(PathA t p q) = polishWorst b pr w pa0
+          e0 = errorsOf pr pa0
+          e = errorsOf pr pa
+          pv x = totalCost pr w { wOrientation = 0 } x
+          kk = U.length t0
+          lowered = maximum e < maximum e0 * (1 - 1e-9)
+      in counterexample (show (c, maximum e0, maximum e, sumSquares e0, sumSquares e)) $
+           cover 30 lowered "largest error lowered" $
+           t === t0 .&&. q === q0
+           .&&. maximum e <= maximum e0 * (1 + 1e-12)
+           .&&. sumSquares e <= (1 + b) * sumSquares e0 * (1 + 1e-9)
+           .&&. pv pa <= (1 + b) * pv pa0 * (1 + 1e-9)
+           .&&. (rcEnds pr == EndsFree || (pindex p 0 == pindex p0 0 && pindex p (kk - 1) == pindex p0 (kk - 1)))
+           .&&. (lowered || p == p0)
+
+  it "leaves the path as it is at budget 0" $
+    property $ forAll genCase $ \(Case pr w k _) ->
+      let pa0 = fitKnots defaultKnotConfig { kcWorstBudget = 0 } pr w k
+      in polishWorst 0 pr w pa0 === pa0
+
+  it "on freiburg1_xyz at 1 % and V1_01 at 3 %: the largest error a tenth lower or more, the RMSE at most 0.5 % higher, the same waypoint times" $ do
+    let check file k = do
+          rec <- loadTum file
+          let Right on = compress defaultSettings { sPoints = Just k } rec
+              Right off = compress defaultSettings { sPoints = Just k, sPolishWorst = False } rec
+              pr = prepareRecording rec
+              measure o = let e = errorsOf pr (toPathA (oPath o)) in (maximum e, sqrt (sumSquares e / fromIntegral (length e)))
+              (mxOn, rmseOn) = measure on
+              (mxOff, rmseOff) = measure off
+              Path (Track tOn _ _) = oPath on
+              Path (Track tOff _ _) = oPath off
+          (file, mxOn <= 0.9 * mxOff, rmseOn <= 1.005 * rmseOff, tOn == tOff) `shouldBe` (file, True, True, True)
+    check "freiburg1_xyz-groundtruth.txt" 30
+    check "V101_gt.txt" 87
