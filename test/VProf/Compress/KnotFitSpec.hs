@@ -175,7 +175,7 @@ spec = do
           fastest = maximum (speeds (rcT pr) (rcP pr))
       mapM_ (\k -> let PathA t p _ = fitKnots defaultKnotConfig pr defaultWeights k
                    in maximum (speeds t p) `shouldSatisfy` (<= 2 * fastest)) [50, 70]
-    it "is never worse in position error than its start (position weight only; the worst-error polish, which may give up to 1 % of it, left out)" $
+    it "is never worse in position error than its start (position weight only; the worst-error polish, which may give up to 0.5 % of it, left out)" $
       property $ forAll (choose (60, 300)) $ \n -> forAll (choose (3, n `div` 6)) $ \k -> forAllBlind (genWalk n) $ \pr ->
         let start = solveStretchPositions pr (startKnots defaultKnotConfig pr k) 0 (k - 1)
             fitted = fitKnots defaultKnotConfig { kcWorstBudget = 0 } pr (Weights 1 0 0) k
