@@ -24,7 +24,7 @@ import VProf.Compress.Metrics
 import VProf.Compress.Objective
 import VProf.Compress.Rdp
 import VProf.Compress.Types
-import VProf.Compress.WorstPolish (worstBudget)
+import VProf.Compress.WorstPolish (toleranceBudget, worstBudget)
 import VProf.Validation
 
 -- | 'MethodKnots': the knot fit ("VProf.Compress.KnotFit") for a number of points, or to a
@@ -42,7 +42,8 @@ data Settings = Settings
   , sSearch    :: !Int   -- ^ rounds of the knot fit's wider search ('searchKnots'); 0: none
   , sEnds      :: !Ends  -- ^ first and last waypoint pinned to the recording's or fitted
   , sPolishWorst :: !Bool -- ^ knot fit: lower the largest position error at up to 'worstBudget'
-                          -- more sum of squares ("VProf.Compress.WorstPolish"); False: least squares only
+                          -- more sum of squares, 'toleranceBudget' to a tolerance
+                          -- ("VProf.Compress.WorstPolish"); False: least squares only
   } deriving (Show, Eq)
 
 defaultSettings :: Settings
@@ -105,7 +106,7 @@ compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
             pa = fitKnots knotConfig { kcSearch = sSearch s } pr (sWeights s) k
         in Compressed (fromPathA pa) (computeMetrics pr pa) True (totalCost pr (sWeights s) pa) (show ReachedPoints)
       Just tol ->
-        let pa = tfPath (fitKnotsTolerance knotConfig pr (sWeights s) (maybe 2 id (sPoints s)) tol)
+        let pa = tfPath (fitKnotsTolerance knotConfig { kcWorstBudget = polishBudget toleranceBudget } pr (sWeights s) (maybe 2 id (sPoints s)) tol)
         in Compressed (fromPathA pa) (computeMetrics pr pa) True (totalCost pr (sWeights s) pa) (show ReachedTolerance)
     MethodRdp -> rdp
     _ ->
@@ -125,6 +126,7 @@ compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
           tolOk = maybe True (\e -> mGeometricMax m <= e + 1e-12) tolM
       in Compressed (fromPathA pa) m tolOk (totalCost pr (sWeights s) pa) (show stop)
     pr = (prepareRecording rec) { rcEnds = sEnds s }
-    knotConfig = defaultKnotConfig { kcWorstBudget = if sPolishWorst s then worstBudget else 0 }
+    knotConfig = defaultKnotConfig { kcWorstBudget = polishBudget worstBudget }
+    polishBudget b = if sPolishWorst s then b else 0
     tolM = fmap (/~ metre) (sTolerance s)
     n = U.length (rcT pr)

@@ -1,11 +1,13 @@
 -- | The worst-error polish: it never raises the largest position error, keeps the sum of
 -- squares and the position-and-velocity objective within its budget, moves no time,
 -- orientation or pinned end, does nothing at budget 0, and on real recordings lowers the
--- largest error by a tenth or more. Errors are measured independently of vprof's own code
+-- largest error by a tenth or more and, to a tolerance, the number of points. Errors are measured independently of vprof's own code
 -- (the path interpolated at every sample's time, "Support.PathError").
 module VProf.Compress.WorstPolishSpec (spec) where
 
 import qualified Data.Vector.Unboxed as U
+import Numeric.Units.Dimensional.Prelude (metre, milli, (*~))
+import Prelude
 import Test.Hspec
 import Test.QuickCheck
 
@@ -92,3 +94,17 @@ spec = describe "VProf.Compress.WorstPolish" $ do
           (file, mxOn <= 0.9 * mxOff, rmseOn <= 1.0025 * rmseOff, tOn == tOff) `shouldBe` (file, True, True, True)
     check "freiburg1_xyz-groundtruth.txt" 30
     check "V101_gt.txt" 87
+
+  it "to a tolerance (V1_01 at 100 mm, freiburg1_xyz at 30 mm): fewer points than least squares alone, the tolerance kept" $ do
+    let check file mm = do
+          rec <- loadTum file
+          let settings = defaultSettings { sTolerance = Just (mm *~ milli metre) }
+              Right on = compress settings rec
+              Right off = compress settings { sPolishWorst = False } rec
+              pr = prepareRecording rec
+              worst o = maximum (errorsOf pr (toPathA (oPath o)))
+              points o = let Path (Track t _ _) = oPath o in U.length t
+          (file, points on < points off, worst on <= mm * 1e-3 * (1 + 1e-9), worst off <= mm * 1e-3 * (1 + 1e-9))
+            `shouldBe` (file, True, True, True)
+    check "V101_gt.txt" 100
+    check "freiburg1_xyz-groundtruth.txt" 30
