@@ -8,8 +8,8 @@
 -- re-optimised, kept only if the position error falls), optimises the times again, and
 -- finally solves the orientations (Gauss–Newton, "VProf.Compress.Fit") and the positions
 -- under the full weighted objective for those times, and lowers the largest position error
--- within a small budget of the least-squares error ("VProf.Compress.WorstPolish"). First and last waypoint pinned to the
--- first and last sample unless 'rcEnds' frees them. The times are chosen for the position
+-- within a small budget of the least-squares error ("VProf.Compress.WorstPolish"). First and
+-- last waypoint pinned to the first and last sample unless 'rcEnds' frees them. The times are chosen for the position
 -- error alone; the orientation and velocity weights act on the values at them. On request a
 -- wider search ('searchKnots') runs the same optimisation from a start that keeps continuity
 -- exactly ("VProf.Compress.KnotDP"), from random starts and from perturbations of the best
