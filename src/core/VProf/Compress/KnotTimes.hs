@@ -12,6 +12,7 @@ module VProf.Compress.KnotTimes
   ( Knots (..)
   , knotSse
   , stretchSse
+  , sampleErrors
   , worstSample
   , solveStretchPositions
   , solveSlicePositions
@@ -36,6 +37,11 @@ data Knots = Knots { kT :: !(U.Vector Double), kP :: !V3s } deriving (Show, Eq)
 -- | Position SSE of the samples with T_ja <= t <= T_jb.
 stretchSse :: Prepared -> Knots -> Int -> Int -> Double
 stretchSse pr kn ja jb = stretchFold (\s _ e2 -> s + e2) 0 pr kn ja jb
+
+-- | Each sample's position error (m) against the whole path, in the samples' order: all of
+-- them when the path's first and last times are the first and last sample's.
+sampleErrors :: Prepared -> Knots -> U.Vector Double
+sampleErrors pr kn = U.fromList (reverse (stretchFold (\acc _ e2 -> sqrt e2 : acc) [] pr kn 0 (U.length (kT kn) - 1)))
 
 -- | The sample of the largest position error (its index, the error in m).
 worstSample :: Prepared -> Knots -> (Int, Double)

@@ -1,4 +1,3 @@
-{-# LANGUAGE BangPatterns #-}
 -- | The worst-error polish, the knot fit's last step (docs/compress.md, "The knot fit", step 5).
 -- Least squares spreads the error in the square, so a sample at a sharp corner can stay far
 -- above the rest: on freiburg1_xyz at 1 % of the samples the largest error was 41 mm at an
@@ -19,10 +18,9 @@ module VProf.Compress.WorstPolish
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Compress.Fit (solvePositionsWeighted)
+import VProf.Compress.KnotTimes (Knots (..), sampleErrors)
 import VProf.Compress.Objective
 import VProf.Compress.Types
-import VProf.Geometry.Polyline (segmentIndices)
-import VProf.Geometry.Vec
 
 -- | The default budget: 0.5 % more sum of squares, a quarter of a per cent more RMSE. The
 -- largest error falls fastest in the first rounds: on freiburg1_xyz at 1 % of the samples
@@ -50,7 +48,7 @@ maxRounds = 40
 -- | The polish of a path's positions within a budget (a fraction, >= 0; 0: the path as it is).
 polishWorst :: Double -> Prepared -> Weights -> PathA -> PathA
 polishWorst budget pr w@(Weights wp _ wv) pa0
-  | budget <= 0 || wp <= 0 || n < 3 || free < 1 || mx0 <= 0 = pa0
+  | budget <= 0 || wp <= 0 || n < 3 || free < 1 || U.length e0 /= n || mx0 <= 0 = pa0
   | otherwise = go 0 (U.replicate n 1) e0 (mx0, pa0)
   where
     n = U.length (rcT pr)
@@ -73,17 +71,10 @@ polishWorst budget pr w@(Weights wp _ wv) pa0
         e' = positionErrors pr pa
         mx = U.maximum e'
 
--- | Each sample's time-synchronous position error (m) against the path.
+-- | Each sample's time-synchronous position error (m) against the path (whose first and last
+-- times are the first and last sample's, as every knot fit's are).
 positionErrors :: Prepared -> PathA -> U.Vector Double
-positionErrors pr (PathA ts ps _) = U.imap err seg
-  where
-    st = rcT pr
-    seg = segmentIndices ts st
-    err i j =
-      let t0 = U.unsafeIndex ts j; t1 = U.unsafeIndex ts (j + 1)
-          !u = max 0 (min 1 ((U.unsafeIndex st i - t0) / (t1 - t0)))
-          ph = ((1 - u) *^ pindex ps j) ^+^ (u *^ pindex ps (j + 1))
-      in sqrt (quadrance (pindex (rcP pr) i ^-^ ph))
+positionErrors pr (PathA ts ps _) = sampleErrors pr (Knots ts ps)
 
 sumSq :: U.Vector Double -> Double
 sumSq = U.foldl' (\s x -> s + x * x) 0
