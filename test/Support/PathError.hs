@@ -1,8 +1,11 @@
 -- | The compression tests' measure of a path against a recording, independent of vprof's
 -- own measures ("VProf.Compress.Metrics"): the path interpolated at every sample's time.
+-- The orientation error is the rotation angle between the recorded and the path's
+-- quaternion, 2·acos |⟨q, q̂⟩|, computed here (not by the library's angle function).
 module Support.PathError
   ( worstPositionError
   , positionErrorsOf
+  , orientationErrorsOf
   ) where
 
 import qualified Data.Vector.Unboxed as U
@@ -21,3 +24,13 @@ positionErrorsOf :: Track -> Track -> [Double]
 positionErrorsOf path rec =
   [ distance (fst (polylineAt (tTime path) (tPos path) (tRot path) t)) x
   | (t, x) <- zip (U.toList (tTime rec)) (ptoList (tPos rec)) ]
+
+-- | Every sample's time-synchronous orientation error (rad), in the recording's order: the
+-- angle of the rotation from the path's orientation at the sample's time to the recorded one
+-- (q and −q alike).
+orientationErrorsOf :: Track -> Track -> [Double]
+orientationErrorsOf path rec =
+  [ 2 * acos (min 1 (abs (qa * qb + xa * xb + ya * yb + za * zb) / (len4 a * len4 b)))
+  | (t, b@(Q4 qb xb yb zb)) <- zip (U.toList (tTime rec)) (ptoList (tRot rec))
+  , let a@(Q4 qa xa ya za) = snd (polylineAt (tTime path) (tPos path) (tRot path) t) ]
+  where len4 (Q4 w x y z) = sqrt (w * w + x * x + y * y + z * z)

@@ -22,6 +22,7 @@ import VProf.Compress.KnotFit
 import VProf.Compress.KnotTolerance
 import VProf.Compress.Metrics
 import VProf.Compress.Objective
+import VProf.Compress.OrientationBalance (orientationBudget)
 import VProf.Compress.Rdp
 import VProf.Compress.Types
 import VProf.Compress.WorstPolish (toleranceBudget, worstBudget)
@@ -41,9 +42,12 @@ data Settings = Settings
   , sTolerance :: !(Maybe (Length Double))  -- ^ largest position error allowed
   , sSearch    :: !Int   -- ^ rounds of the knot fit's wider search ('searchKnots'); 0: none
   , sEnds      :: !Ends  -- ^ first and last waypoint pinned to the recording's or fitted
-  , sPolishWorst :: !Bool -- ^ knot fit: lower the largest position error at up to 'worstBudget'
-                          -- more sum of squares, 'toleranceBudget' to a tolerance
-                          -- ("VProf.Compress.WorstPolish"); False: least squares only
+  , sPolish    :: !Bool  -- ^ knot fit: after least squares, move the times towards the
+                          -- orientation ("VProf.Compress.OrientationBalance") and lower the
+                          -- largest position error ("VProf.Compress.WorstPolish"), at up to
+                          -- 'orientationBudget' and 'worstBudget' more position sum of
+                          -- squares ('toleranceBudget' for the second to a tolerance);
+                          -- False: least squares only
   } deriving (Show, Eq)
 
 defaultSettings :: Settings
@@ -126,7 +130,7 @@ compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
           tolOk = maybe True (\e -> mGeometricMax m <= e + 1e-12) tolM
       in Compressed (fromPathA pa) m tolOk (totalCost pr (sWeights s) pa) (show stop)
     pr = (prepareRecording rec) { rcEnds = sEnds s }
-    knotConfig = defaultKnotConfig { kcWorstBudget = polishBudget worstBudget }
-    polishBudget b = if sPolishWorst s then b else 0
+    knotConfig = defaultKnotConfig { kcOrientBudget = polishBudget orientationBudget, kcWorstBudget = polishBudget worstBudget }
+    polishBudget b = if sPolish s then b else 0
     tolM = fmap (/~ metre) (sTolerance s)
     n = U.length (rcT pr)

@@ -96,18 +96,19 @@ spec = describe "serveCompress" $ do
     fmap head xs `shouldNotBe` Just (let P3 x _ _ = pindex (tPos tr) 0 in x)
     bad <- serveCompress (request tr 12) { crqFreeEnds = putField (Just True), crqMethod = putField (Just CompressRdp) }
     errorShouldBe (getField (cpError bad)) ErrInvalidArgument "free_ends" "free_ends = true"
-  it "least_squares_only skips the worst-error polish as --least-squares-only does: the same times, the core's positions, a larger largest error than the default's" $ do
+  it "least_squares_only skips the orientation balance and the worst-error polish as --least-squares-only does: the core's times and positions either way, a larger largest error than the default's" $ do
     Recording tr0 <- loadTum "freiburg1_xyz-groundtruth.txt"
     let tr = Track (U.take 600 (tTime tr0)) (pifilter (< 600) (tPos tr0)) (pifilter (< 600) (tRot tr0))
         xsOf rsp = fmap (getField . posX) (getField (cpPath rsp))
         maxOf rsp = getField . cmPositionMax =<< getField (cpMetrics rsp)
         core polish = either (error . show) (pathTrack . oPath)
-                        (compress defaultSettings { sPoints = Just 12, sPolishWorst = polish } (Recording tr))
+                        (compress defaultSettings { sPoints = Just 12, sPolish = polish } (Recording tr))
     plain <- serveCompress (request tr 12) { crqLeastSquaresOnly = putField (Just True) }
     polished <- serveCompress (request tr 12)
     xsOf plain `shouldBe` Just [ x | P3 x _ _ <- ptoList (tPos (core False)) ]
     xsOf polished `shouldBe` Just [ x | P3 x _ _ <- ptoList (tPos (core True)) ]
-    fmap (U.fromList . getField . posTime) (getField (cpPath plain)) `shouldBe` Just (tTime (core True))
+    fmap (U.fromList . getField . posTime) (getField (cpPath plain)) `shouldBe` Just (tTime (core False))
+    fmap (U.fromList . getField . posTime) (getField (cpPath polished)) `shouldBe` Just (tTime (core True))
     ((<) <$> maxOf polished <*> maxOf plain) `shouldBe` Just True
   it "answers NOT_CONVERGED naming search_rounds (or the tolerance) when the compression outlasts the time limit (was the server's INTERNAL)" $ do
     Recording tr <- loadTum "freiburg1_xyz-groundtruth.txt"

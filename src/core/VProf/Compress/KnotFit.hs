@@ -7,10 +7,11 @@
 -- removed where it is least useful and one inserted where the error is largest, both places
 -- re-optimised, kept only if the position error falls), optimises the times again, and
 -- finally solves the orientations (Gauss–Newton, "VProf.Compress.Fit") and the positions
--- under the full weighted objective for those times, and lowers the largest position error
--- within a small budget of the least-squares error ("VProf.Compress.WorstPolish"). First and
--- last waypoint pinned to the first and last sample unless 'rcEnds' frees them. The times are chosen for the position
--- error alone; the orientation and velocity weights act on the values at them. On request a
+-- under the full weighted objective for those times. The times are chosen for the position
+-- error alone; two last steps, each within a small budget of the least-squares position
+-- error, move them towards the orientation ("VProf.Compress.OrientationBalance") and lower
+-- the largest position error ("VProf.Compress.WorstPolish"). First and last waypoint pinned
+-- to the first and last sample unless 'rcEnds' frees them. On request a
 -- wider search ('searchKnots') runs the same optimisation from a start that keeps continuity
 -- exactly ("VProf.Compress.KnotDP"), from random starts and from perturbations of the best
 -- path.
@@ -39,6 +40,7 @@ import VProf.Compress.Fit (TimeMode (..), solveOrientations, solvePositions, upd
 import VProf.Compress.KnotDP (continuousKnots)
 import VProf.Compress.KnotTimes
 import VProf.Compress.Objective
+import VProf.Compress.OrientationBalance (balanceOrientation, orientationBudget)
 import VProf.Compress.Partition (linePartition)
 import VProf.Compress.Types
 import VProf.Compress.WorstPolish (polishWorst, worstBudget)
@@ -52,11 +54,12 @@ data KnotConfig = KnotConfig
   , kcOrientRounds :: !Int   -- ^ Gauss–Newton rounds for the orientations at most
   , kcPolish       :: !Int   -- ^ rounds of the thesis's update under the full weights at the end
   , kcSearch       :: !Int   -- ^ rounds of the wider search ('searchKnots'); 0: none
+  , kcOrientBudget :: !Double -- ^ the orientation balance's budget ('balanceOrientation'); 0: none
   , kcWorstBudget  :: !Double -- ^ the worst-error polish's budget ('polishWorst'); 0: none
   } deriving (Show, Eq)
 
 defaultKnotConfig :: KnotConfig
-defaultKnotConfig = KnotConfig 4 100 30 10 3 0 worstBudget
+defaultKnotConfig = KnotConfig 4 100 30 10 3 0 orientationBudget worstBudget
 
 -- | The start: k waypoint times at the boundaries of a line partition into k−1 groups
 -- (midway between a group's last sample and the next group's first), positions the
@@ -271,12 +274,14 @@ fitKnots cfg pr w k0
     n = U.length (rcT pr)
     k = max 2 k0
 
--- | Steps 4 and 5 of the fit: the values at the knots' times under the full weights
+-- | Steps 4 to 6 of the fit: the values at the knots' times under the full weights
 -- (orientations by Gauss–Newton, positions by least squares, then the thesis's update
--- rounds), then the worst-error polish of the positions ('polishWorst').
+-- rounds), the times re-balanced towards the orientation ('balanceOrientation'), then the
+-- worst-error polish of the positions ('polishWorst').
 finishKnots :: KnotConfig -> Prepared -> Weights -> Knots -> PathA
 finishKnots cfg pr w (Knots ts ps) =
-  polishWorst (kcWorstBudget cfg) pr w (polish (orient (solvePositions pr w (PathA ts ps qs0))))
+  polishWorst (kcWorstBudget cfg) pr w
+    (balanceOrientation (kcOrientBudget cfg) pr w (polish (orient (solvePositions pr w (PathA ts ps qs0)))))
   where
     st = rcT pr
     k = U.length ts

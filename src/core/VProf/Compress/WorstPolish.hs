@@ -1,4 +1,4 @@
--- | The worst-error polish, the knot fit's last step (docs/compress.md, "The knot fit", step 5).
+-- | The worst-error polish, the knot fit's last step (docs/compress.md, "The knot fit", step 6).
 -- Least squares spreads the error in the square, so a sample at a sharp corner can stay far
 -- above the rest: on freiburg1_xyz at 1 % of the samples the largest error was 41 mm at an
 -- RMSE of 11 mm. With the waypoint times fixed, the positions are re-solved with the samples

@@ -66,7 +66,7 @@ requestToDomainW m = do
         , sTolerance = if tol == 0 then Nothing else Just (tol *~ metre)
         , sSearch = fromIntegral (orDefault (getField (crqSearchRounds m)))
         , sEnds = if orDefault (getField (crqFreeEnds m)) then EndsFree else EndsPinned
-        , sPolishWorst = not (orDefault (getField (crqLeastSquaresOnly m)))
+        , sPolish = not (orDefault (getField (crqLeastSquaresOnly m)))
         }
   case getEnum (getField (crqMethod m)) of
     CompressUnknown k -> Left [literalError "method" (show k) "is not a method: 0 (the default, knots), 1 (thesis), 2 (rdp) or 3 (knots)"]
