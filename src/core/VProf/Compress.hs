@@ -43,8 +43,9 @@ data Settings = Settings
   , sSearch    :: !Int   -- ^ rounds of the knot fit's wider search ('searchKnots'); 0: none
   , sEnds      :: !Ends  -- ^ first and last waypoint pinned to the recording's or fitted
   , sPolish    :: !Bool  -- ^ knot fit: after least squares, move the times towards the
-                          -- orientation ("VProf.Compress.OrientationBalance") and lower the
-                          -- largest position error ("VProf.Compress.WorstPolish"), at up to
+                          -- orientation ("VProf.Compress.OrientationBalance"; not to a
+                          -- tolerance, where it would cost points) and lower the largest
+                          -- position error ("VProf.Compress.WorstPolish"), at up to
                           -- 'orientationBudget' and 'worstBudget' more position sum of
                           -- squares ('toleranceBudget' for the second to a tolerance);
                           -- False: least squares only
@@ -110,7 +111,7 @@ compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
             pa = fitKnots knotConfig { kcSearch = sSearch s } pr (sWeights s) k
         in Compressed (fromPathA pa) (computeMetrics pr pa) True (totalCost pr (sWeights s) pa) (show ReachedPoints)
       Just tol ->
-        let pa = tfPath (fitKnotsTolerance knotConfig { kcWorstBudget = polishBudget toleranceBudget } pr (sWeights s) (maybe 2 id (sPoints s)) tol)
+        let pa = tfPath (fitKnotsTolerance knotConfig { kcOrientBudget = 0, kcWorstBudget = polishBudget toleranceBudget } pr (sWeights s) (maybe 2 id (sPoints s)) tol)
         in Compressed (fromPathA pa) (computeMetrics pr pa) True (totalCost pr (sWeights s) pa) (show ReachedTolerance)
     MethodRdp -> rdp
     _ ->

@@ -88,7 +88,7 @@ compressOptions' = CompressOptions
         <> help "knot fit only: N more rounds from random starts and from perturbations of the best path, the best kept (each round costs about one fit; default 0)")
   <*> option (eitherReader ends) (long "ends" <> metavar "pinned|free" <> value EndsPinned
         <> help "pinned: the first and last waypoint are the first and last sample's pose (default); free: they are fitted by least squares like the others (lower error; the path starts near, not at, the first sample; not with rdp)")
-  <*> switch (long "least-squares-only" <> help "knot fit: skip the two steps after least squares, which by default move the waypoint times towards the orientation and lower the largest position error, each at up to 0.25 % more position RMSE (to a --tolerance the second at up to 2.5 %, for fewer points)")
+  <*> switch (long "least-squares-only" <> help "knot fit: skip the two steps after least squares, which by default move the waypoint times towards the orientation and lower the largest position error, each at up to 0.25 % more position RMSE (to a --tolerance only the second, at up to 2.5 %, for fewer points)")
   <*> optional (strOption (short 'o' <> long "output" <> metavar "OUT" <> help "write the path here"))
   <*> optional (option (eitherReader outFmt) (long "output-format" <> metavar "tum|mod|csv"
         <> help "format of OUT (default: from its extension, .mod RAPID, .csv CSV, else TUM)"))
