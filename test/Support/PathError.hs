@@ -6,10 +6,13 @@ module Support.PathError
   ( worstPositionError
   , positionErrorsOf
   , orientationErrorsOf
+  , withinBudget
   ) where
 
 import qualified Data.Vector.Unboxed as U
+import Test.QuickCheck (Property, (.&&.), counterexample)
 
+import VProf.Compress.Objective (PathA (..), Prepared (..), totalCost)
 import VProf.Compress.Types
 import VProf.Geometry.Polyline (polylineAt)
 import VProf.Geometry.Vec
@@ -34,3 +37,18 @@ orientationErrorsOf path rec =
   | (t, b@(Q4 qb xb yb zb)) <- zip (U.toList (tTime rec)) (ptoList (tRot rec))
   , let a@(Q4 qa xa ya za) = snd (polylineAt (tTime path) (tPos path) (tRot path) t) ]
   where len4 (Q4 w x y z) = sqrt (w * w + x * x + y * y + z * z)
+
+-- | What the knot fit's budgeted last steps promise of a path @pa@ made from @pa0@: its
+-- position sum of squares (measured here) and its position-and-velocity objective within
+-- (1 + b) times @pa0@'s, and pinned ends where they are pinned.
+withinBudget :: Prepared -> Weights -> Double -> PathA -> PathA -> Property
+withinBudget pr w b pa0@(PathA _ p0 _) pa@(PathA _ p _) =
+  counterexample (show ("position sum of squares", ssq pa0, ssq pa)) (ssq pa <= (1 + b) * ssq pa0 * (1 + 1e-9))
+  .&&. counterexample (show ("position and velocity", pv pa0, pv pa)) (pv pa <= (1 + b) * pv pa0 * (1 + 1e-9))
+  .&&. counterexample "a pinned end moved"
+         (rcEnds pr == EndsFree || (pindex p 0 == pindex p0 0 && pindex p (kk - 1) == pindex p0 (kk - 1)))
+  where
+    rec = Track (rcT pr) (rcP pr) (rcQ pr)
+    ssq (PathA t x q) = sum (map (^ (2 :: Int)) (positionErrorsOf (Track t x q) rec))
+    pv = totalCost pr w { wOrientation = 0 }
+    kk = plength p0

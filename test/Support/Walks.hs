@@ -2,6 +2,7 @@
 -- path of few straight moves has corners to cut and a largest error well above its RMSE.
 module Support.Walks
   ( genKickWalk
+  , genWalkCase
   ) where
 
 import qualified Data.Vector.Unboxed as U
@@ -25,3 +26,15 @@ genKickWalk scale n = do
       ps = map (scale *^) (scanl (\p (s, kk) -> p ^+^ s ^+^ kk) (P3 0 0 0) (zip steps kicks))
       qs = scanl (\q r -> qnormalize (qmul (qexp r) q)) (Q4 1 0 0 0) rots
   pure (prepareRecording (either error id (recordingFromArrays (U.fromList ts) (pfromList ps) (pfromList qs))))
+
+-- | A case for the knot fit's last steps: a walk of 60-400 samples with its positions scaled
+-- by 1 mm to 1 km, ends pinned or fitted, and a waypoint count from 3 to a fifth of the
+-- samples; with the scale drawn.
+genWalkCase :: Gen (Prepared, Int, Double)
+genWalkCase = do
+  n <- choose (60, 400)
+  scale <- (10 **) <$> choose (-3, 3)
+  pr0 <- genKickWalk scale n
+  ends <- elements [EndsPinned, EndsFree]
+  k <- choose (3, n `div` 5)
+  pure (pr0 { rcEnds = ends }, k, scale)
