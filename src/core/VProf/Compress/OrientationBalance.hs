@@ -4,7 +4,7 @@
 -- centimetres or metres leaves the orientation out of the choice. This step moves the times
 -- (the thesis's update rounds, "VProf.Compress.Fit") under orientation weights raised to a
 -- scale of the path's own: m* times the user's, where m* makes the two terms of the given path
--- equal, tried at m*/16, m*/8, … m* (those above 1), each round started from the last. The
+-- equal, tried at m*/16, m*/8, … m* (those above 1), each from the path the last left. The
 -- rounds stop at the first path whose position sum of squares, or position-and-velocity
 -- objective, is above (1 + budget) times the given path's; of the paths within the budget
 -- the one with the lowest orientation error is kept, the given path when none is lower.
