@@ -7,6 +7,7 @@ module VProf.Compress
   , defaultSettings
   , Compressed (..)
   , compress
+  , knotConfigFor
   , validateSettings
   , module VProf.Validation
   , module VProf.Compress.Types
@@ -100,6 +101,17 @@ validateSettings n s = concat
   ]
   where Weights p o v = sWeights s
 
+-- | The knot fit's configuration for the settings, as 'compress' runs it (a count tried by
+-- the search, to a tolerance): the wider search's rounds; the orientation balance at
+-- 'orientationBudget' and the worst-error polish at 'worstBudget' with 'sPolish'; to a
+-- tolerance no orientation balance (it costs points) and the polish at 'toleranceBudget'.
+knotConfigFor :: Settings -> KnotConfig
+knotConfigFor s = case sTolerance s of
+  Nothing -> defaultKnotConfig { kcSearch = sSearch s, kcOrientBudget = budget orientationBudget
+                               , kcWorstBudget = budget worstBudget }
+  Just _ -> defaultKnotConfig { kcOrientBudget = 0, kcWorstBudget = budget toleranceBudget }
+  where budget b = if sPolish s then b else 0
+
 -- | Compress a recording. For RDP, a tolerance is the classic RDP epsilon (geometric
 -- distance); for the knot fit and the thesis method it bounds the time-synchronous
 -- position error, and a number of points with it is the fewest allowed.
@@ -108,10 +120,10 @@ compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
     MethodKnots | sMargin s == Nothing -> case tolM of
       Nothing ->
         let k = maybe (max 2 (round (0.03 * fromIntegral n :: Double))) (max 2) (sPoints s)
-            pa = fitKnots knotConfig { kcSearch = sSearch s } pr (sWeights s) k
+            pa = fitKnots (knotConfigFor s) pr (sWeights s) k
         in Compressed (fromPathA pa) (computeMetrics pr pa) True (totalCost pr (sWeights s) pa) (show ReachedPoints)
       Just tol ->
-        let pa = tfPath (fitKnotsTolerance knotConfig { kcOrientBudget = 0, kcWorstBudget = polishBudget toleranceBudget } pr (sWeights s) (maybe 2 id (sPoints s)) tol)
+        let pa = tfPath (fitKnotsTolerance (knotConfigFor s) pr (sWeights s) (maybe 2 id (sPoints s)) tol)
         in Compressed (fromPathA pa) (computeMetrics pr pa) True (totalCost pr (sWeights s) pa) (show ReachedTolerance)
     MethodRdp -> rdp
     _ ->
@@ -131,7 +143,5 @@ compress s rec = validated [validateSettings n s] () >> pure (case sMethod s of
           tolOk = maybe True (\e -> mGeometricMax m <= e + 1e-12) tolM
       in Compressed (fromPathA pa) m tolOk (totalCost pr (sWeights s) pa) (show stop)
     pr = (prepareRecording rec) { rcEnds = sEnds s }
-    knotConfig = defaultKnotConfig { kcOrientBudget = polishBudget orientationBudget, kcWorstBudget = polishBudget worstBudget }
-    polishBudget b = if sPolish s then b else 0
     tolM = fmap (/~ metre) (sTolerance s)
     n = U.length (rcT pr)

@@ -8,9 +8,8 @@ import Test.QuickCheck
 import VProf.Compress
 import VProf.Geometry.Polyline
 import VProf.Geometry.Quaternion
-import VProf.Compress.KnotFit (KnotConfig (..), defaultKnotConfig, fitKnots)
+import VProf.Compress.KnotFit (fitKnots)
 import VProf.Compress.Objective
-import VProf.Compress.WorstPolish (toleranceBudget)
 import VProf.Geometry.Vec
 import Support.PathError (worstPositionError)
 import Numeric.Units.Dimensional.Prelude (metre, (*~))
@@ -107,8 +106,8 @@ worstError (Recording raw) o = worstPositionError (pathTrack (oPath o)) raw
 -- is met exactly when the largest time-synchronous error, measured here from the path and
 -- the samples, is within it (and then has no more points than samples). The knot fit (the
 -- default) always meets it, and its count is the fewest it found: the knot fit to one
--- point fewer, as the search fits a count (its steps 1-4, then the worst-error polish at
--- the tolerance's budget, no orientation balance), breaks the tolerance.
+-- point fewer, fitted as the search fits a count ('knotConfigFor' the same settings),
+-- breaks the tolerance.
 toleranceMet :: Spec
 toleranceMet = do
   it "knot fit: a tolerance (1e-7 m to 0.3 m, log-uniform; noise up to 5 mm) is always met, measured independently, and one point fewer breaks it" $
@@ -116,11 +115,11 @@ toleranceMet = do
       forAll (choose (-7, log 0.3 / log 10)) $ \e ->
         let tol = 10 ** e :: Double
             Recording raw = rec
-            o = either (error . show) id (compress defaultSettings { sTolerance = Just (tol *~ metre) } rec)
+            settings = defaultSettings { sTolerance = Just (tol *~ metre) }
+            o = either (error . show) id (compress settings rec)
             k = trackLength (pathTrack (oPath o))
             n = trackLength raw
-            PathA ft fp fq = fitKnots defaultKnotConfig { kcOrientBudget = 0, kcWorstBudget = toleranceBudget }
-                                      (prepareRecording rec) defaultWeights (k - 1)
+            PathA ft fp fq = fitKnots (knotConfigFor settings) (prepareRecording rec) defaultWeights (k - 1)
             worstFewer = worstPositionError (Track ft fp fq) raw
             worst = worstError rec o
         in cover 10 (k == n) "every sample a waypoint" $ cover 20 (k > 2 && k < n) "between" $
