@@ -268,7 +268,7 @@ brakeAcc e st = brakeAccTo e st (brakeTarget e st)
 
 -- | The brake policy toward a given target velocity.
 brakeAccTo :: SeedEnv -> St -> Double -> Double
-brakeAccTo e st@(St v _ _) tau
+brakeAccTo e st@(St v _ _) !tau
   | v <= 0 || w <= 0 = hold
   | not (ok hi) = hold
   | ok lo = lo
@@ -418,11 +418,11 @@ quickNeed e st@(St v a s)
   | eHard e = False
   | otherwise =
       vPeak <= limitAt pb s
-        && all zoneOk (zonesIn s (s + d))
+        && zonesOk (zoneIndex pb s + 1)
         && terminalOk
   where
     pb = ePb e
-    (d, vPeak) = brakeBound e st
+    !(d, vPeak) = brakeBound e st
     margin = vPeak * quickMarginSteps * pbDt pb + quickMarginM * min 1 (pbLength pb)
     Term p vt = eTerm e
     need l | a >= 0 = Just (brakeNeed pb v a l)
@@ -432,12 +432,12 @@ quickNeed e st@(St v a s)
     terminalOk
       | vt <= 0 = s + d <= p || fits 0 (p - s)
       | otherwise = s + d < p || vPeak <= vt || fits vt (p - s)
-    zonesIn lo hi =
-      let starts = pbZoneStarts pb; speeds = pbZoneSpeeds pb
-          i0 = zoneIndex pb lo + 1
-          go i | i >= U.length starts || U.unsafeIndex starts i > hi = []
-               | otherwise = (U.unsafeIndex starts i, U.unsafeIndex speeds i) : go (i + 1)
-      in go i0
+    -- every zone that starts within the reach (s, s + d]
+    zonesOk !i
+      | i >= U.length starts || z > s + d = True
+      | otherwise = zoneOk (z, U.unsafeIndex (pbZoneSpeeds pb) i) && zonesOk (i + 1)
+      where starts = pbZoneStarts pb
+            z = U.unsafeIndex starts i
 
 -- | The oracle: can the robot brake from this state without breaking anything?
 -- On failure, the state at which the braking first breaks a rule.
@@ -461,18 +461,20 @@ brakeSimulate e st0 = go st0 (0 :: Int)
       let (d, vp) = brakeBound e st0
           dt = dtE e
       in max (ceiling (d / max peakFloor vp / dt)) (ceiling (min 1e15 (brakeTimeBound e st0 / dt))) + oracleExtraSteps :: Int
-    go !st n
+    -- (strict throughout: the loop runs up to some 10⁵ steps a call, millions a pass, and
+    -- a lazy binding here is a heap object every step)
+    go !st !n
       | atRest e st = Right ()
       | otherwise =
-          let s = stS st
-              (d, vPeak) = brakeBound e st
-              reachEnd = s + d
-              zoneMin = minLimitOn pb s reachEnd
+          let !s = stS st
+              !(d, vPeak) = brakeBound e st
+              !reachEnd = s + d
+              !zoneMin = minLimitOn pb s reachEnd
               quick = vPeak <= zoneMin && (if vt <= 0 then reachEnd <= p else reachEnd < p || vPeak <= vt)
-              tau = targetFrom e reachEnd zoneMin
           in if quick then Right ()
              else if n > maxSteps then Left (st, st)
-             else let st' = stepTo e st (brakeAccTo e st tau)
+             else let !tau = targetFrom e reachEnd zoneMin
+                      !st' = stepTo e st (brakeAccTo e st tau)
                   in if stepOk e st st' then go st' (n + 1) else Left (st, st')
 
 -- | An upper bound on how long the brake policy brakes from a state: it brakes at once, as
