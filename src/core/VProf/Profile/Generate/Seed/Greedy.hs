@@ -61,13 +61,8 @@ choose e = fst . chooseStep e
 -- | 'choose', and whether the step is the brake policy's own because nothing above it
 -- was safe (the probe failed) or in range.
 chooseStep :: SeedEnv -> St -> (St, Bool)
-chooseStep e st@(St v _ s) =
-  let dt = dtE e
-      pb = ePb e
-      (lo, hi0) = accRange e st
-      Term p vt = eTerm e
-      capNow = if vt > 0 && s >= p then min vt (limitAt pb s) else limitAt pb s
-      hi = max lo (min hi0 ((capNow - v) / dt))
+chooseStep e st =
+  let hi = topAcc e st
       try a = let st' = snapTo (stepTo e st a) in if stepOk e st st' && safe e st' then Just st' else Nothing
       snapTo = snapToTerminal e st
       aB = brakeAcc e st
@@ -97,6 +92,22 @@ chooseStep e st@(St v _ s) =
        then maybe (fallback, True) (\stP -> (maybe (bisectFrom stP) id (try hi), False)) (try probe)
        else maybe (maybe (unsafeProbe, True) (\stP -> (bisectFrom stP, False)) (try probe)) (\stH -> (stH, False)) (try hi)
 
+-- | The highest acceleration a step from a state may take: the top of the ranges, and no
+-- more than the speed limit there (or the terminal velocity past the terminal) allows.
+topAcc :: SeedEnv -> St -> Double
+topAcc e st@(St v _ s) = max lo (min hi0 ((capNow - v) / dtE e))
+  where
+    pb = ePb e
+    (lo, hi0) = accRange e st
+    Term p vt = eTerm e
+    capNow = if vt > 0 && s >= p then min vt (limitAt pb s) else limitAt pb s
+{-# INLINE topAcc #-}
+
+-- | The step at the highest acceleration ('topAcc'), as 'chooseStep' takes it.
+topStep :: SeedEnv -> St -> St
+topStep e st = snapToTerminal e st (stepTo e st (topAcc e st))
+{-# INLINE topStep #-}
+
 -- | A step that ends within 'terminalSnap' of the terminal velocity the pass is told to
 -- hold lands on it exactly.
 snapToTerminal :: SeedEnv -> St -> St -> St
@@ -123,9 +134,14 @@ brakeStep e st = snapToTerminal e st (stepTo e st (brakeAcc e st))
 -- (its continuous-time estimate), after n brake-policy steps in a row the pass probes only
 -- when n is a power of two up to an interval and at every multiple of it after, and takes
 -- the brake policy's steps in between. The interval is 'probeInterval' (64), or a
--- 'probeShare'th (1/64) of the braking's steps left when that is more: some 64 probes in a
--- braking of B steps, each at most B oracle steps, O(64·B + 'probeAllWithin'²) in all (a
--- fixed interval of 64 costs B²/64: 14 M oracle steps for a 6 s braking at a 0.2 ms step).
+-- 'probeShare'th (1/8) of the braking's steps left when that is more: some eight probes
+-- each time what is left halves, each at most the B oracle steps of the braking, O(B·log B
+-- + 'probeAllWithin'²) in all (a fixed interval of 64 costs B²/64: 14 M oracle steps for a
+-- 6 s braking at a 0.2 ms step; a 64th of what is left cost a 23 m route at 0.12 ms 20 M
+-- oracle steps in its brakings, an eighth 9 M, for a landing of the same 641,672 samples).
+-- (Without the powers of two, a 118 m route at 0.14 ms whose brakings at 0.6 m/s² take 13 s
+-- spent half the oracle steps in the meet's two passes, but its meet joined lower, and the
+-- rubber band did not reach its fixed point in 100,000 passes.)
 -- The last 'probeAllWithin' steps of a braking, where it lands on its target riding the
 -- oracle's edge, are probed at every step, and so is every step of a pass whose brakings
 -- are shorter (any pass at a coarse time step).
@@ -143,9 +159,22 @@ brakeStep e st = snapToTerminal e st (stepTo e st (brakeAcc e st))
 -- passes restarts the count, and so does a new manoeuvre: a new target of the brake
 -- policy, or a new zone (a landing at a 12 ms step whose probes passed for 20 steps on
 -- entering a zone lost 16 % without).
+--
+-- The same holds for a run of steps at the highest acceleration ('topStep') where each
+-- step's oracle runs a long braking ('quickNeed' cannot settle it): a weak jerk brings a
+-- rising acceleration down over thousands of steps, and every step of the ramp towards
+-- the edge asks the oracle (a 23 m route at 0.12 ms spent 15 M oracle steps there). After
+-- h such steps in a row, the pass takes the next 2h (at most 'topRunMost') at the highest
+-- acceleration when every one keeps the step rules and the oracle passes the last, and
+-- otherwise steps as before. The states inside such a run are not asked: the run from one
+-- of them and the braking after it keep every rule, though the brake policy from it
+-- might not; the pass's profile stays legal. Such runs are marked as skipped (a landing
+-- that breaks a rule is made again by the every-step pass), and none ends within the end
+-- tolerance of the terminal.
 scheduledSteps :: SeedEnv -> (St, Sched) -> [((St, Sched), Bool)]
-scheduledSteps e (st, Sched n0 target0 zone0)
+scheduledSteps e (st, Sched n0 target0 zone0 h0)
   | n > 0, not due, not (standing st), longBraking = gallop
+  | h0 > 0, Just run <- topRun = run
   | otherwise = [probed st n]
   where
     -- a new target or a new zone is a new manoeuvre: its count starts again, with a probe
@@ -154,26 +183,44 @@ scheduledSteps e (st, Sched n0 target0 zone0)
     n = if target == target0 && zone == zone0 then n0 else 0
     dueAt m = if m <= interval then popCount m == 1 else m `mod` interval == 0
     due = dueAt n
-    -- the probe's step, from a state reached after m brake-policy steps
-    probedAs m (x', fell) = ((x', Sched (if fell then m + 1 else 0) target zone), False)
-    probed x m = probedAs m (chooseStep e x)
+    -- the probe's step from x, reached after m brake-policy steps; after a run at the top
+    -- that failed, no new run before the next step
+    probedAs x m (x', fell) = ((x', Sched (if fell then m + 1 else 0) target zone (if fell || h0 > 0 then 0 else topRunAfter x x')), False)
+    probed x m = probedAs x m (chooseStep e x)
+    -- a step at the highest acceleration whose oracle ran the braking starts a run
+    topRunAfter x x' =
+      let t = topStep e x
+      in if stV t == stV x' && stA t == stA x' && stS t == stS x' && not (quickNeed e x') then 1 else 0
+    -- the next 2h steps at the top, when each keeps the step rules and the oracle passes
+    -- the last, short of the terminal by more than the end tolerance (a landing pass brakes
+    -- differently within half of it)
+    topRun = go (min topRunMost (2 * h0)) st []
+      where
+        go :: Int -> St -> [St] -> Maybe [((St, Sched), Bool)]
+        go 0 x acc
+          | stS x < tP (eTerm e) - pbTol (ePb e), safe e x =
+              Just [ ((y, Sched 0 target zone (h0 + i)), True) | (i, y) <- zip [1 ..] (reverse acc) ]
+          | otherwise = Nothing
+        go k x acc =
+          let x' = topStep e x
+          in if stepOk e x x' && not (standing x') then go (k - 1) x' (x' : acc) else Nothing
     -- the policy's steps up to the next scheduled probe (cut where the target or the zone
     -- changes or the pass comes to rest), and the probes from them, each made at most once
     gap = head [ k | k <- [1 ..], dueAt (n + k) ]
     run = takeUntil (\x -> standing x || brakeTarget e x /= target || zoneIndex pb (stS x) /= zone) (take gap (tail (iterate (brakeStep e) st)))
     choices = map (chooseStep e) run
     passesAt i = not (snd (choices !! (i - 1)))
-    skippedTo k = [ ((x, Sched (n + i) target zone), True) | (i, x) <- zip [1 ..] (take k run) ]
+    skippedTo k = [ ((x, Sched (n + i) target zone 0), True) | (i, x) <- zip [1 ..] (take k run) ]
     gallop
       | length run < gap = skippedTo (length run)
-      | not (passesAt gap) = skippedTo gap ++ [probedAs (n + gap) (choices !! (gap - 1))]
+      | not (passesAt gap) = skippedTo gap ++ [probedAs (run !! (gap - 1)) (n + gap) (choices !! (gap - 1))]
       | otherwise =
           -- the first of the run at which the probe passes, by bisection (lo fails, hi passes)
           let first lo hi | hi - lo <= 1 = hi
                           | otherwise = let mid = (lo + hi) `div` 2 in if passesAt mid then first lo mid else first mid hi
               k = first 0 gap
-          in skippedTo k ++ [probedAs (n + k) (choices !! (k - 1))]
-    -- a 64th of the braking's steps (a power of two, at least 'probeInterval')
+          in skippedTo k ++ [probedAs (run !! (k - 1)) (n + k) (choices !! (k - 1))]
+    -- an eighth of the braking's steps left (a power of two, at least 'probeInterval')
     interval = let b = left / dtE e / fromIntegral probeShare
                in if b < fromIntegral (2 * probeInterval) then probeInterval
                   else 2 ^ (floor (logBase 2 b) :: Int)
@@ -193,9 +240,9 @@ scheduledSteps e (st, Sched n0 target0 zone0)
     left = ap0 / j1 + peak * ramps + hold
     longBraking = left > fromIntegral probeAllWithin * dtE e
 
--- | The schedule's state: brake-policy steps in a row, and the brake policy's target and
--- the zone then.
-data Sched = Sched !Int !Double !Int
+-- | The schedule's state: brake-policy steps in a row, the brake policy's target and the
+-- zone then, and steps at the top whose oracle ran the braking, in a row.
+data Sched = Sched !Int !Double !Int !Int
 
 -- | The elements of a list up to and including the first for which the test holds.
 takeUntil :: (a -> Bool) -> [a] -> [a]
@@ -204,7 +251,12 @@ takeUntil f (x : xs) = x : (if f x then [] else takeUntil f xs)
 
 -- | A pass starts with no braking behind it.
 startSched :: Sched
-startSched = Sched 0 (-1) (-1)
+startSched = Sched 0 (-1) (-1) 0
+
+-- | The longest run at the highest acceleration taken without asking the oracle at every
+-- step ('scheduledSteps').
+topRunMost :: Int
+topRunMost = 256
 
 -- | The least run of brake-policy steps between probes of a long manoeuvre.
 probeInterval :: Int
@@ -213,7 +265,7 @@ probeInterval = 64
 -- | A long braking's run between probes is its steps left over this (rounded down to a
 -- power of two), when that is more than 'probeInterval'.
 probeShare :: Int
-probeShare = 64
+probeShare = 8
 
 -- | A braking is probed at every step once fewer than this many of its steps are left.
 probeAllWithin :: Int
