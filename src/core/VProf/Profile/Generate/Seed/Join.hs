@@ -261,11 +261,14 @@ joinAt c v cp@(Capped fRun bRun _ _ _) ks =
       -- the distance a dent of depth 1 takes out of a cruise of k steps
       perDepth k = dt * fromIntegral k / 2
       depth k = if k > 1 then over k / perDepth k else 0
-      -- the cruise with a dent of depth d (a bump where d < 0)
-      profileAt k d =
-        let bump j = let x = sin (pi * fromIntegral j / fromIntegral k) in x * x
-            cruise = [ v - d * bump j | j <- [1 .. k - 1] ]
-        in U.fromList ([pbV0 pb] ++ map stV fRun ++ cruise ++ reverse (pbVEnd pb : map stV bRun))
+      -- the cruise with a dent of depth d (a bump where d < 0); the passes and the dent's
+      -- shape made once (unboxed: a join at a fine step has some 10⁵ samples, and the
+      -- bisection in 'bandShaped' makes a profile of it up to 60 times)
+      fV = U.fromList (pbV0 pb : map stV fRun)
+      bV = U.fromList (reverse (pbVEnd pb : map stV bRun))
+      profileAt k =
+        let bump = U.generate (max 0 (k - 1)) (\i -> let x = sin (pi * fromIntegral (i + 1) / fromIntegral k) in x * x)
+        in \d -> U.concat [fV, U.map (\b -> v - d * b) bump, bV]
       legal = legalVelocities judge
       tries = [ (k, 0) | k <- ks, k > 1, abs (over k) <= tol / undentedDivisor ]
               ++ [ (k, depth k) | k <- ks, k > 1 || abs (over k) <= tol / undentedDivisor ]
