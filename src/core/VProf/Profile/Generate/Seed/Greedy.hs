@@ -160,10 +160,10 @@ brakeStep e st = snapToTerminal e st (stepTo e st (brakeAcc e st))
 -- policy, or a new zone (a landing at a 12 ms step whose probes passed for 20 steps on
 -- entering a zone lost 16 % without).
 --
--- The same holds for a run of steps at the highest acceleration ('topStep') where each
--- step's oracle runs a long braking ('quickNeed' cannot settle it): a weak jerk brings a
--- rising acceleration down over thousands of steps, and every step of the ramp towards
--- the edge asks the oracle (a 23 m route at 0.12 ms spent 15 M oracle steps there). After
+-- Steps at the highest acceleration ('topStep') are taken in runs too, where each one's
+-- oracle runs a long braking ('quickNeed' cannot settle it): a weak jerk brings a rising
+-- acceleration down over thousands of steps, and every step of the ramp towards the edge
+-- asks the oracle (a 23 m route at 0.12 ms spent 15 M oracle steps there). After
 -- h such steps in a row, the pass takes the next 2h (at most 'topRunMost') at the highest
 -- acceleration when every one keeps the step rules and the oracle passes the last, and
 -- otherwise steps as before. The states inside such a run are not asked: the run from one
