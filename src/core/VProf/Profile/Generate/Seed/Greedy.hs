@@ -61,7 +61,16 @@ choose e = fst . chooseStep e
 -- | 'choose', and whether the step is the brake policy's own because nothing above it
 -- was safe (the probe failed) or in range.
 chooseStep :: SeedEnv -> St -> (St, Bool)
-chooseStep e st =
+chooseStep e st = let (st', taken) = chooseTaken e st in (st', taken == Fell)
+
+-- | Which step 'chooseTaken' took: the brake policy's own (nothing above it was safe or in
+-- range), the one at the highest acceleration ('topStep'), or one found between them.
+data Taken = Fell | Top | Between
+  deriving (Eq)
+
+-- | 'choose', and which step it took.
+chooseTaken :: SeedEnv -> St -> (St, Taken)
+chooseTaken e st =
   let hi = topAcc e st
       try a = let st' = snapTo (stepTo e st a) in if stepOk e st st' && safe e st' then Just st' else Nothing
       snapTo = snapToTerminal e st
@@ -87,10 +96,10 @@ chooseStep e st =
       -- nothing above the brake policy is reachable (its ramp back at the full jerk): its
       -- step, safe by the oracle's invariant, without a probe (each would run the braking)
       noRoom = hi <= aB + roundingSlack * max 1 (abs aB)
-  in if noRoom && not (standing st) then (fallback, True)
+  in if noRoom && not (standing st) then (fallback, Fell)
      else if stA st < 0
-       then maybe (fallback, True) (\stP -> (maybe (bisectFrom stP) id (try hi), False)) (try probe)
-       else maybe (maybe (unsafeProbe, True) (\stP -> (bisectFrom stP, False)) (try probe)) (\stH -> (stH, False)) (try hi)
+       then maybe (fallback, Fell) (\stP -> maybe (bisectFrom stP, Between) (, Top) (try hi)) (try probe)
+       else maybe (maybe (unsafeProbe, Fell) (\stP -> (bisectFrom stP, Between)) (try probe)) (, Top) (try hi)
 
 -- | The highest acceleration a step from a state may take: the top of the ranges, and no
 -- more than the speed limit there (or the terminal velocity past the terminal) allows.
@@ -183,14 +192,13 @@ scheduledSteps e (st, Sched n0 target0 zone0 h0)
     n = if target == target0 && zone == zone0 then n0 else 0
     dueAt m = if m <= interval then popCount m == 1 else m `mod` interval == 0
     due = dueAt n
-    -- the probe's step from x, reached after m brake-policy steps; after a run at the top
-    -- that failed, no new run before the next step
-    probedAs x m (x', fell) = ((x', Sched (if fell then m + 1 else 0) target zone (if fell || h0 > 0 then 0 else topRunAfter x x')), False)
-    probed x m = probedAs x m (chooseStep e x)
-    -- a step at the highest acceleration whose oracle ran the braking starts a run
-    topRunAfter x x' =
-      let t = topStep e x
-      in if stV t == stV x' && stA t == stA x' && stS t == stS x' && not (quickNeed e x') then 1 else 0
+    -- the probe's step, from a state reached after m brake-policy steps; a step at the
+    -- highest acceleration whose oracle ran the braking starts a run at the top (but not
+    -- right after a run that failed)
+    probedAs m (x', taken) =
+      ((x', Sched (if taken == Fell then m + 1 else 0) target zone
+                  (if taken == Top && h0 == 0 && not (quickNeed e x') then 1 else 0)), False)
+    probed x m = probedAs m (chooseTaken e x)
     -- the next 2h steps at the top, when each keeps the step rules and the oracle passes
     -- the last, short of the terminal by more than the end tolerance (a landing pass brakes
     -- differently within half of it)
@@ -208,18 +216,18 @@ scheduledSteps e (st, Sched n0 target0 zone0 h0)
     -- changes or the pass comes to rest), and the probes from them, each made at most once
     gap = head [ k | k <- [1 ..], dueAt (n + k) ]
     run = takeUntil (\x -> standing x || brakeTarget e x /= target || zoneIndex pb (stS x) /= zone) (take gap (tail (iterate (brakeStep e) st)))
-    choices = map (chooseStep e) run
-    passesAt i = not (snd (choices !! (i - 1)))
+    choices = map (chooseTaken e) run
+    passesAt i = snd (choices !! (i - 1)) /= Fell
     skippedTo k = [ ((x, Sched (n + i) target zone 0), True) | (i, x) <- zip [1 ..] (take k run) ]
     gallop
       | length run < gap = skippedTo (length run)
-      | not (passesAt gap) = skippedTo gap ++ [probedAs (run !! (gap - 1)) (n + gap) (choices !! (gap - 1))]
+      | not (passesAt gap) = skippedTo gap ++ [probedAs (n + gap) (choices !! (gap - 1))]
       | otherwise =
           -- the first of the run at which the probe passes, by bisection (lo fails, hi passes)
           let first lo hi | hi - lo <= 1 = hi
                           | otherwise = let mid = (lo + hi) `div` 2 in if passesAt mid then first lo mid else first mid hi
               k = first 0 gap
-          in skippedTo k ++ [probedAs (run !! (k - 1)) (n + k) (choices !! (k - 1))]
+          in skippedTo k ++ [probedAs (n + k) (choices !! (k - 1))]
     -- an eighth of the braking's steps left (a power of two, at least 'probeInterval')
     interval = let b = left / dtE e / fromIntegral probeShare
                in if b < fromIntegral (2 * probeInterval) then probeInterval
