@@ -2,6 +2,7 @@
 -- confirmed by an independent argument.
 module VProf.Profile.GenerateSpec (spec) where
 
+import Control.Concurrent (threadDelay)
 import Control.Monad (forM_)
 import qualified Data.ByteString.Lazy as BL
 import Data.List (isInfixOf, nub, sort)
@@ -17,7 +18,7 @@ import Support.Wide (logUniform)
 import VProf.Profile.Generate
 import VProf.Profile.Generate.RubberBand
 import VProf.Profile.Generate.Exact (StepProof (..), proofCertificates)
-import VProf.Profile.Generate.Seed (mirror)
+import VProf.Profile.Generate.Seed (SeedPlan (..), mirror, seedPlan)
 import VProf.Profile.Generate.Seed.Brake (brakeStopDistance)
 import VProf.Numeric.LinearProgram (Farkas (..))
 import VProf.Profile.Format.Json (requestFromJson)
@@ -634,6 +635,21 @@ spec = do
                              ++ " samples at time_step 0.125 s: give time_budget more room, or use a coarser time_step")
         other -> expectationFailure ("expected NOT_CONVERGED, got " ++ show other)
       resSeconds r `shouldSatisfy` (< 1)
+    it "a seed variant that cannot finish is given up at three quarters of the budget and the band runs from the seed (the budget's timeout used to stop it: NOT_CONVERGED with the seed)" $ do
+      -- the default request, whose seed takes milliseconds; its one variant never returns
+      let rq = defaultRequest { rqTimeBudget = Just (0.4 *~ second) }
+          Right pb = validate rq
+          stuck _ = unsafePerformIO (threadDelay 100000000 >> pure Nothing)
+          plan = (seedPlan pb) { spVariants = [stuck] }
+      t0 <- getMonotonicTime
+      r <- generateWithPlan pb plan
+      t1 <- getMonotonicTime
+      resOutcome r `shouldBe` Generated
+      sound rq r `shouldBe` True
+      -- the same profile as the generator's own from its seed: the variant changed nothing
+      fmap prVelocities (resProfile r) `shouldBe` fmap prVelocities (resProfile (generatePure rq { rqSeedSearch = False }))
+      -- given up at 0.3 s, not at the budget's end
+      (t1 - t0) `shouldSatisfy` (\dt -> dt >= 0.3 && dt < 0.4)
     it "a tiny time budget still returns the best profile with the checker's verdict on it" $ do
       let rq = defaultRequest { rqTimeBudget = Just (1e-9 *~ second), rqAlgorithm = Thesis }
       r <- generate rq
