@@ -6,6 +6,7 @@
 -- in a few hundred passes where it took thousands, or never did.
 module VProf.Profile.Generate.Seed.MeetSpec (spec) where
 
+import Control.Monad (forM_)
 import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 
@@ -14,7 +15,10 @@ import Support.Routes (violations)
 import VProf.Profile.Generate.RubberBand (PassResult (..), pass)
 import VProf.Profile.Generate.Seed (seed)
 import VProf.Profile.Generate.Seed.Meet (meetWith)
-import VProf.Profile.Generate.Seed.Strategy (Strategy (..), limitCruise, peakPlateau)
+import VProf.Profile.Generate.Seed.Brake (fullJerkHolds, jerkPlanMargins)
+import VProf.Profile.Generate.Seed.Join (MeetContext (..), meetContext)
+import VProf.Profile.Generate.Seed.Strategy (Strategy (..), closestJoin, limitCruise, peakCloseSteps, peakPlateau, probeLevel)
+import VProf.Profile.Problem.Transform (scaleJerk)
 import VProf.Profile.Request
 import VProf.Units
 
@@ -54,8 +58,39 @@ peakAt02ms :: Problem
 peakAt02ms = movingEnd 23.854638629956025 [(0, 0.43742836974685645), (0.7355858026368827, 17.22487903798239), (21.383101055004506, 2.5468160290529123)]
   (-0.4279434196474358, 1.7773072030000365, -1.0390448548249425, 0.4020435210162162) (0, 0.4065368449362723) 2e-4
 
+-- | A 44 m route at 0.112 ms through 2 zones ending at 4 m/s (bench/fuzz-requests --fine
+-- seed 5, request 13), whose meet joins only on the peak plateau, 0.1 % below an envelope
+-- top of 8.25 m/s: 2.2 million velocity steps to search.
+peakAt0112ms :: Problem
+peakAt0112ms = movingEnd 44.03734688675029 [(0, 27.091167), (31.821324578565523, 13.669146)]
+  (-7.034337804212263, 5.747520758639441, -1.54121810377749, 0.8233518645113116) (0, 3.9981282774608173) 1.119e-4
+
+-- | The meet's context as the seed makes it: the passes planned inside the jerk range where
+-- the full jerk cannot hold.
+contextOf :: Problem -> Either String MeetContext
+contextOf pb = either (Left . show) Right (meetContext True pb q)
+  where q = if fullJerkHolds pb then pb else scaleJerk (1 - head (jerkPlanMargins pb)) pb
+
 spec :: Spec
 spec = describe "the two-sided meet at fine time steps" $ do
+  it "the peak plateau's search ends at a level that joins within 64 velocity steps of one that does not (both probed again), its join legal, on moving ends at 0.112 and 0.2 ms" $
+    forM_ [("44 m at 0.112 ms", peakAt0112ms), ("23.9 m at 0.2 ms", peakAt02ms)] $ \(name, pb) ->
+      case contextOf pb of
+        Left f -> expectationFailure (name ++ ": " ++ f)
+        Right c -> do
+          let top = mcTop c
+              dv = pbDv pb
+              v0 = top * (1 - 0.001)
+          case probeLevel c v0 of
+            (m0, p0 : _) -> do
+              let (vOk, vNo, p) = closestJoin c (top, Nothing) (v0, m0) p0
+              (name, vNo - vOk <= peakCloseSteps * dv) `shouldBe` (name, True)
+              (name, vOk >= v0 && vNo <= top) `shouldBe` (name, True)
+              (name, violations pb p) `shouldBe` (name, [])
+              (name, not (null (snd (probeLevel c vOk)))) `shouldBe` (name, True)
+              (name, vNo == top || null (snd (probeLevel c vNo))) `shouldBe` (name, True)
+            _ -> expectationFailure (name ++ ": the level 0.1 % below the top does not join")
+
   it "a moving end at 0.1 ms: the limit cruise alone, and the peak plateau alone, join passes planned inside the jerk range into a profile legal for the request (judged on the narrowed range, no strategy but the softened plateau joined, after 20 s)" $
     mapM_ (\s -> case meetWith [s] movingEnd01ms of
                    Right v -> violations movingEnd01ms v `shouldBe` []

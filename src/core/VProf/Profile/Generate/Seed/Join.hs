@@ -28,6 +28,7 @@ module VProf.Profile.Generate.Seed.Join
   , cappedOn
     -- * Joins
   , plateau
+  , joinMargin
   , tune
   , leftOver
   , bisectJoin
@@ -234,6 +235,15 @@ overBy dt v (Capped _ _ vi vm gap) k = dt * (vi + vm) / 2 + dt * v * fromIntegra
 
 kUpOf :: Double -> Double -> Capped -> Int
 kUpOf dt v (Capped _ _ vi vm gap) = 1 + max 0 (ceiling ((gap / dt - (vi + vm) / 2) / v - roundingSlack)) :: Int
+
+-- | How much longer the gap between two capped passes is than the shortest a plateau
+-- join can close: one cruise step, less half the end tolerance ('plateau' joins with a
+-- single step when its overshoot is within that). Below zero the passes overlap too far
+-- to join; above it a join fails only where its dent or bump is not legal. It falls as
+-- the level rises towards the envelope's top, smoothly but for jumps of about a step's
+-- distance where a capped pass takes a step more.
+joinMargin :: MeetContext -> Capped -> Double
+joinMargin c (Capped _ _ vi vm gap) = gap - (ctxDt c * (vi + vm) / 2 - ctxTol c / undentedDivisor)
 
 -- | The plateau join at v: one step more than the gap (a dent takes the rest out) or one
 -- fewer (a bump adds it, where the limits leave room above the plateau), the smaller
