@@ -648,8 +648,9 @@ spec = do
       sound rq r `shouldBe` True
       -- the same profile as the generator's own from its seed: the variant changed nothing
       fmap prVelocities (resProfile r) `shouldBe` fmap prVelocities (resProfile (generatePure rq { rqSeedSearch = False }))
-      -- given up at 0.3 s, not at the budget's end
-      (t1 - t0) `shouldSatisfy` (\dt -> dt >= 0.3 && dt < 0.4)
+      -- given up at 0.3 s, not before; the answer within the promised budget and a quarter
+      -- second (the budget's own timeout would have answered NOT_CONVERGED, above)
+      (t1 - t0) `shouldSatisfy` (\dt -> dt >= 0.3 && dt < 0.4 + 0.25)
     it "a tiny time budget still returns the best profile with the checker's verdict on it" $ do
       let rq = defaultRequest { rqTimeBudget = Just (1e-9 *~ second), rqAlgorithm = Thesis }
       r <- generate rq
