@@ -238,12 +238,12 @@ kUpOf dt v (Capped _ _ vi vm gap) = 1 + max 0 (ceiling ((gap / dt - (vi + vm) / 
 
 -- | How much longer the gap between two capped passes is than the shortest a plateau
 -- join can close: one cruise step, less half the end tolerance ('plateau' joins with a
--- single step when its overshoot is within that). Below zero the passes overlap too far
--- to join; above it a join fails only where its dent or bump is not legal. It falls as
--- the level rises towards the envelope's top, smoothly but for jumps of about a step's
--- distance where a capped pass takes a step more.
-joinMargin :: MeetContext -> Capped -> Double
-joinMargin c (Capped _ _ vi vm gap) = gap - (ctxDt c * (vi + vm) / 2 - ctxTol c / undentedDivisor)
+-- single step when its overshoot, 'overBy' one step, is within that). Below zero the
+-- passes overlap too far to join; above it a join fails only where its dent or bump is
+-- not legal. It falls as the level rises towards the envelope's top, smoothly but for
+-- jumps of about a step's distance where a capped pass takes a step more.
+joinMargin :: MeetContext -> Double -> Capped -> Double
+joinMargin c v cp = ctxTol c / undentedDivisor - overBy (ctxDt c) v cp 1
 
 -- | The plateau join at v: one step more than the gap (a dent takes the rest out) or one
 -- fewer (a bump adds it, where the limits leave room above the plateau), the smaller

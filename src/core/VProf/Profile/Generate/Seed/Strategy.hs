@@ -147,7 +147,7 @@ peakPlateau = Strategy "peak plateau" $ \c ->
 -- its capped passes ('joinMargin'; none where the passes cannot be capped there).
 probeLevel :: MeetContext -> Double -> (Maybe Double, [U.Vector Double])
 probeLevel c v = case around c v of
-  Just (alpha, beta) | Just cp <- capped c v alpha beta -> (Just (joinMargin c cp), maybe [] pure (plateau c v cp))
+  Just (alpha, beta) | Just cp <- capped c v alpha beta -> (Just (joinMargin c v cp), maybe [] pure (plateau c v cp))
   _ -> (Nothing, [])
 
 -- | The join at the highest level between vNo, which does not join, and vOk, which joins
