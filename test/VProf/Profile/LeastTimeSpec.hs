@@ -4,6 +4,7 @@
 -- or whose limits are below the checker's resolution for their time step.
 module VProf.Profile.LeastTimeSpec (spec) where
 
+import qualified Data.ByteString.Lazy as BL
 import Data.List (isInfixOf)
 import qualified Data.Vector.Unboxed as U
 import System.IO.Unsafe (unsafePerformIO)
@@ -12,12 +13,13 @@ import Test.QuickCheck hiding (generate, Result)
 
 import Support.Arbitrary (propertyCount)
 import Support.Wide (logUniform)
-import VProf.Profile.Generate (generate)
+import VProf.Profile.Format.Json (requestFromJson)
+import VProf.Profile.Generate (generate, generatePure)
 import VProf.Profile.LeastTime
 import VProf.Profile.Legality (check)
 import VProf.Profile.Request
 import VProf.Profile.Result
-import VProf.Profile.Sampled (Profile (..))
+import VProf.Profile.Sampled (Profile (..), trapezoidDistances)
 import VProf.Units
 
 cases :: Int
@@ -87,6 +89,22 @@ spec = do
                        (null (check pb p) && n >= problemLeastSamples pb)
                 (Failed f, _) -> label ("not generated: " ++ takeWhile (/= ' ') (show f)) True
                 _ -> label "not generated" True
+
+  it "a profile may stop short of the route end within its end tolerance, and the bound counts the route less it (a 9 m route whose last 3.1 m are at 0.95 mm/s: 5.0 mm short, 91 samples fewer than its zones at their limits over the whole route)" $ do
+    Right rq <- requestFromJson <$> BL.readFile "test/data/slow-end-short-9m.json"
+    Right pb <- pure (validate rq)
+    let r = generatePure rq
+        zones = zip (U.toList (pbZoneStarts pb)) (U.toList (pbZoneSpeeds pb))
+    resOutcome r `shouldBe` Generated
+    Just p <- pure (resProfile r)
+    let n = fromIntegral (U.length (prVelocities p) - 1) :: Double
+        sEnd = U.last (trapezoidDistances (prDt p) (prVelocities p))
+    check pb p `shouldBe` []
+    -- short of the end, within the tolerance (1 cm)
+    sEnd `shouldSatisfy` (\x -> x < pbLength pb - 1e-3 && x >= pbLength pb - pbTol pb)
+    -- the zones at their limits over the whole route need more samples than it has
+    n `shouldSatisfy` (< leastSamples (pbLength pb) (pbDt pb) zones)
+    n `shouldSatisfy` (>= problemLeastSamples pb)
 
   describe "validation" $ do
     let msgs rq = either (map renderFieldError) (const []) (validate rq)
