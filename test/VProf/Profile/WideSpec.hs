@@ -32,7 +32,7 @@ import Support.Wide
 import VProf.Profile.Format.Json (requestFromJson)
 import VProf.Profile.Generate
 import qualified Data.Vector.Unboxed as U
-import VProf.Profile.Generate.Seed (SeedFailure (..), SeedPlan (..), ladderSamples, mirror, restFrom, restWithinJerk, seed, seedPlan, seedVariants)
+import VProf.Profile.Generate.Seed (SeedFailure (..), SeedPlan (..), ladderSamples, mirror, restFrom, restWithinJerk, seed, seedPlan, seedVariants, throughRestBy)
 import VProf.Profile.Problem (endsInMotion)
 import VProf.Profile.Generate.Seed.Brake (fullJerkHolds)
 import VProf.Profile.Legality (Rule (..), Violation (..), check, renderViolation)
@@ -317,6 +317,22 @@ spec = describe "the wide world of requests" $ do
             Right v -> label (either (const "seeded through rest: the meet finds no join") (const "seeded by the meet") (seed pb)) $
               let bad = filter ((/= Crawl) . vRule) (check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)))
               in counterexample (show (take 3 bad)) (null bad)
+
+  it "a seed variant through rest is left out only where it cannot beat the seed (its landing's least samples, over the route less the tolerance, and its run-in are already as many): the same variant run in full finds nothing shorter" $
+    withMaxSuccess cases $ property $ \(WideRequest rq) -> case validate rq of
+      Left _ -> label "refused by validation" True
+      Right pb
+        | not (endsInMotion pb && pbSeedSearch pb) -> label "ends at rest, or no seed search" True
+        | problemLeastSamples pb > 20000 -> label "over 20,000 samples (left out)" True
+        | otherwise -> case seed pb of
+            Left _ -> label "no seed" True
+            Right v ->
+              let limit = U.length v - 2
+                  shorter = maybe Nothing (\w -> if U.length w < U.length v then Just w else Nothing)
+                  full = shorter (throughRestBy False pb limit)
+                  pruned = shorter (throughRestBy True pb limit)
+              in label (maybe "no shorter profile through rest" (const "a shorter profile through rest") full) $
+                   counterexample (show (fmap U.length full, fmap U.length pruned)) (full == pruned)
 
   it "the 12 m route at 0.17 ms ending at 1 m/s under a budget the meet fits in: converged, and faster than the 8.913 s profile through rest (6.954 s: with the whole route's end in the brake bound's reach the passes stopped at 11.15 m before the run-in)" $ do
     r <- generate . (\rq -> rq { rqTimeBudget = Just (60 *~ second) }) =<< runInFine12m

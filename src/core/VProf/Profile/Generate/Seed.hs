@@ -21,6 +21,7 @@ module VProf.Profile.Generate.Seed
   , variantsApply
   , ladderSamples
   , seedVariants
+  , throughRestBy
   , improveSeed
   , Variant
   , SeedFailure (..)
@@ -43,7 +44,7 @@ import VProf.Profile.Legality (Rule (..), Violation (..), check, legalButCrawl)
 import VProf.Profile.Problem (Problem (..), endsInMotion)
 import VProf.Profile.Sampled (Profile (..), trapezoidDistances)
 import VProf.Profile.Problem.Transform (mirror, scaleJerk)
-import VProf.Profile.Request (maxSamples)
+import VProf.Profile.Request (maxSamples, problemLeastSamples)
 
 -- | Levels of lead-in: a first step, and one more within the rest.
 leadInDepth :: Int
@@ -255,11 +256,11 @@ data SeedPlan = SeedPlan
 -- | 'bestSeed''s order for a problem (lazy: each part is computed when it is used).
 seedPlan :: Problem -> SeedPlan
 seedPlan pb = uncurry SeedPlan $ case seed pb of
-  -- the head of a moving end's variants is the seed through rest ('seedVariants'); what it
-  -- returns the checker has found legal for the problem, a crawl aside. A proof that the
-  -- end state cannot be reached is kept: no profile can be legal.
-  Left f@(LandingFailed _) | endsInMotion pb && pbSeedSearch pb, viaRest : rest <- variants ->
-    maybe (Left f, variants) (\r -> (Right r, rest)) (viaRest ladderSamples)
+  -- the head of a moving end's variants is the seed through rest ('seedVariants'), here of
+  -- any length; what it returns the checker has found legal for the problem, a crawl aside.
+  -- A proof that the end state cannot be reached is kept: no profile can be legal.
+  Left f@(LandingFailed _) | endsInMotion pb && pbSeedSearch pb, _viaRest : rest <- variants ->
+    maybe (Left f, variants) (\r -> (Right r, rest)) (throughRestBy False pb ladderSamples)
   r -> (r, variants)
   where variants = seedVariants pb
 
@@ -311,7 +312,14 @@ seedVariants pb
 -- 12 m route at 0.17 ms: the run-in of 9,072 samples broke it by 3e-9 m/s³ in 418
 -- samples, and the 8.9 s profile through rest lost to the meet's 11.2 s).
 throughRest :: Problem -> Variant
-throughRest q limit = firstLegal (jerkPlanLadder q)
+throughRest = throughRestBy True
+
+-- | 'throughRest' for a seed variant (True: only a profile shorter than @limit@ + 2 samples
+-- counts, and a landing that cannot give one is not run, 'stopCannotWin'), or as the seed
+-- when the meet found none (False: any length, the landing up to its @limit@ steps, or a
+-- start too fast to stop braked past the route end within its tolerance).
+throughRestBy :: Bool -> Problem -> Variant
+throughRestBy shorterOnly q limit = firstLegal (jerkPlanLadder q)
   where
     firstLegal [] = Nothing
     firstLegal (tq : rest) = case throughRestWith tq of
@@ -325,8 +333,23 @@ throughRest q limit = firstLegal (jerkPlanLadder q)
       let dE = U.last (trapezoidDistances (pbDt q) tailV)
           restPb = q { pbLength = pbLength q - dE, pbVEnd = 0, pbAEnd = 0 }
       if pbLength restPb <= 0 || sinksBelowZero restPb then Nothing else Just ()
+      -- no landing shorter than the least time allows, so none that could win: then the
+      -- pass, up to the limit, is not run
+      if shorterOnly && stopCannotWin restPb (U.length tailV) limit then Nothing else Just ()
       v <- either (const Nothing) Just (landing (limit - U.length tailV) restPb)
       pure (v U.++ tailV)
+
+-- | A profile through rest whose landing is on this problem (it ends at rest) and whose
+-- run-in has this many samples cannot be shorter than @limit@ + 2 samples, the best seed's
+-- length ('improveSeed'): the landing takes at least 'problemLeastSamples' steps (a bound
+-- on every legal profile of its problem), so its samples and the run-in's are at least that
+-- and one more. A landing that has no chance so is not run: on a 44 m route at 0.112 ms
+-- ending at 4 m/s (bench/fuzz-requests --fine seed 5, request 13), stopping before the
+-- run-in of 34,496 samples needs at least 126,132 samples where the best seed has 85,097,
+-- and the six variants through rest each ran a pass of some 0.45 s to find that out.
+stopCannotWin :: Problem -> Int -> Int -> Bool
+stopCannotWin restPb tailSamples limit =
+  problemLeastSamples restPb + fromIntegral tailSamples + 1 >= fromIntegral limit + 2
 
 -- | The problems a braking is planned on in turn while it breaks the jerk rule alone: the
 -- problem itself, then its jerk range narrowed by each of the 'jerkPlanMargins'; where the
