@@ -8,6 +8,7 @@
 module VProf.Profile.Generate.Seed.BrakeSpec (spec) where
 
 import qualified Data.Vector.Unboxed as U
+import GHC.Float (castDoubleToWord64)
 import Test.Hspec
 import Test.QuickCheck
 
@@ -72,6 +73,24 @@ hardStop pb st0 = go st0 (stV st0) (0 :: Int)
       | n > 4000000 = (stS st - stS st0, vTop, fromIntegral n * pbDt pb, False)
       | otherwise = let st' = stepTo e st (brakeAcc e st) in go st' (max vTop (stV st')) (n + 1)
 
+-- | 'brakeBound' with every term written out at every step (as in
+-- docs/profile-generator.md): the reference for its constants computed once a braking and
+-- its terms of a⁺ or a_f dropped where they are zero.
+boundWrittenOut :: Problem -> St -> (Double, Double)
+boundWrittenOut pb (St v a _) =
+  let dt = pbDt pb
+      ap = max 0 a
+      af = max 0 (negate a)
+      jm = abs (pbJMin pb); jp = pbJMax pb; am = abs (pbAMin pb)
+      vPeak = v + ap * ap / (2 * jm) + ap * dt
+      extra = 6 * dt
+      full = vPeak * (ap / jm + am / jm + am / jp + extra) + vPeak * vPeak / (2 * am)
+      c = 1 / jm + 1 / jp
+      triangle
+        | 2 * vPeak + af * af / jm <= am * am * c = vPeak * (ap / jm + af / jp + sqrt (2 * vPeak * c) + extra)
+        | otherwise = 1 / 0
+  in (min full triangle, vPeak)
+
 -- | Every state 'quickNeed' accepts keeps every rule when its braking is run step by step
 -- (beyond rounding), over the cases drawn.
 quickNeedSound :: Gen (Problem, St, Term) -> Property
@@ -100,6 +119,14 @@ spec = describe "the oracle's bounds, its fast test and the jerk margins" $ do
            counterexample (show (pb, stV st, stA st, (d, vPeak), (dist, vTop, dur, stopped), triangle)) $
              stopped ==> dist <= d * (1 + 1e-12) && vTop <= vPeak + 1e-12 * max 1 vPeak
                          && (not short || dur <= triangle * (1 + 1e-12))
+
+  it "brakeBound is its formula written out, to the bit (the oracle computes its constants once a braking and leaves out the zero terms): rising, falling and zero accelerations, at rest too" $
+    withMaxSuccess 5000 $ forAllBlind genCase $ \(pb, St v a s, _) -> forAll (elements [a, 0, -0.0, negate a]) $ \a' -> forAll (elements [v, 0, -0.0]) $ \v' ->
+      let st = St v' a' s
+          bits (x, y) = (castDoubleToWord64 x, castDoubleToWord64 y)
+          got = brakeBound (seedEnv pb (Term (1 / 0) (1 / 0)) True) st
+          want = boundWrittenOut pb st
+      in counterexample (show (pb, v', a', got, want)) (bits got == bits want)
 
   it "quickNeed accepts only states whose braking, run step by step, keeps every rule (rising and falling accelerations)" $
     quickNeedSound genCase
