@@ -202,6 +202,16 @@ convergesInFewPasses rq = do
   resIterations r `shouldSatisfy` (<= 10)
   sound rq r `shouldBe` True
 
+-- | A property over the wide requests that end in motion, with the seed search, of at most
+-- 20,000 samples; the others are labelled and pass.
+onMovingEnd :: (Problem -> Property) -> WideRequest -> Property
+onMovingEnd k (WideRequest rq) = case validate rq of
+  Left _ -> label "refused by validation" True
+  Right pb
+    | not (endsInMotion pb && pbSeedSearch pb) -> label "ends at rest, or no seed search" True
+    | problemLeastSamples pb > 20000 -> label "over 20,000 samples (left out)" True
+    | otherwise -> k pb
+
 loadRequest :: FilePath -> IO Request
 loadRequest f = either (error . ((f ++ ": ") ++)) withLongBudget . requestFromJson <$> BL.readFile f
   where withLongBudget rq = rq { rqTimeBudget = Just (30 *~ second) }
@@ -302,37 +312,27 @@ spec = describe "the wide world of requests" $ do
       (_, []) -> expectationFailure "no seed variants"
 
   it "a moving end's first seed is the meet's, legal, or where the meet finds no join the seed through rest: never a failure to join where the seed through rest is legal" $
-    withMaxSuccess cases $ property $ \(WideRequest rq) -> case validate rq of
-      Left _ -> label "refused by validation" True
-      Right pb
-        | not (endsInMotion pb && pbSeedSearch pb) -> label "ends at rest, or no seed search" True
-        | problemLeastSamples pb > 20000 -> label "over 20,000 samples (left out)" True
-        | otherwise -> case spSeed (seedPlan pb) of
-            Left (LandingFailed m) ->
-              label "the meet finds no join" $ counterexample m $
-                case seedVariants pb of
-                  viaRest : _ -> counterexample "the seed through rest is legal" (null (viaRest ladderSamples))
-                  [] -> property True
-            Left _ -> label "proven unreachable or over the cap" True
-            Right v -> label (either (const "seeded through rest: the meet finds no join") (const "seeded by the meet") (seed pb)) $
-              let bad = filter ((/= Crawl) . vRule) (check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)))
-              in counterexample (show (take 3 bad)) (null bad)
+    withMaxSuccess cases $ property $ onMovingEnd $ \pb -> case spSeed (seedPlan pb) of
+      Left (LandingFailed m) ->
+        label "the meet finds no join" $ counterexample m $
+          case seedVariants pb of
+            viaRest : _ -> counterexample "the seed through rest is legal" (null (viaRest ladderSamples))
+            [] -> property True
+      Left _ -> label "proven unreachable or over the cap" True
+      Right v -> label (either (const "seeded through rest: the meet finds no join") (const "seeded by the meet") (seed pb)) $
+        let bad = filter ((/= Crawl) . vRule) (check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)))
+        in counterexample (show (take 3 bad)) (null bad)
 
   it "a seed variant through rest is left out only where it cannot beat the seed (its landing's least samples, over the route less the tolerance, and its run-in are already as many): the same variant run in full finds nothing shorter" $
-    withMaxSuccess cases $ property $ \(WideRequest rq) -> case validate rq of
-      Left _ -> label "refused by validation" True
-      Right pb
-        | not (endsInMotion pb && pbSeedSearch pb) -> label "ends at rest, or no seed search" True
-        | problemLeastSamples pb > 20000 -> label "over 20,000 samples (left out)" True
-        | otherwise -> case seed pb of
-            Left _ -> label "no seed" True
-            Right v ->
-              let limit = U.length v - 2
-                  shorter = maybe Nothing (\w -> if U.length w < U.length v then Just w else Nothing)
-                  full = shorter (throughRestBy False pb limit)
-                  pruned = shorter (throughRestBy True pb limit)
-              in label (maybe "no shorter profile through rest" (const "a shorter profile through rest") full) $
-                   counterexample (show (fmap U.length full, fmap U.length pruned)) (full == pruned)
+    withMaxSuccess cases $ property $ onMovingEnd $ \pb -> case seed pb of
+      Left _ -> label "no seed" True
+      Right v ->
+        let limit = U.length v - 2
+            shorter = maybe Nothing (\w -> if U.length w < U.length v then Just w else Nothing)
+            full = shorter (throughRestBy False pb limit)
+            pruned = shorter (throughRestBy True pb limit)
+        in label (maybe "no shorter profile through rest" (const "a shorter profile through rest") full) $
+             counterexample (show (fmap U.length full, fmap U.length pruned)) (full == pruned)
 
   it "the 12 m route at 0.17 ms ending at 1 m/s under a budget the meet fits in: converged, and faster than the 8.913 s profile through rest (6.954 s: with the whole route's end in the brake bound's reach the passes stopped at 11.15 m before the run-in)" $ do
     r <- generate . (\rq -> rq { rqTimeBudget = Just (60 *~ second) }) =<< runInFine12m

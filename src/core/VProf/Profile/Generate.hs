@@ -188,9 +188,9 @@ generateWithPlan pb plan = do
 
 -- | What a budget spent before the first profile suggests, with the fewest samples the route
 -- needs: a seed costs up to some microseconds a sample, and a fine time step makes hundreds of
--- thousands of them (at 0.1-1 ms 3 and 4 of the 30 random routes of 1-300 m of
+-- thousands of them (at 0.1-1 ms 3 and 2 of the 30 random routes of 1-300 m of
 -- bench/fuzz-requests --fine's seeds 5 and 6 are still seeding after 1 s, the default budget;
--- all 48 of its seeds 1 and 2 are answered within 20 s).
+-- all 120 of its seeds 1, 2, 5 and 6 are answered within 20 s).
 roomHint :: Problem -> String
 roomHint pb =
   "; the profile needs at least " ++ show (ceiling (problemLeastSamples pb) :: Int) ++ " samples at time_step "

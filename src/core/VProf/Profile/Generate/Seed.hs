@@ -345,7 +345,7 @@ throughRestBy shorterOnly q limit = firstLegal (jerkPlanLadder q)
 -- on every legal profile of its problem), so its samples and the run-in's are at least that
 -- and one more. A landing that has no chance so is not run: on a 44 m route at 0.112 ms
 -- ending at 4 m/s (bench/fuzz-requests --fine seed 5, request 13), stopping before the
--- run-in of 34,496 samples needs at least 126,132 samples where the best seed has 85,097,
+-- run-in of 34,496 samples needs at least 126,124 samples where the best seed has 85,097,
 -- and the six variants through rest each ran a pass of some 0.45 s to find that out.
 stopCannotWin :: Problem -> Int -> Int -> Bool
 stopCannotWin restPb tailSamples limit =

@@ -346,9 +346,10 @@ brakeBound e (St v a _) = brakeBoundK (boundConsts e) v a
 -- | The constants of 'brakeBound' for a pass's environment, computed once for a braking
 -- run step by step ('brakeSimulate') rather than at every step: the same operations on the
 -- same numbers, so the bound is the same to the bit (BrakeSpec), and the oracle's steps
--- some 15 % faster (with the halvings below: fine seed 5 #13, 5.25 -> 4.38 s). In order: |j_min|, j_max, |a_min|, dt, the
--- 'boundExtraSteps' time, a_min/|j_min|, a_min/j_max, their sum and the extra time (the full
--- ramps' time with no positive acceleration), c = 1/|j_min| + 1/j_max, and a_min²·c.
+-- some 15 % faster (with the halvings by multiplying: fine seed 5 #13, 5.25 -> 4.38 s). In
+-- order: |j_min|, j_max, |a_min|, dt, the 'boundExtraSteps' time, a_min/|j_min|,
+-- a_min/j_max, their sum and the extra time (the full ramps' time with no positive
+-- acceleration), c = 1/|j_min| + 1/j_max, and a_min²·c.
 data BoundK = BoundK !Double !Double !Double !Double !Double !Double !Double !Double !Double !Double
 
 boundConsts :: SeedEnv -> BoundK
