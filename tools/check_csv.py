@@ -18,7 +18,10 @@ import csv, json, math, sys
 def main():
     if len(sys.argv) != 3:
         print(__doc__); return 2
-    req = json.load(open(sys.argv[1]))
+    raw = json.load(open(sys.argv[1]))
+    # proto3 JSON: a field may be spelled as in the .proto (snake_case) or in lowerCamelCase
+    snake = lambda k: "".join("_" + c.lower() if c.isupper() else c for c in k)
+    req = {snake(k): x for k, x in raw.items()}
     rows = list(csv.DictReader(open(sys.argv[2])))
     if not rows or list(rows[0].keys()) != ["t", "s", "v", "a", "j"]:
         print("bad CSV header: want t,s,v,a,j"); return 2
@@ -28,9 +31,11 @@ def main():
     if bad_numbers:
         print(f"ILLEGAL: {len(bad_numbers)} value(s) not finite"); [print("  " + b) for b in bad_numbers[:10]]; return 1
     g = lambda k, d=0.0: float(req.get(k, d) or d)
-    L = g("route_length"); tol = g("end_tolerance") or 0.01
+    # the contract's default end tolerance: 1 cm, or a tenth of a route shorter than 10 cm
+    L = g("route_length"); tol = g("end_tolerance") or min(0.01, L / 10)
     amin, amax, jmin, jmax = g("min_acceleration"), g("max_acceleration"), g("min_jerk"), g("max_jerk")
-    zones = sorted((float(z.get("start_distance", 0) or 0), float(z["velocity"])) for z in req["speed_limits"])
+    zones = sorted((float(z.get("start_distance", z.get("startDistance", 0)) or 0), float(z["velocity"]))
+                   for z in req["speed_limits"])
     eps = lambda x: 1e-9 * max(1.0, abs(x))
     bad = []
     n = len(v) - 1
@@ -43,8 +48,9 @@ def main():
         if abs(s[k] - s_csv[k]) > 1e-6 * max(1, s[k]): bad.append(f"s[{k}]={s_csv[k]} but the trapezoid gives {s[k]}")
         if v[k] < -eps(0): bad.append(f"v[{k}]={v[k]} < 0")
     def lowest(a, b):
+        # the first zone also covers a distance a rounding error before the route's start
         lims = [lim for i, (st, lim) in enumerate(zones)
-                if st <= b and (i + 1 == len(zones) or zones[i + 1][0] > a)]
+                if (st <= b or i == 0) and (i + 1 == len(zones) or zones[i + 1][0] > a)]
         return min(lims)
     for k in range(n):
         top, lim = max(v[k], v[k + 1]), lowest(s[k], s[k + 1])
