@@ -42,7 +42,8 @@ test-metamorphic: deps
 # every example through the CLI as CSV, checked by an independent Python checker (and a 0.87 mm
 # request in proto3 JSON's lowerCamelCase: its end tolerance is a tenth of the route, the
 # contract's default for a route under 10 cm, and with 1 cm its first sample would be a crawl);
-# and the checker itself must reject a profile broken on purpose
+# and the checker itself must reject a profile broken on purpose; every command whose standard
+# output is full (/dev/full) exits 2 saying so
 check-examples: build
 	@set -e; tmp=$$(mktemp -d); \
 	for f in examples/*.json; do \
@@ -59,6 +60,14 @@ check-examples: build
 	$(STACK) exec vprof -- check examples/simple.json $$tmp/p.csv; \
 	if $(STACK) exec vprof -- check examples/simple.json $$tmp/broken.csv > /dev/null; then \
 	  echo "vprof check accepted a broken profile"; exit 1; else echo "vprof check rejects a broken profile: ok"; fi; \
+	if [ -w /dev/full ]; then \
+	  for args in "examples/simple.json" "check examples/simple.json $$tmp/p.csv" "robots" "fk ur5 0 0 0 0 0 0" \
+	              "compress examples/freiburg-40.csv --points 10" "select examples/cell-task.yaml --robots ur5" \
+	              "plan examples/plan-square.csv --robot ur5 --format csv"; do \
+	    rc=0; $(STACK) exec vprof -- $$args > /dev/full 2> $$tmp/err || rc=$$?; \
+	    if [ $$rc != 2 ] || ! grep -q "cannot write" $$tmp/err; then \
+	      echo "vprof $$args > /dev/full: exit $$rc, not 2 with 'cannot write':"; cat $$tmp/err; exit 1; fi; \
+	  done; echo "a full standard output is exit 2, said, for every command: ok"; fi; \
 	rm -rf $$tmp
 
 include mk/daemon.mk

@@ -4,8 +4,13 @@ module VProf.Cli
   ( main
   ) where
 
+import Control.Exception (IOException, try)
 import Options.Applicative
 import System.Exit
+import System.IO (hFlush, hPutStrLn, stderr, stdout)
+import System.IO.Error (ioeGetFileName)
+
+import VProf.Format.IOError (ioWriteReason)
 
 import VProf.Cli.Compress (compressCommand)
 import VProf.Cli.Kinematics (fkCommand, ikCommand, robotsCommand)
@@ -19,8 +24,24 @@ import VProf.Version (versionString)
 main :: IO ()
 main = do
   action <- customExecParser (prefs showHelpOnEmpty) (info (commands <**> helper <**> versionFlag) desc)
-  action >>= exitWith
+  -- the commands say what they could not read or write; an output that fails where a
+  -- command does not look (standard output full or closed, most often) is said here, exit
+  -- 2 as a bad output, never a raw exception or a silent exit 0 (the buffer flushed at exit).
+  -- A command that said so itself (exit 2) is not said again for what its buffer still holds.
+  r <- try action
+  case r of
+    Left e -> cannotWrite e
+    Right code -> try (hFlush stdout) >>= \case
+      Left e | code /= ExitFailure 2 -> cannotWrite e
+      _ -> exitWith code
   where
+    cannotWrite (e :: IOException) = do
+      let what = case ioeGetFileName e of
+            Just "<stdout>" -> "standard output"
+            Just f -> f
+            Nothing -> "the output"
+      hPutStrLn stderr ("vprof: cannot write " ++ what ++ ": " ++ ioWriteReason e)
+      exitWith (ExitFailure 2)
     versionFlag = infoOption versionString (long "version" <> help "print the version")
     desc = fullDesc
       <> failureCode 2

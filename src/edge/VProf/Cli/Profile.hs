@@ -93,7 +93,8 @@ runGenerate o = do
           summaryHandle = if toStdout then stderr else stdout
           -- an output that cannot be written is a bad option: exit 2 naming the file
           writing = Out.writing "vprof"
-      hPutStr summaryHandle (summary res)
+      okSum <- if toStdout then True <$ hPutStr stderr (summary res)
+               else writing "the summary to standard output" (putStr (summary res))
       okOut <- case (fmt, resOutcome res) of
         -- CSV and the table hold only a profile: with none, a file named by -o is left as it
         -- was (an empty one took its place); protobuf and JSON carry the error instead
@@ -107,7 +108,7 @@ runGenerate o = do
           writing plotPath (plotProfile plotPath "vprof velocity profile" pb p >> hPutStrLn summaryHandle ("plot:          " ++ plotPath))
         _ -> pure True
       pure $ case resOutcome res of
-        _ | not (okOut && okPlot) -> ExitFailure 2
+        _ | not (okSum && okOut && okPlot) -> ExitFailure 2
         Generated -> ExitSuccess
         Failed (InvalidRequest _) -> ExitFailure 2
         Failed _ -> ExitFailure 1

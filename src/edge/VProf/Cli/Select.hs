@@ -13,6 +13,7 @@ module VProf.Cli.Select
   , runSelect
   ) where
 
+import Control.Monad (when)
 import qualified Data.Aeson as A
 import qualified Data.ByteString.Lazy.Char8 as BLC
 import Data.Char (toLower)
@@ -93,17 +94,20 @@ runSelect a = do
               -- the robots are independent: one worker per core
               evaluated <- evaluateRobots caps defaultSelectOptions task bvh rs
               let ranked = scoreAndRank evaluated
-              case saFormat a of
+              -- an output that cannot be written is a bad output (exit 2), naming it
+              let writing = Out.writing "vprof select"
+              okOut <- writing "standard output" $ case saFormat a of
                 Table -> putStr (renderTable task ranked)
                 Json -> BLC.putStrLn (A.encode (selectionJson task ranked))
-              case (saPlot a, filter robotComplete ranked ++ filter (\r -> rrReached r > 0) ranked) of
+              okPlot <- case (saPlot a, filter robotComplete ranked ++ filter (\r -> rrReached r > 0) ranked) of
                 (Just file, best : _) -> do
                   let robot = head [placeRobot task r | (k, r) <- rs, k == rrKey best]
-                  plotSelection file task mesh robot best
-                  hPutStrLn stderr ("vprof select: wrote " ++ file ++ " (" ++ rrKey best ++ ")")
-                (Just _, []) -> hPutStrLn stderr "vprof select: no plot: no robot reaches any target"
-                _ -> pure ()
-              pure (if any robotComplete ranked then ExitSuccess else ExitFailure 1)
+                  ok <- writing file (plotSelection file task mesh robot best)
+                  ok <$ when ok (hPutStrLn stderr ("vprof select: wrote " ++ file ++ " (" ++ rrKey best ++ ")"))
+                (Just _, []) -> True <$ hPutStrLn stderr "vprof select: no plot: no robot reaches any target"
+                _ -> pure True
+              pure $ if not (okOut && okPlot) then ExitFailure 2
+                     else if any robotComplete ranked then ExitSuccess else ExitFailure 1
 
 -- | "all" or a comma-separated list of library names and robot files; the tip link, if given,
 -- for every URDF among them.
