@@ -11,6 +11,7 @@ import Data.Scientific (toRealFloat)
 import qualified Data.Vector as V
 import Data.List (isPrefixOf)
 import qualified Data.Vector.Unboxed as U
+import System.Directory (doesFileExist)
 import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
 import System.IO.Temp (withSystemTempDirectory)
@@ -97,6 +98,34 @@ spec = do
           other -> expectationFailure ("stops_m: " ++ show other)
         writeFile p (unlines [ "time,x,y,z,qw,qx,qy,qz", "0,0.40,-0.10,0.30,0,1,0,0", "1,0.50,-0.10,0.30,0,1,0,0", "2,0.50,-0.10,0.30,0,1,0,0" ])
         run [p, "--robot", "ur5"] `shouldReturn` ExitFailure 2
+    it "a task's path file is read as the path itself is: a zero quaternion or times that go back are exit 2 either way (through a task they went on, as NaN or unnoticed)" $
+      withSystemTempDirectory "vprof-plan" $ \tmp -> do
+        let task = tmp </> "task.yaml"; p = tmp </> "path.csv"
+            paths = [ ["0,0.40,-0.10,0.30,0,0,0,0", "1,0.50,-0.10,0.30,0,1,0,0"]
+                    , ["1,0.40,-0.10,0.30,0,1,0,0", "0,0.50,-0.10,0.30,0,1,0,0"] ]
+        writeFile task (unlines ["payload: 1", "clearance: 0.01", "path:", "  file: path.csv"])
+        mapM_ (\rows -> do
+                writeFile p (unlines ("time,x,y,z,qw,qx,qy,qz" : rows))
+                run [p, "--robot", "ur5"] `shouldReturn` ExitFailure 2
+                run [task, "--robot", "ur5"] `shouldReturn` ExitFailure 2) paths
+        writeFile p (unlines ["time,x,y,z,qw,qx,qy,qz", "0,0.40,-0.10,0.30,0,1,0,0", "1,0.50,-0.10,0.30,0,1,0,0"])
+        run [task, "--robot", "ur5"] `shouldReturn` ExitSuccess
+    it "a task's payload above the robot's rating is exit 1 (it was planned: 10000 kg on a UR5); at the rating exit 0" $
+      withSystemTempDirectory "vprof-plan" $ \tmp -> do
+        let task = tmp </> "task.yaml"; p = tmp </> "path.csv"
+        writeFile p (unlines ["time,x,y,z,qw,qx,qy,qz", "0,0.40,-0.10,0.30,0,1,0,0", "1,0.50,-0.10,0.30,0,1,0,0"])
+        writeFile task (unlines ["payload: 10000", "clearance: 0.01", "path:", "  file: path.csv"])
+        run [task, "--robot", "ur5"] `shouldReturn` ExitFailure 1
+        writeFile task (unlines ["payload: 5", "clearance: 0.01", "path:", "  file: path.csv"])
+        run [task, "--robot", "ur5"] `shouldReturn` ExitSuccess
+    it "--acceleration or --jerk too weak for --dt is exit 2 naming the option (was exit 1, 'no legal profile', under the generator's field names); just above the least, exit 0" $ do
+      run ["examples/plan-square.csv", "--robot", "ur5", "--jerk", "1e-6"] `shouldReturn` ExitFailure 2
+      run ["examples/plan-square.csv", "--robot", "ur5", "--acceleration", "1e-12"] `shouldReturn` ExitFailure 2
+      run ["examples/plan-square.csv", "--robot", "ur5", "--jerk", "7e-4", "--dt", "0.004"] `shouldReturn` ExitSuccess
+    it "an -o that cannot be written (/dev/full) is exit 2, not an exception" $ do
+      full <- doesFileExist "/dev/full"
+      if not full then pendingWith "no /dev/full here" else
+        run ["examples/plan-square.csv", "--robot", "ur5", "-o", "/dev/full"] `shouldReturn` ExitFailure 2
   it "reads RAPID speed data vN as N mm/s and refuses anything else" $ do
     parseSpeedData "v500" `shouldBe` Right 0.5
     parseSpeedData "V7000" `shouldBe` Right 7

@@ -91,6 +91,16 @@ spec = do
                es <- errorsOf f
                es `shouldSatisfy` any (\e -> "line 3" `isInfixOf` e)
                run [f, "--robots", "ur5"] `shouldReturn` ExitFailure 2) ["zz", "nan"]
+    it "a path file whose times go back, or with a zero quaternion, is refused as vprof plan refuses it (went on: unnoticed, or as a NaN target)" $
+      mapM_ (\(rows, needle) -> withSystemTempDirectory "vprof-select" $ \tmp -> do
+               writeFile (tmp </> "p.csv") (unlines ("time,x,y,z,qw,qx,qy,qz" : rows))
+               f <- writeTask tmp cell "payload: 1\nclearance: 0.01\npath: {file: p.csv}\n"
+               es <- errorsOf f
+               es `shouldSatisfy` any (\e -> "p.csv" `isInfixOf` e && needle `isInfixOf` e)
+               run [f, "--robots", "ur5"] `shouldReturn` ExitFailure 2)
+            [ (["1,0.5,0,0.3,0,1,0,0", "0,0.5,0.1,0.3,0,1,0,0"], "strictly increasing")
+            , (["0,0.5,0,0.3,0,0,0,0", "1,0.5,0.1,0.3,0,1,0,0"], "not a unit quaternion")
+            , (["0,0.5,0,0.3,0,0,0,0"], "not a unit quaternion") ]
   describe "path files as targets" $ do
     it "TUM and vprof compress's CSV: one target a waypoint, in the path's frame, every field read" $
       withSystemTempDirectory "vprof-select" $ \tmp -> do

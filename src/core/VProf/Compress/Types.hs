@@ -93,6 +93,13 @@ recordingFromArraysT what ts xs qs
   | U.length ts < 2 = Left ("need at least 2 " ++ what ++ "s, got " ++ show (U.length ts))
   | otherwise = do
       mapM_ checkT [0 .. U.length ts - 1]
+      -- every time finite, and the times between them too (-1e308 to 1.7e308 s spans
+      -- infinity, and a fit's times became NaN)
+      let span = U.last ts - U.head ts
+      if bad span
+        then Left (what ++ "s 0 to " ++ show (U.length ts - 1) ++ ": the times " ++ show (U.head ts) ++ " to "
+                   ++ show (U.last ts) ++ " s span more than a double holds (about 1.8e308 s)")
+        else Right ()
       mapM_ checkP [0 .. U.length ts - 1]
       qs' <- traverse checkQ [0 .. U.length ts - 1]
       pure (Track ts xs (pfromList qs'))

@@ -35,6 +35,7 @@ module VProf.Plan.Trajectory
 
 import Data.List (group, sort, zip4)
 import GHC.Conc (par)
+import Numeric (showGFloat)
 import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
 
@@ -44,7 +45,7 @@ import VProf.Plan.Limits
 import VProf.Plan.Route
 import VProf.Plan.Track
 import VProf.Profile (Request (..), Result (..), SpeedZone (..), Outcome (..), defaultRequest, generatePure, resultLegal, renderFailure)
-import VProf.Profile.Request (maxSamples)
+import VProf.Profile.Request (maxSamples, speedResolution)
 import VProf.Profile.Sampled (Columns (..), columns, duration)
 import VProf.Profile.Legality (slack)
 import VProf.Units
@@ -270,8 +271,8 @@ descendAdmitted timeOf ok xs =
 validateRequest :: PlanRequest -> [FieldError]
 validateRequest PlanRequest{..} = concat
   [ positive "speed" (si prSpeed) "m/s"
-  , positive "acceleration" (si prAcceleration) "m/s²"
-  , positive "jerk" (si prJerk) "m/s³"
+  , positive "acceleration" (si prAcceleration) "m/s²" `orElse` weak "acceleration" (si prAcceleration) "m/s²" "dt" dt
+  , positive "jerk" (si prJerk) "m/s³" `orElse` weak "jerk" (si prJerk) "m/s³" "dt²" (dt * dt)
   , ensureFinite "dt" dt "s" $ ensure (dt >= minTimeStep && dt <= maxTimeStep) (fieldError "dt" dt "s" timeStepRule)
   , positive "end_tolerance" (si prEndTolerance) "m"
   , case prStart of
@@ -287,6 +288,18 @@ validateRequest PlanRequest{..} = concat
   where
     dt = si prTimeStep
     positive f x u = ensureFinite f x u (ensure (x > 0) (fieldError f x u "must be > 0"))
+    orElse es more = if null es then more else es
+    sig v = showGFloat (Just 2) v ""
+    -- a range whose step changes the speed by no more than the checker's resolution would
+    -- be refused by the generator for every stretch, under its own field names; the
+    -- stretches run at fractions of the acceleration down to a fifth ('accelerationFractions'):
+    -- 'planResolutionMargin' times the generator's least
+    weak f x u by scale
+      | finite dt && dt >= minTimeStep && dt <= maxTimeStep && x * scale <= planResolutionMargin * speedResolution =
+          [fieldError f x u ("is too weak for dt " ++ showNumber dt ++ " s: a step at it would change the speed by "
+                              ++ sig (x * scale) ++ " m/s (" ++ f ++ "·" ++ by ++ "); it must be above "
+                              ++ sig (planResolutionMargin * speedResolution / scale) ++ " " ++ u ++ " at this dt")]
+      | otherwise = []
     outside i j x =
       let Limits lo hi = jointLimits j
           slack = 1e-9 * max 1 (abs x)
@@ -298,6 +311,12 @@ validateRequest PlanRequest{..} = concat
       in ensure (x >= lo - slack && x <= hi + slack)
            (literalError ("start[" ++ show i ++ "]") (shown x)
               ("joint " ++ jointName j ++ " is outside its limits " ++ shown lo ++ " to " ++ shown hi))
+
+-- | How many times the generator's least acceleration and jerk (a step at them changes the
+-- speed by more than 'speedResolution') a plan's ranges must be: its stretches run at
+-- fractions of the acceleration down to a fifth, each scaled to its part's length.
+planResolutionMargin :: Double
+planResolutionMargin = 10
 
 planPath :: PlanRequest -> Either PlanFailure Plan
 planPath rq@PlanRequest{..} = do

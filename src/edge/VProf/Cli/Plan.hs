@@ -40,10 +40,7 @@ import VProf.Cli.Kinematics (loadRobot)
 import qualified VProf.Cli.Output as Out
 import VProf.Format.IOError (ioReason)
 import VProf.Compress.Clean (fileLocator, nonUnitWarning, renderCleanWarning)
-import VProf.Format.Text (dropBom)
-import VProf.Compress.Format.Csv (parseCsv, readCsv)
-import VProf.Compress.Format.Rapid (parseRapid, readRapid)
-import VProf.Compress.Format.Tum (parseTum, readTum)
+import VProf.Compress.Format.Path (PathFile (..), readPathFile)
 import VProf.Compress.Types (Track (..))
 import VProf.Geometry.Bvh (buildBvh)
 import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
@@ -179,19 +176,16 @@ poseTf = \case
 -- @vprof compress@ gives for them on stderr.
 readPath :: FilePath -> IO (Either String Track)
 readPath f = do
-  r <- try (dropBom <$> B.readFile f) :: IO (Either IOException B.ByteString)
+  r <- try (B.readFile f) :: IO (Either IOException B.ByteString)
   case r of
     Left e -> pure (Left (f ++ ": cannot read it: " ++ ioReason e))
     Right src -> do
-      let (samples, track) = case map toLower (takeExtension f) of
-            ".mod" -> (readRapid src, parseRapid src)
-            ".csv" -> (snd <$> readCsv src, parseCsv src)
-            _ -> (readTum src, parseTum src)
+      let path = readPathFile f src
       -- the normalisation is said only of a path that is read (a quaternion too far from a
       -- unit is refused, and "normalised" before the refusal contradicted it)
       mapM_ (\w -> hPutStrLn stderr ("vprof plan: warning: " ++ f ++ ": " ++ renderCleanWarning fileLocator w))
-            (either (const Nothing) (const (either (const Nothing) nonUnitWarning samples)) track)
-      pure (either (Left . ((f ++ ": ") ++)) Right track)
+            (either (const Nothing) (nonUnitWarning . pfSamples) path)
+      pure (pfTrack <$> path)
 
 -- | The core's field names in this command's terms.
 optionName :: String -> Maybe UserField
@@ -235,6 +229,13 @@ runPlan o = do
     _ | Just msg <- clash -> failWith msg
     (Left e, _) -> failWith ("--robot: " ++ e)
     (_, Left e) -> failWith e
+    -- a task's payload above the robot's rating: the robot cannot carry the task's tool and
+    -- part, as 'vprof select' rejects it (the plan stops before it is planned)
+    (Right r0, Right (PathInput _ (Just task)))
+      | Just rated <- robotPayload r0, rated < taskPayload task -> do
+          hPutStrLn stderr ("vprof plan: payload: " ++ robotName r0 ++ " is rated " ++ showNumber rated ++ " kg, and "
+                            ++ poPath o ++ " needs " ++ showNumber (taskPayload task) ++ " kg")
+          pure (ExitFailure 1)
     (Right r0, Right (PathInput wps mtask)) -> do
       env <- loadEnv mtask
       case env of
@@ -294,13 +295,19 @@ runPlan o = do
                       Summary -> BL.pack summary
                       Csv -> renderTrajectoryCsv (planTrajectory plan)
                       Json -> A.encode (planJson r plan)
-                case poOutput o of
-                  Just file -> BL.writeFile file body >> putStr summary
+                -- an output that cannot be written is a bad output (exit 2), naming it
+                let writing = Out.writing "vprof plan"
+                okOut <- case poOutput o of
+                  Just file -> do
+                    ok <- writing file (BL.writeFile file body)
+                    if ok then writing "the summary to standard output" (putStr summary) else pure False
                   Nothing -> do
-                    BL.putStr body
+                    ok <- writing "standard output" (BL.putStr body)
                     if outFmt == Summary then pure () else hPutStr stderr summary
-                mapM_ (\f -> plotPlan f r plan) (poPlot o)
-                pure (if planLegal plan && all resultLegal (planProfiles plan) then ExitSuccess else ExitFailure 1)
+                    pure ok
+                okPlot <- maybe (pure True) (\f -> writing f (plotPlan f r plan)) (poPlot o)
+                pure $ if not (okOut && okPlot) then ExitFailure 2
+                       else if planLegal plan && all resultLegal (planProfiles plan) then ExitSuccess else ExitFailure 1
   where
     -- --environment replaces the task's cell; the ignored bodies of both are left out
     loadEnv mtask = case (poEnv o, maybe [] taskEnvironment mtask) of

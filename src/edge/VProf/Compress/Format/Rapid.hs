@@ -12,6 +12,7 @@ module VProf.Compress.Format.Rapid
   ( RapidOptions (..)
   , defaultRapidOptions
   , parseRapid
+  , rapidTrack
   , readRapid
   , renderRapid
   , rapidReserved
@@ -104,8 +105,11 @@ lower = map toLower
 
 -- | Parse a module into a path (positions in m).
 parseRapid :: B.ByteString -> Either String Track
-parseRapid bs = do
-  ss <- readRapid bs
+parseRapid bs = readRapid bs >>= rapidTrack
+
+-- | A module's waypoints ('readRapid') as a path, checked as a recording's samples are.
+rapidTrack :: [Sample] -> Either String Track
+rapidTrack ss =
   case recordingFromArrays (U.fromList (map smTime ss)) (pfromList (map smPos ss)) (pfromList (map smRot ss)) of
     Left e -> Left ("RAPID: " ++ e ++ " (waypoint k is the k-th move, counting from 0)")
     Right (Recording tr) -> Right tr

@@ -22,8 +22,6 @@ import qualified Data.Aeson as A
 import qualified Data.Aeson.Key as K
 import qualified Data.Aeson.KeyMap as KM
 import qualified Data.ByteString as BS
-import qualified Data.ByteString.Char8 as B
-import Data.Char (toLower)
 import Data.Either (lefts, rights)
 import Data.List (isPrefixOf)
 import Data.Scientific (toRealFloat)
@@ -32,11 +30,9 @@ import qualified Data.Vector as V
 import qualified Data.Yaml as Y
 import System.Directory (doesFileExist)
 import System.Environment (lookupEnv)
-import System.FilePath (takeDirectory, takeExtension, (</>), isAbsolute)
+import System.FilePath (takeDirectory, (</>), isAbsolute)
 
-import VProf.Compress.Format.Common (dataLines, everyPose, numberFields)
-import VProf.Compress.Format.Rapid (readRapid)
-import VProf.Compress.Format.Tum (readTum)
+import VProf.Compress.Format.Path (readWaypoints)
 import VProf.Compress.Clean (Sample (..))
 import VProf.Geometry.Vec (P3 (..), Q4 (..))
 import VProf.Kinematics.Model (Capsule (..))
@@ -205,36 +201,19 @@ pose p v = do
     rad x = x * pi / 180
 
 -- | The waypoints of a path file as targets (each placed by the frame), labelled with their line.
--- RAPID @.mod@, the CSV @vprof compress@ writes (@time,x,y,z,qw,qx,qy,qz@), else TUM.
+-- RAPID @.mod@, a headed CSV (@time,x,y,z,qw,qx,qy,qz@, as @vprof compress@ writes it), else TUM,
+-- checked as @vprof plan@ checks a path ("VProf.Compress.Format.Path").
 readPathTargets :: Tf -> FilePath -> IO (Either String [Target])
 readPathTargets frame f = do
   r <- try (BS.readFile f)
   pure $ case r of
     Left (e :: IOException) -> Left ("cannot read the path file " ++ f ++ ": " ++ ioReason e)
     Right bs -> do
-      samples <- either (Left . ((f ++ ": ") ++)) Right $ case map toLower (takeExtension f) of
-        ".mod" -> readRapid bs
-        ".csv" -> readCsv bs
-        _ -> readTum bs >>= \ss -> ss <$ everyPose "TUM" ss
+      samples <- readWaypoints f bs
       case samples of
         [] -> Left (f ++ ": no waypoints")
         _ -> Right [ Target (f ++ " line " ++ show l) (frame `compose` fromQuat (V3 x y z) (normaliseQuat (Quat w a b c)))
                    | Sample l _ (P3 x y z) (Q4 w a b c) <- samples ]
-
--- | The CSV of @vprof compress --output-format csv@: a header, then time,x,y,z,qw,qx,qy,qz (s, m).
-readCsv :: BS.ByteString -> Either String [Sample]
-readCsv src = traverse row [(i, l) | (i, l) <- dataLines (const False) src, not (isHeader l)]
-  where
-    isHeader l = "time" `B.isPrefixOf` B.dropWhile (== ' ') l
-    row (i, l) =
-      let cols = map B.strip (B.split ',' l)
-      in if length cols /= 8
-           then Left ("CSV line " ++ show i ++ ": expected 8 comma-separated numbers (time,x,y,z,qw,qx,qy,qz), got " ++ show (length cols))
-           else do
-             vs <- numberFields "CSV" i cols
-             case vs of
-               [t, x, y, z, w, a, b, c] -> Right (Sample i t (P3 x y z) (Q4 w a b c))
-               _ -> Left "impossible"
 
 ------------------------------------------------------------------------------ helpers
 
