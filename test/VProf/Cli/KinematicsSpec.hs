@@ -43,6 +43,14 @@ spec = describe "vprof robots / fk / ik" $ do
     -- decimals as the recordings' readers take them (.5 and +1 were refused, Haskell's 0x10 taken)
     mapM_ (\v -> run fkCommand ["ur5", "0", "0", "0", "0", "0", v] `shouldReturn` ExitSuccess) [".5", "+1", "-.5", "1e-3"]
     mapM_ (\p -> run ikCommand ["ur5", "--pose", p] `shouldReturn` ExitFailure 99) ["0.4 0.1 1e400 0 1 0 0", "0.4 0.1 0.3 0 1 0 NaN"]
+  it "forward kinematics: one value an argument; an empty one (it crashed: Prelude.head) or one with a comma or several numbers is refused (\"1,5\" was read as 1, \"0.5 9\" as 0.5)" $ do
+    mapM_ (\v -> run fkCommand ["ur5", v, "0", "0", "0", "0", "0"] `shouldReturn` ExitFailure 99) ["", " ", ",", "1,5", "0.5 9"]
+    run fkCommand ["ur5", "0 0 0 0 0 0"] `shouldReturn` ExitFailure 99
+  it "forward kinematics: a prismatic value beyond 1e9 m or a revolute one beyond a million degrees is exit 2 (1e308 m gave a NaN manipulability)" $ do
+    run fkCommand ["stanford", "0.1", "0.2", "1e308", "0.3", "0.4", "0.5"] `shouldReturn` ExitFailure 2
+    run fkCommand ["stanford", "0.1", "0.2", "2e9", "0.3", "0.4", "0.5"] `shouldReturn` ExitFailure 2
+    run fkCommand ["ur5", "2e6", "0", "0", "0", "0", "0", "--deg"] `shouldReturn` ExitFailure 2
+    run fkCommand ["stanford", "0.1", "0.2", "0.5", "0.3", "0.4", "0.5"] `shouldReturn` ExitSuccess
   it "inverse kinematics: 0 for a reachable pose, 1 beyond reach or tilted, 2 for a quaternion that is not a unit" $ do
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0"] `shouldReturn` ExitSuccess
     -- the Dobot's flange points down (a half turn about y): a level target is reachable,

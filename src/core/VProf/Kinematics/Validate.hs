@@ -112,6 +112,12 @@ checkJointVector limits Robot{..} q =
   [ fe "q" (show (U.length q) ++ " values") "" ("the robot has " ++ show (length robotJoints) ++ " joints") | U.length q /= length robotJoints ]
     ++ [ fe ("q[" ++ show i ++ "]") (show x) u "must be a finite number"
        | (i, x, j) <- zip3 [0 :: Int ..] (U.toList q) robotJoints, not (finite x), let (u, _, _) = unitOf (jointKind j) ]
+    -- a value beyond any robot's travel (1e9 m, a million degrees) gives no pose but noise:
+    -- 1e308 m on a prismatic joint made the manipulability NaN
+    ++ [ fe ("q[" ++ show i ++ "]") (show x) u (if jointKind j == Revolute then tooWideRule else tooLongRule)
+       | (i, x, j) <- zip3 [0 :: Int ..] (U.toList q) robotJoints, finite x
+       , let (u, _, _) = unitOf (jointKind j)
+       , abs x > (if jointKind j == Revolute then maxAngleDeg * pi / 180 else maxCoordinate) ]
     ++ (if limits then jointsOutsideLimits "q" Robot{..} q else [])
 
 -- | The entries of a joint vector outside their joints' limits, each naming @field[i]@, the

@@ -188,9 +188,19 @@ data FkOpts = FkOpts { fkRobot :: String, fkQ :: [Double], fkDeg :: Bool, fkTip 
 fkCommand :: Parser (IO ExitCode)
 fkCommand = runFk <$> (FkOpts
   <$> strArgument (metavar "ROBOT" <> help "a library name, a robot file (.yaml/.json) or a URDF (.urdf)")
-  <*> many (argument (eitherReader (\w -> head <$> finiteWords "Q" w)) (metavar "Q..." <> help "joint values (rad or m; degrees with --deg)"))
+  <*> many (argument (eitherReader jointValue) (metavar "Q..." <> help "joint values (rad or m; degrees with --deg), one an argument"))
   <*> switch (long "deg" <> help "revolute joint values in degrees")
   <*> tipOption <*> formatOption)
+
+-- | One joint value, one an argument: an empty argument or one that holds more than one number
+-- is refused (only the first was read: "1,5", a decimal comma, was taken as 1, and "" crashed).
+jointValue :: String -> Either String Double
+jointValue w
+  | ',' `elem` w = Left ("Q: " ++ show w ++ ": a comma; give each joint value as its own argument, with a decimal point")
+  | otherwise = finiteWords "Q" w >>= \case
+      [x] -> Right x
+      [] -> Left ("Q: " ++ show w ++ " is not a number")
+      xs -> Left ("Q: " ++ show w ++ " holds " ++ show (length xs) ++ " numbers; give each joint value as its own argument")
 
 -- | Joint values as typed, to the controller's SI values.
 jointsFrom :: Bool -> Robot -> [Double] -> U.Vector Double
