@@ -9,12 +9,19 @@
 --
 -- The digits are written by double-conversion's C functions straight
 -- into the builder's buffer (bounded primitives): no string or bytestring a number.
+--
+-- And text as a double ('readDouble'), correctly rounded, for every reader of numbers in
+-- files and on the command line.
 module VProf.Format.Number
   ( doubleBuilder
   , showDouble
+  , readDouble
   ) where
 
+import qualified Data.ByteString as BS
 import qualified Data.ByteString.Builder as BB
+import qualified Data.ByteString.Char8 as BC
+import qualified Data.ByteString.Unsafe as BU
 import qualified Data.ByteString.Builder.Prim as BP
 import Data.ByteString.Builder.Prim.Internal (boundedPrim)
 import qualified Data.ByteString.Lazy.Char8 as BLC
@@ -89,3 +96,57 @@ doubleBuilder x
 -- | 'doubleBuilder' as a string (for tests and small outputs).
 showDouble :: Double -> String
 showDouble = BLC.unpack . BB.toLazyByteString . doubleBuilder
+
+-- | A decimal number: [+-] digits [. digits] [e [+-] digits], or @nan@/@inf@/@infinity@ (any
+-- case, read as such so that the caller can say it is not finite). Correctly rounded: up to 15
+-- significant digits and a power of ten up to 22 in one exact floating operation, otherwise
+-- through 'Rational'.
+readDouble :: BS.ByteString -> Maybe Double
+readDouble s0
+  | BS.null s0 = Nothing
+  | otherwise =
+      let (neg, s1) = case BC.head s0 of
+            '-' -> (True, BS.tail s0)
+            '+' -> (False, BS.tail s0)
+            _ -> (False, s0)
+          sgn x = if neg then negate x else x
+          low = BC.map toLower' s1
+      in if low == BC.pack "nan" then Just (0 / 0)
+         else if low `elem` map BC.pack ["inf", "infinity"] then Just (sgn (1 / 0))
+         else sgn <$> unsigned s1
+  where
+    toLower' c = if c >= 'A' && c <= 'Z' then toEnum (fromEnum c + 32) else c
+
+unsigned :: BS.ByteString -> Maybe Double
+unsigned s =
+  let (ip, r1) = BS.span isDigit s
+      (fp, r2) = case BS.uncons r1 of
+        Just (46, r) -> BS.span isDigit r
+        _ -> (BS.empty, r1)
+      hasDot = not (BS.null r1) && BU.unsafeHead r1 == 46
+  in if BS.null ip && BS.null fp then Nothing else do
+       e <- case BS.uncons (if hasDot then BS.drop (1 + BS.length fp) r1 else r2) of
+         Nothing -> Just 0
+         Just (c, r) | c == 101 || c == 69 ->
+           let (negE, ds) = case BS.uncons r of
+                 Just (45, t) -> (True, t)
+                 Just (43, t) -> (False, t)
+                 _ -> (False, r)
+           in if BS.null ds || not (BS.all isDigit ds) then Nothing
+              else if BS.length ds > 6 then Just (if negE then -100000 else 100000)
+              else Just ((if negE then negate else id) (BS.foldl' (\a d -> a * 10 + fromIntegral (d - 48)) 0 ds))
+         _ -> Nothing
+       let digits = BS.dropWhile (== 48) (ip <> fp)
+           nd = BS.length digits
+           mant = BS.foldl' (\acc d -> acc * 10 + fromIntegral (d - 48)) 0 digits :: Integer
+           ex = e - BS.length fp
+       pure $
+         if nd == 0 then 0
+         else if ex + nd > 330 then 1 / 0
+         else if ex + nd < -345 then 0
+         else if nd <= 15 && ex >= 0 && ex <= 22 then fromIntegral mant * 10 ^^ ex
+         else if nd <= 15 && ex < 0 && ex >= -22 then fromIntegral mant / 10 ^ negate ex
+         else fromRational (fromIntegral mant * 10 ^^ ex)
+  where
+    isDigit :: Word8 -> Bool
+    isDigit c = c >= 48 && c <= 57

@@ -20,11 +20,10 @@ import qualified Data.ByteString.Lazy as BL
 import Data.Char (toLower)
 import Data.List (intercalate)
 import Numeric (showFFloat)
-import qualified Data.Text.Encoding as TE
-import qualified Data.Text.Read as TR
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Compress.Clean (Sample (..))
+import qualified VProf.Format.Number as N
 import VProf.Compress.Types
 import VProf.Geometry.Vec
 
@@ -47,23 +46,20 @@ everyPose format rows = case filter lacksPose rows of
   where
     lacksPose (Sample _ _ (P3 x y z) (Q4 w a b c)) = any isNaN [x, y, z, w, a, b, c]
 
--- | A decimal number (optional sign, fraction, exponent) filling the whole string.
+-- | A decimal number (optional sign, fraction, exponent) filling the whole string (spaces
+-- around it aside), rounded to the nearest double ("VProf.Format.Number"'s reader; Data.Text's
+-- was off by an ulp in a tenth of the shortest-form doubles: 3.4985479464439885e-06 read as
+-- 3.498547946443988e-06, 1e300 as 1.0000000000000006e300). Nothing for anything else, and for
+-- nan, inf and a number beyond a double.
 readDouble :: B.ByteString -> Maybe Double
 readDouble s0
   -- no number is written with more digits than this (and parsing millions of them took
   -- minutes: the time grows with the square of the length)
   | B.length s0 > maxNumberLength = Nothing
-  | otherwise =
-  let s = B.strip s0
-      s' = case B.uncons s of
-        Just ('.', _) -> B.cons '0' s
-        Just ('-', r) | Just ('.', _) <- B.uncons r -> B.append (B.pack "-0") r
-        _ -> s
-  in case TR.double (TE.decodeLatin1 s') of
-       Right (d, rest) | rest == mempty, not (isNaN d || isInfinite d) -> Just d
-       _ -> Nothing
+  | otherwise = case N.readDouble (B.strip s0) of
+      Just d | not (isNaN d || isInfinite d) -> Just d
+      _ -> Nothing
 
--- | The longest field read as a number, in characters.
 maxNumberLength :: Int
 maxNumberLength = 100
 

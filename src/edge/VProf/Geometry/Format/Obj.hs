@@ -20,14 +20,13 @@ import VProf.Format.IOError (ioReason)
 import VProf.Format.Text (dropBom)
 import qualified Data.ByteString as BS
 import qualified Data.ByteString.Char8 as BC
-import qualified Data.ByteString.Unsafe as BU
 import qualified Data.Vector.Unboxed as U
 import qualified Data.Vector.Unboxed.Mutable as MU
 import Control.Monad.ST (runST)
 import Data.STRef
-import Data.Word (Word8)
 import Control.Monad (forM_, when)
 
+import VProf.Format.Number (readDouble)
 import VProf.Geometry.Mesh (Mesh (..))
 import VProf.Validation
 
@@ -118,57 +117,3 @@ statement nv l = case BC.words (BC.takeWhile (/= '#') l) of
         then Left ("vertex index " ++ show i ++ " out of range (" ++ show nv ++ " vertices defined so far)")
         else Right (fromIntegral a)
     isInt p = case BC.readInteger p of Just (_, r) -> BS.null r; Nothing -> False
-
--- | A decimal number: [+-] digits [. digits] [e [+-] digits], or @nan@/@inf@/@infinity@ (any
--- case, read as such so that the caller can say it is not finite). Correctly rounded: up to 15
--- significant digits and a power of ten up to 22 in one exact floating operation, otherwise
--- through 'Rational'.
-readDouble :: BS.ByteString -> Maybe Double
-readDouble s0
-  | BS.null s0 = Nothing
-  | otherwise =
-      let (neg, s1) = case BC.head s0 of
-            '-' -> (True, BS.tail s0)
-            '+' -> (False, BS.tail s0)
-            _ -> (False, s0)
-          sgn x = if neg then negate x else x
-          low = BC.map toLower' s1
-      in if low `elem` ["nan"] then Just (0 / 0)
-         else if low `elem` ["inf", "infinity"] then Just (sgn (1 / 0))
-         else sgn <$> unsigned s1
-  where
-    toLower' c = if c >= 'A' && c <= 'Z' then toEnum (fromEnum c + 32) else c
-
-unsigned :: BS.ByteString -> Maybe Double
-unsigned s =
-  let (ip, r1) = BS.span isDigit s
-      (fp, r2) = case BS.uncons r1 of
-        Just (46, r) -> BS.span isDigit r
-        _ -> (BS.empty, r1)
-      hasDot = not (BS.null r1) && BU.unsafeHead r1 == 46
-  in if BS.null ip && BS.null fp then Nothing else do
-       e <- case BS.uncons (if hasDot then BS.drop (1 + BS.length fp) r1 else r2) of
-         Nothing -> Just 0
-         Just (c, r) | c == 101 || c == 69 ->
-           let (negE, ds) = case BS.uncons r of
-                 Just (45, t) -> (True, t)
-                 Just (43, t) -> (False, t)
-                 _ -> (False, r)
-           in if BS.null ds || not (BS.all isDigit ds) then Nothing
-              else if BS.length ds > 6 then Just (if negE then -100000 else 100000)
-              else Just ((if negE then negate else id) (BS.foldl' (\a d -> a * 10 + fromIntegral (d - 48)) 0 ds))
-         _ -> Nothing
-       let digits = BS.dropWhile (== 48) (ip <> fp)
-           nd = BS.length digits
-           mant = BS.foldl' (\acc d -> acc * 10 + fromIntegral (d - 48)) 0 digits :: Integer
-           ex = e - BS.length fp
-       pure $
-         if nd == 0 then 0
-         else if ex + nd > 330 then 1 / 0
-         else if ex + nd < -345 then 0
-         else if nd <= 15 && ex >= 0 && ex <= 22 then fromIntegral mant * 10 ^^ ex
-         else if nd <= 15 && ex < 0 && ex >= -22 then fromIntegral mant / 10 ^ negate ex
-         else fromRational (fromIntegral mant * 10 ^^ ex)
-  where
-    isDigit :: Word8 -> Bool
-    isDigit c = c >= 48 && c <= 57
