@@ -169,6 +169,13 @@ spec = describe "VProf.Compress.Clean" $ do
       length es `shouldBe` 6
       renderFieldError (last es) `shouldSatisfy` ("and 14 more" `isInfixOf`)
 
+    it "times whose span is beyond a double (-1e308 to 1.7e308 s) are an error naming them (the thesis method wrote NaN times); a span just within one is taken" $ do
+      let s t x = Sample 0 t (P3 x 0 0) (Q4 1 0 0 0)
+      case clean defaultCleanOptions (renumber [s (-1e308) 0, s 0 1, s 1e308 2, s 1.7e308 3]) of
+        Left es -> concatMap renderFieldError es `shouldSatisfy` (\m -> "1.7" `isInfixOf` m && "beyond a double" `isInfixOf` m)
+        Right _ -> expectationFailure "an infinite span was accepted"
+      clean defaultCleanOptions (renumber [s 0 0, s 1e308 1, s 1.7e308 2]) `shouldSatisfy` either (const False) (const True)
+
   describe "quaternion sign flips" $
     it "are aligned (the cleaned track is continuous and equals the unflipped one), every negated sample and every sign change counted" $
       property $ forAll genBase $ \ss -> forAll (choose (1, 10)) $ \k ->

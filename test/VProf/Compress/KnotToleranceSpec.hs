@@ -7,6 +7,7 @@ module VProf.Compress.KnotToleranceSpec (spec) where
 
 import qualified Data.Vector.Unboxed as U
 import Test.Hspec
+import Test.Hspec.QuickCheck (modifyMaxSuccess)
 import Test.QuickCheck
 
 import VProf.Compress.KnotFit
@@ -47,6 +48,12 @@ spec = do
                .&&. (k == kMin || any (\(kk, ek) -> kk == k - 1 && ek > tol) tried)
                .&&. (k == n || any (\(kk, ek) -> kk == k && ek <= tol) tried)
                .&&. conjoin [ counterexample (show t') (measured t') | t'@(kk, _) <- tried, kk /= k ]
+  describe "fitKnotsTolerance, a bound far below any error" $ modifyMaxSuccess (min 12) $
+    it "halves its way to the recording itself in a few dozen fits at most (a bound of 1e-36 mm overflowed the next count's Int, and the search walked up one count a fit)" $
+      property $ forAll (choose (60, 120)) $ \n -> forAllBlind (genKickWalk 1 n) $ \pr -> forAll (elements [1e-39, 1e-100, 5e-324]) $ \tol ->
+        let r = fitKnotsTolerance defaultKnotConfig pr defaultWeights 2 tol
+        in counterexample (show (tfTried r)) $
+             length (tfTried r) <= 2 * ceiling (logBase 2 (fromIntegral n :: Double)) + 4 .&&. tfMaxError r <= tol
   describe "repairWorst" $
     it "keeps the count, the ends and times in order at least the least gap apart, and lowers the largest error when it changes the knots" $
       property $ forAll (choose (60, 400)) $ \n -> forAll (choose (4, n `div` 10)) $ \k -> forAllBlind (genKickWalk 1 n) $ \pr ->

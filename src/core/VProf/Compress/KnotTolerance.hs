@@ -79,8 +79,10 @@ fitKnotsTolerance cfg pr w kMin0 tol = go (0 :: Int) lo0 hi0 [] k0
         -- nothing within the bound tried yet (the recording aside): above the largest
         -- count too few by the same law, a tenth to spare; halfway to the recording where
         -- the law points past it (a bound near the recording's noise)
-        | eh == 0 -> let g = ceiling (fromIntegral kl * sqrt (e / tol) * 1.1 :: Double)
-                     in if g >= kh then mid else g
+        | eh == 0 -> let g = fromIntegral kl * sqrt (e / tol) * 1.1 :: Double
+                     -- (compared as a double: a bound of 1e-39 m made it past any Int, and
+                     -- the count overflowed into a walk up one count a fit)
+                     in if g >= fromIntegral kh then mid else ceiling g
         -- both ends tried: halving every other step, else log error interpolated in log
         -- count at the bound
         | even step -> mid
