@@ -101,6 +101,19 @@ spec = do
             [ (["1,0.5,0,0.3,0,1,0,0", "0,0.5,0.1,0.3,0,1,0,0"], "strictly increasing")
             , (["0,0.5,0,0.3,0,0,0,0", "1,0.5,0.1,0.3,0,1,0,0"], "not a unit quaternion")
             , (["0,0.5,0,0.3,0,0,0,0"], "not a unit quaternion") ]
+    it "ignore_bodies naming no body of any robot selected is exit 2 (99 was taken and left out nothing); 7, the Panda's last link, is taken with it and refused without it" $
+      withSystemTempDirectory "vprof-select" $ \tmp -> do
+        let body b = "payload: 1\nclearance: 0.01\nignore_bodies: [" ++ show (b :: Int) ++ "]\ntargets:\n  - {position: [0.5, 0, 0.3], rpy_deg: [180, 0, 0]}\n"
+        f99 <- writeTask tmp cell (body 99)
+        run [f99, "--robots", "ur5,franka-panda"] `shouldReturn` ExitFailure 2
+        f7 <- writeTask tmp cell (body 7)
+        run [f7, "--robots", "ur5"] `shouldReturn` ExitFailure 2
+        run [f7, "--robots", "ur5,franka-panda"] `shouldNotReturn` ExitFailure 2
+    it "a scene scaled beyond 1e9 m is exit 2 naming the scale (1e160 showed no clearance, 1e100 printed 100-digit distances)" $
+      withSystemTempDirectory "vprof-select" $ \tmp -> do
+        let f = tmp </> "task.yaml"
+        writeFile f ("environment:\n  - {file: " ++ show cell ++ ", scale: 1e100}\npayload: 1\nclearance: 0.01\ntargets:\n  - {position: [0.5, 0, 0.3]}\n")
+        run [f, "--robots", "ur5"] `shouldReturn` ExitFailure 2
   describe "path files as targets" $ do
     it "TUM and vprof compress's CSV: one target a waypoint, in the path's frame, every field read" $
       withSystemTempDirectory "vprof-select" $ \tmp -> do

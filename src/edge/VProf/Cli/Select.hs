@@ -19,6 +19,7 @@ import qualified Data.ByteString.Lazy.Char8 as BLC
 import Data.Char (toLower)
 import Data.Containers.ListUtils (nubOrdOn)
 import Data.List (intercalate)
+import Data.Maybe (isJust)
 import qualified Data.Vector.Unboxed as U
 import GHC.Conc (getNumCapabilities)
 import Numeric (showFFloat)
@@ -32,6 +33,7 @@ import VProf.Cli.Kinematics (loadRobot)
 import VProf.Geometry.Bvh (buildBvh)
 import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
 import VProf.Kinematics.Library (libraryRobots)
+import VProf.Kinematics.Collision (unknownBody)
 import VProf.Kinematics.Model (Robot (..))
 import VProf.Plot.Select (plotSelection)
 import VProf.Select.Format.Task (readTaskFile, taskFileInputs)
@@ -84,7 +86,17 @@ runSelect a = do
       robots <- loadRobots (saTip a) (saRobots a)
       case robots of
         Left e -> failWith e
-        Right rs -> do
+        Right rs
+          -- a body number none of the robots has would be left out of nothing: a slip (plan
+          -- and ik refuse one their robot lacks; here a robot with fewer bodies may lack it)
+          | (b : _) <- [ b | b <- taskIgnoreBodies task
+                           , all (\(_, r) -> isJust (unknownBody r (isJust (taskToolCapsule task)) b)) rs ] ->
+              let most = maximum [ length (robotLinks r) | (_, r) <- rs ]
+                  tool = isJust (taskToolCapsule task)
+              in failWith (saTask a ++ ": ignore_bodies: body " ++ show b ++ " is not a body of any robot selected (at most "
+                           ++ show most ++ ": " ++ intercalate ", " [ k | (k, r) <- rs, length (robotLinks r) == most ]
+                           ++ (if tool then "; " ++ show (most + 1) ++ " with the tool capsule" else "") ++ ")")
+          | otherwise -> do
           scene <- loadScene [SceneFile (mpFile m) (mpScale m) (mpPose m) | m <- taskEnvironment task]
           case scene of
             Left e -> failWith ("environment: " ++ e)

@@ -6,10 +6,12 @@ module VProf.Geometry.Format.Scene
   , loadScene
   ) where
 
+import qualified Data.Vector.Unboxed as U
+
 import VProf.Geometry.Format.Obj (readObj)
 import VProf.Geometry.Mesh
 import VProf.Kinematics.Transform (Tf, isRigid)
-import VProf.Validation (finite)
+import VProf.Validation (finite, maxCoordinate, showNumber, tooFarRule)
 
 -- | One mesh of a scene: its OBJ file, the scale (e.g. 0.001 for a file in mm) and its pose in
 -- the world (m).
@@ -24,4 +26,11 @@ loadScene files = go [] files
       | not (isRigid 1e-6 t) = pure (Left (p ++ ": pose: the rotation is not orthonormal with determinant 1"))
       | otherwise = readObj p >>= \case
           Left e -> pure (Left e)
-          Right m -> go (ScenePart m s t : acc) rest
+          Right m
+            -- a scale that puts the scene beyond any cell (1e160 overflowed the clearance to
+            -- nothing, 1e100 printed 100-digit distances)
+            | far * s > maxCoordinate ->
+                pure (Left (p ++ ": scale = " ++ show s ++ ": puts its farthest coordinate, " ++ showNumber far ++ ", at "
+                            ++ showNumber (far * s) ++ " m: " ++ tooFarRule))
+            | otherwise -> go (ScenePart m s t : acc) rest
+            where far = U.foldl' (\a x -> max a (abs x)) 0 (meshCoords m)
