@@ -86,6 +86,8 @@ spec = do
     rules (check p (prof legalV)) `shouldBe` [RouteEnd]
     [ (vValue v, vLimit v) | v <- check p (prof legalV) ] `shouldSatisfy` (\[(o, l)] -> abs (o + 0.02) < 1e-12 && l == pbTol p)
     map renderViolation (check p (prof legalV)) `shouldBe` ["route_end at sample 23: the profile ends 0.020000 m short of the route end, more than the end tolerance 0.010000 m"]
+  it "says a route end off by less than a millimetre in three digits (a 1 µm route's 0.1 µm tolerance read \"0.000000 m\")" $
+    renderViolation (Violation RouteEnd 1 (-1e-6) 1e-7) `shouldBe` "route_end at sample 1: the profile ends 1.00e-6 m short of the route end, more than the end tolerance 1.00e-7 m"
 
   it "a value past its limit by less than six decimals show says by how much" $ do
     renderViolation (Violation JerkRule 21904 0.50000008194 0.5)

@@ -74,9 +74,14 @@ renderViolation :: Violation -> String
 renderViolation (Violation NonFinite k _ _) =
   "non_finite at sample " ++ show k ++ ": the velocity (or the time step) is not a finite number"
 renderViolation (Violation RouteEnd k off tol) =
-  "route_end at sample " ++ show k ++ ": the profile ends " ++ showFFloat (Just 6) (abs off) "" ++ " m "
+  "route_end at sample " ++ show k ++ ": the profile ends " ++ metres (abs off) ++ " m "
   ++ (if off < 0 then "short of" else "past") ++ " the route end, more than the end tolerance "
-  ++ showFFloat (Just 6) tol "" ++ " m"
+  ++ metres tol ++ " m"
+  where
+    -- six decimals, or three significant digits below a millimetre (a route of 1 µm has a
+    -- tolerance of 0.1 µm: "0.000000 m" said nothing)
+    metres x | x /= 0 && x < 1e-3 = showEFloat (Just 2) x ""
+             | otherwise = showFFloat (Just 6) x ""
 renderViolation (Violation r k v l) =
   ruleName r ++ " at sample " ++ show k ++ ": " ++ num v ++ " " ++ unit ++ relation ++ num l ++ " " ++ unit
     ++ excess

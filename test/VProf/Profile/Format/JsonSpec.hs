@@ -48,6 +48,15 @@ spec = do
     case requestFromJson (withField "end_tolerance" "\"ten\"") of
       Left e -> e `shouldSatisfy` ("end_tolerance" `isInfixOf`)
       Right rq -> expectationFailure (show rq)
+  it "a parse error names the field as the request does, a zone by its place, without the parser's \"Error in $\" notation, and shows the value as JSON writes it" $ do
+    either id (const "parsed") (requestFromJson (withField "route_length" "true")) `shouldBe` "route_length: expected a number, got true"
+    case requestFromJson (BLC.pack "{\"route_length\": 10, \"speed_limits\": [{\"velocity\": 1}, {\"start_distance\": \"q\", \"velocity\": 2}]}") of
+      Left e -> do
+        e `shouldSatisfy` ("speed_limits[1].start_distance: " `isInfixOf`)
+        e `shouldNotSatisfy` ("Error in" `isInfixOf`)
+      Right rq -> expectationFailure (show rq)
+  it "a UTF-8 byte-order mark before the request is passed over (it was 'not a valid json value')" $
+    fmap (si . rqRouteLength) (requestFromJson (BLC.pack "\xEF\xBB\xBF" <> withField "route_length" "12.5")) `shouldBe` Right 12.5
   it "the CLI's fast JSON of a profile reads back as the same value as the aeson rendering (every number the same double)" $
     withMaxSuccess 100 $ property $ \(RandomRequest rq) ->
       let r = generatePure rq in fmap asDoubles (A.decode (profileJson r)) === Just (asDoubles (profileToJson r))

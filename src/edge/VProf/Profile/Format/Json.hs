@@ -20,8 +20,8 @@ import qualified Data.Aeson.KeyMap as KM
 import Data.Aeson.Types (Parser, parseEither)
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Lazy as BL
-import Data.Char (toUpper)
-import Data.List (intercalate)
+import Data.Char (isAlphaNum, toUpper)
+import Data.List (intercalate, stripPrefix)
 import Data.Scientific (floatingOrInteger, toRealFloat)
 import Data.Word (Word64)
 import qualified Data.Text as T
@@ -36,18 +36,45 @@ import VProf.Profile.Sampled
 import VProf.Profile.Request
 import VProf.Units
 
+-- | A request from proto3 JSON (a UTF-8 byte-order mark before it is passed over); an error
+-- names the field ("speed_limits[0]: ...") without the parser's own path notation.
 requestFromJson :: BL.ByteString -> Either String Request
-requestFromJson bs = case duplicateJsonKeyErrors (BL.toStrict bs) of
-  [] -> eitherDecode bs >>= requestFromValue
+requestFromJson bs0 = case duplicateJsonKeyErrors (BL.toStrict bs) of
+  [] -> plainError (eitherDecode bs >>= requestFromValue)
   dups -> Left (intercalate "; " dups)
+  where bs = dropBomL bs0
 
 requestFromValue :: Value -> Either String Request
-requestFromValue = parseEither parseRequest
+requestFromValue = plainError . parseEither parseRequest
+
+-- | The text without a UTF-8 byte-order mark ("VProf.Format.Text") for a lazy string.
+dropBomL :: BL.ByteString -> BL.ByteString
+dropBomL bs = if BL.take 3 bs == BL.pack [0xEF, 0xBB, 0xBF] then BL.drop 3 bs else bs
+
+-- | A message as a nested field's: ".field: ..." when it names one, else ": ...".
+under :: String -> String
+under m = let (k, rest) = break (== ':') m
+          in if not (null rest) && not (null k) && all (\c -> isAlphaNum c || c == '_' || c == '[' || c == ']' || c == '.') k
+               then '.' : m else ": " ++ m
+
+-- | An aeson error without its path prefixes: "Error in $: x" is "x", "Error in $.a[0]: x" is
+-- "a[0]: x" (the request's own messages name their fields).
+plainError :: Either String a -> Either String a
+plainError = either (Left . plainMessage) Right
+
+plainMessage :: String -> String
+plainMessage e = case stripPrefix "Error in $" e of
+  Just rest -> let (path, msg) = break (== ':') rest
+                   msg' = plainMessage (dropWhile (== ' ') (drop 1 msg))
+               in case dropWhile (== '.') path of
+                    "" -> msg'
+                    p -> p ++ ": " ++ msg'
+  Nothing -> e
 
 -- | The request's @request_id@ (0 when absent), which a response echoes; an id that is not
 -- a uint64 is an error naming it.
 requestIdFromJson :: BL.ByteString -> Either String Word64
-requestIdFromJson bs = eitherDecode bs >>= parseEither (withObject "ProfileRequest" requestId)
+requestIdFromJson bs = plainError (eitherDecode (dropBomL bs) >>= parseEither (withObject "ProfileRequest" requestId))
 
 requestId :: Object -> Parser Word64
 requestId o = fieldWith protoUInt64 o "request_id" 0
@@ -69,7 +96,7 @@ protoDouble = \case
     str -> case reads (leadingZero str) of
       [(x, "")] -> pure x
       _ -> fail ("expected a number, \"NaN\", \"Infinity\" or \"-Infinity\", got the string " ++ show t)
-  v -> fail ("expected a number, got " ++ show v)
+  v -> fail ("expected a number, got " ++ describeValue v)
   where
     -- Haskell's reads wants a digit before the point (".5", "-.5" are valid JSON strings)
     leadingZero = \case
@@ -102,15 +129,18 @@ protoInteger = \case
     _ -> fail ("expected an integer, got the string " ++ show t)
   Number n | abs n >= 1e30 -> fail (show n ++ " is far outside the range of an integer field")
            | Right k <- (floatingOrInteger n :: Either Double Integer) -> pure k
-  x -> fail ("expected an integer, got " ++ showValue x)
-  where
-    showValue = \case
-      Number n -> show (toRealFloat n :: Double)
-      Object _ -> "an object"
-      Array _ -> "an array"
-      Bool b -> if b then "true" else "false"
-      String t -> show t
-      Null -> "null"
+  x -> fail ("expected an integer, got " ++ describeValue x)
+
+-- | A JSON value as an error message shows it: a number, a string quoted, true, false, null,
+-- "an object", "an array".
+describeValue :: Value -> String
+describeValue = \case
+  Number n -> show (toRealFloat n :: Double)
+  Object _ -> "an object"
+  Array _ -> "an array"
+  Bool b -> if b then "true" else "false"
+  String t -> show t
+  Null -> "null"
 
 dbl :: Object -> String -> Parser Double
 dbl o name = fieldWith protoDouble o name 0
@@ -126,7 +156,7 @@ fieldWith parse o name def = case KM.lookup (K.fromString name) o of
   where
     named Null = pure def
     named v = parse v `orFail` name
-    orFail p n = either (\e -> fail (n ++ ": " ++ e)) pure (parseEither (const p) ())
+    orFail p n = either (\e -> fail (n ++ ": " ++ plainMessage e)) pure (parseEither (const p) ())
     camel s = case break (== '_') s of
       (a, '_' : c : rest) -> a ++ camel (toUpper c : rest)
       (a, _) -> a
@@ -136,7 +166,9 @@ parseRequest = withObject "ProfileRequest" $ \o -> do
   _ <- requestId o  -- checked here; 'requestIdFromJson' reads it for the response
   len <- dbl o "route_length"
   zonesV <- field o "speed_limits" []
-  zones <- mapM parseZone zonesV
+  -- each zone's errors name it by its place in the list
+  zones <- mapM (\(i, z) -> either (\e -> fail ("speed_limits[" ++ show i ++ "]" ++ under (plainMessage e))) pure (parseEither parseZone z))
+                (zip [0 :: Int ..] zonesV)
   aMin <- dbl o "min_acceleration"
   aMax <- dbl o "max_acceleration"
   jMin <- dbl o "min_jerk"
@@ -187,7 +219,7 @@ parseAlgorithm = \case
     | n == 0 || n == 1 -> pure Band
     | n == 2 -> pure Thesis
     | otherwise -> fail ("algorithm: unknown value " ++ show n)
-  v -> fail ("algorithm: expected a string or number, got " ++ show v)
+  v -> fail ("algorithm: expected a string or number, got " ++ describeValue v)
 
 -- | The result as JSON, with the response's field names.
 profileToJson :: Result -> Value
