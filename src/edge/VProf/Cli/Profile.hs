@@ -18,6 +18,7 @@ import qualified Data.ByteString.Lazy as BL
 import qualified Data.ByteString.Lazy.Char8 as BLC
 import Data.Char (toLower)
 import Data.Word (Word64)
+import qualified Data.Vector.Unboxed as U
 import Options.Applicative
 import VProf.Plot.File (plotPath)
 import System.Exit
@@ -144,10 +145,13 @@ runCheck reqPath profPath = do
   case (er, ep) of
     (Left e, _) -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
     (_, Left e) -> hPutStrLn stderr ("vprof: " ++ e) >> pure (ExitFailure 2)
-    (Right rq, Right (dt, vs)) -> case validate rq { rqTimeStep = Just (dt *~ second) } of
+    -- the time step is the profile's (from its first two samples); a profile of one sample
+    -- has none, and is checked at the request's
+    (Right rq, Right (dt0, vs)) -> case validate (if U.length vs < 2 then rq else rq { rqTimeStep = Just (dt0 *~ second) }) of
       Left es -> mapM_ (hPutStrLn stderr . ("vprof: " ++) . renderFieldError) es >> pure (ExitFailure 2)
       Right pb -> do
-        let p = Profile dt vs (pbA0 pb) (pbAEnd pb)
+        let dt = pbDt pb
+            p = Profile dt vs (pbA0 pb) (pbAEnd pb)
             vio = check pb p
         putStrLn (show (sampleCount p) ++ " samples, dt " ++ show dt ++ " s, duration " ++ show (duration p)
                   ++ " s, final distance " ++ show (finalDistance p) ++ " m")
