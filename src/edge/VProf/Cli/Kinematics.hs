@@ -71,8 +71,9 @@ loadRobot tip name = case map toLower (takeExtension name) of
   where
     joinErrors = either (Left . ((name ++ ": ") ++) . intercalate "; ") Right
 
-failWith :: String -> IO ExitCode
-failWith msg = hPutStrLn stderr ("vprof: " ++ msg) >> pure (ExitFailure 2)
+-- | A bad input to a command: the message after the command's name on stderr, exit 2.
+failIn :: String -> String -> IO ExitCode
+failIn cmd msg = hPutStrLn stderr ("vprof " ++ cmd ++ ": " ++ msg) >> pure (ExitFailure 2)
 
 num :: Int -> Double -> String
 num d x = showFFloat (Just d) x ""
@@ -89,21 +90,21 @@ robotsCommand = runPlot <$> optional (strArgument (metavar "NAME" <> help "show 
                     <*> switch (long "deg" <> help "with --plot: --q in degrees")
   where
     runPlot name tip fmt Nothing qs deg
-      | Just _ <- qs = failWith "--q needs --plot FILE.png" >> pure (ExitFailure 2)
-      | deg = failWith "--deg needs --plot FILE.png" >> pure (ExitFailure 2)
+      | Just _ <- qs = failIn "robots" "--q needs --plot FILE.png" >> pure (ExitFailure 2)
+      | deg = failIn "robots" "--deg needs --plot FILE.png" >> pure (ExitFailure 2)
       | otherwise = run name tip fmt
-    runPlot Nothing _ _ (Just _) _ _ = failWith "--plot needs a robot NAME (a library name or a robot file)"
+    runPlot Nothing _ _ (Just _) _ _ = failIn "robots" "--plot needs a robot NAME (a library name or a robot file)"
     runPlot (Just name) tip _ (Just file) qs deg = do
       -- a plot file that cannot be written is a bad option, said before the robot is read
       clash <- Out.overwritesInput [("the robot file", name)] [("--plot", file)]
       er <- maybe (loadRobot tip name) (pure . Left) clash
       case er of
-        Left e -> failWith e
+        Left e -> failIn "robots" e
         Right r -> do
           let ch = compile r
               q = maybe (midLimits ch) (jointsFrom deg r) qs
           case checkJointVector False r q of
-            es@(_ : _) -> failWith (intercalate "; " (map (renameQ . renderFieldError) es))
+            es@(_ : _) -> failIn "robots" (intercalate "; " (map (renameQ . renderFieldError) es))
             [] -> do
               plotRobot file (robotName r) ch q
               putStrLn ("wrote " ++ file ++ " (" ++ robotName r ++ " at q = " ++ unwords (map (\x -> if abs x < 1e9 then num 4 x else showNumber x) (jointsTo deg r q))
@@ -124,12 +125,12 @@ robotsCommand = runPlot <$> optional (strArgument (metavar "NAME" <> help "show 
           mapM_ (\(key, r) -> putStrLn (pad 22 key ++ pad 5 (show (dof r)) ++ pad 10 (maybe "-" (\x -> num 3 x ++ " m") (robotReach r))
                                         ++ pad 10 (maybe "-" (\x -> num 2 x ++ " kg") (robotPayload r))
                                         ++ take 70 (concat (take 1 (robotSources r))))) rows
-      mapM_ (\(key, es) -> hPutStrLn stderr ("vprof: library robot " ++ key ++ " is invalid: " ++ intercalate "; " es)) bad
+      mapM_ (\(key, es) -> hPutStrLn stderr ("vprof robots: library robot " ++ key ++ " is invalid: " ++ intercalate "; " es)) bad
       pure (if null bad then ExitSuccess else ExitFailure 1)
     run (Just name) tip fmt = do
       er <- loadRobot tip name
       case er of
-        Left e -> failWith e
+        Left e -> failIn "robots" e
         Right r -> do
           case fmt of
             Json -> BLC.putStrLn (A.encode (robotJson name r))
@@ -214,11 +215,11 @@ runFk :: FkOpts -> IO ExitCode
 runFk o = do
   er <- loadRobot (fkTip o) (fkRobot o)
   case er of
-    Left e -> failWith e
+    Left e -> failIn "fk" e
     Right r -> do
       let q = jointsFrom (fkDeg o) r (fkQ o)
       case checkJointVector False r q of
-        es@(_ : _) -> failWith (intercalate "; " (map renderFieldError es))
+        es@(_ : _) -> failIn "fk" (intercalate "; " (map renderFieldError es))
         [] -> do
           -- a configuration the robot cannot take still has a pose (as in every kinematics
           -- library), but the user hears of it: 90 typed without --deg is 90 rad
@@ -315,32 +316,32 @@ runIk :: IkOpts -> IO ExitCode
 runIk o = do
   er <- loadRobot (ikTip o) (ikRobotName o)
   case er of
-    Left e -> failWith e
+    Left e -> failIn "ik" e
     Right r -> case ikPose o of
       _ | e : _ <- [ e | b <- ikIgnoreBodies o, Just e <- [unknownBody r False b] ] ->
-            failWith ("--ignore-body: " ++ e)
+            failIn "ik" ("--ignore-body: " ++ e)
       -- options that act on a scene, given without one, would go unused
       _ | Nothing <- ikEnvironment o, Just c <- ikClearanceGiven o ->
-            failWith ("--clearance " ++ showNumber c ++ " m: needs --environment FILE.obj, the scene to keep clear of")
+            failIn "ik" ("--clearance " ++ showNumber c ++ " m: needs --environment FILE.obj, the scene to keep clear of")
       _ | Nothing <- ikEnvironment o, b : _ <- ikIgnoreBodies o ->
-            failWith ("--ignore-body " ++ show b ++ ": needs --environment FILE.obj, the scene to leave the body out of")
+            failIn "ik" ("--ignore-body " ++ show b ++ ": needs --environment FILE.obj, the scene to leave the body out of")
       [x, y, z, w, qx', qy', qz']
         | any ((> maxCoordinate) . abs) [x, y, z] ->
-            failWith ("--pose: the position (" ++ unwords (map show [x, y, z]) ++ ") m is more than "
+            failIn "ik" ("--pose: the position (" ++ unwords (map show [x, y, z]) ++ ") m is more than "
                       ++ showBound maxCoordinate ++ " m from the robot's base, beyond any reach (is the unit right?)")
         | abs (sqrt (w * w + qx' * qx' + qy' * qy' + qz' * qz') - 1) > 1e-6 ->
-            failWith ("--pose: the quaternion (" ++ unwords (map show [w, qx', qy', qz']) ++ ") is not a unit quaternion")
+            failIn "ik" ("--pose: the quaternion (" ++ unwords (map show [w, qx', qy', qz']) ++ ") is not a unit quaternion")
         | otherwise -> do
             let target = fromQuat (V3 x y z) (Quat w qx' qy' qz')
                 seed = jointsFrom (ikDeg o) r <$> ikSeedQ o
                 opts = defaultIkOptions { ikAllSolutions = ikAll o }
             scene <- loadEnvironment
             case scene of
-              Left e -> failWith e
+              Left e -> failIn "ik" e
               Right env -> do
                 res <- solveWithin env r target seed opts
                 answer r res
-      _ -> failWith "--pose: expected 7 numbers"
+      _ -> failIn "ik" "--pose: expected 7 numbers"
   where
     loadEnvironment = case ikEnvironment o of
       Nothing -> pure (Right Nothing)
@@ -363,7 +364,7 @@ runIk o = do
     ikFail _ (InvalidRequest es) = Left es
     ikFail r f = Right (describeFailureFor r f)
     answer r res = case res of
-              Left (Left es) -> failWith (intercalate "; " es)
+              Left (Left es) -> failIn "ik" (intercalate "; " es)
               Left (Right why) -> do
                 case ikFormat o of
                   Json -> BLC.putStrLn (A.encode (A.object [ "error" A..= why ]))
@@ -371,7 +372,7 @@ runIk o = do
                 pure (ExitFailure 1)
               Right found
                 | Just b <- ikBranchWanted o, not (null found), all ((== Nothing) . solBranch . fst) found ->
-                    failWith ("--branch " ++ b ++ ": " ++ robotName r ++ " has no six-axis closed form, so its solutions have no branch")
+                    failIn "ik" ("--branch " ++ b ++ ": " ++ robotName r ++ " has no six-axis closed form, so its solutions have no branch")
               Right found -> do
                 let sols0 = map fst found
                     clearanceOf s = lookup (solJoints s) [ (solJoints x, c) | (x, Just c) <- found ]
