@@ -115,6 +115,16 @@ spec = do
         writeFile f ("environment:\n  - {file: " ++ show cell ++ ", scale: 1e100}\npayload: 1\nclearance: 0.01\ntargets:\n  - {position: [0.5, 0, 0.3]}\n")
         run [f, "--robots", "ur5"] `shouldReturn` ExitFailure 2
   describe "path files as targets" $ do
+    it "a quaternion off unit length is normalised with a warning naming the file and line, as vprof plan gives it (it was normalised silently)" $
+      withSystemTempDirectory "vprof-select" $ \tmp -> do
+        writeFile (tmp </> "p.csv") "time,x,y,z,qw,qx,qy,qz\n0,0.5,0,0.3,0,1.1,0,0\n1,0.5,0.1,0.3,0,1,0,0\n"
+        f <- writeTask tmp cell "payload: 1\nclearance: 0.01\npath: {file: p.csv}\n"
+        r <- readTaskFileWarned f
+        case r of
+          Right (_, [w]) -> w `shouldSatisfy` (\m -> "p.csv" `isInfixOf` m && "line 2" `isInfixOf` m && "normalised" `isInfixOf` m)
+          other -> expectationFailure (show (fmap snd other))
+        writeFile (tmp </> "p.csv") "time,x,y,z,qw,qx,qy,qz\n0,0.5,0,0.3,0,1,0,0\n1,0.5,0.1,0.3,0,1,0,0\n"
+        fmap snd <$> readTaskFileWarned f `shouldReturn` Right []
     it "TUM and vprof compress's CSV: one target a waypoint, in the path's frame, every field read" $
       withSystemTempDirectory "vprof-select" $ \tmp -> do
         writeFile (tmp </> "p.txt") "# t x y z qx qy qz qw\n0 0.5 0 0.3 1 0 0 0\n1.5 0.5 0.1 0.3 1 0 0 0\n"

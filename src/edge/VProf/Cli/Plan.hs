@@ -51,7 +51,7 @@ import VProf.Kinematics.Transform (Quat (..), Tf, V3 (..), compose, fromRpy, ide
 import VProf.Plan
 import VProf.Plot.Plan (plotPlan)
 import VProf.Profile.Result (resultLegal)
-import VProf.Select.Format.Task (readTaskFile, taskFileInputs)
+import VProf.Select.Format.Task (readTaskFileWarned, taskFileInputs)
 import VProf.Select.Task (MeshPlacement (..), Target (..), Task (..))
 import VProf.Units
 import VProf.Validation
@@ -208,10 +208,12 @@ isTaskFile f = map toLower (takeExtension f) `elem` [".yaml", ".yml", ".json"]
 readPathInput :: FilePath -> IO (Either String PathInput)
 readPathInput f
   | isTaskFile f = do
-      et <- readTaskFile f
-      pure $ case et of
-        Left es -> Left (intercalate "; " es)
-        Right t -> Right (PathInput [ tfWaypoint (tgPose g) | g <- taskTargets t ] (Just t))
+      et <- readTaskFileWarned f
+      case et of
+        Left es -> pure (Left (intercalate "; " es))
+        Right (t, warns) -> do
+          mapM_ (hPutStrLn stderr . ("vprof plan: warning: " ++)) warns
+          pure (Right (PathInput [ tfWaypoint (tgPose g) | g <- taskTargets t ] (Just t)))
   | otherwise = fmap (\tr -> PathInput [ waypoint (x, y, z) (w, a, b, c)
                                        | (P3 x y z, Q4 w a b c) <- zip (ptoList (tPos tr)) (ptoList (tRot tr)) ] Nothing)
                   <$> readPath f

@@ -36,7 +36,7 @@ import VProf.Kinematics.Library (libraryRobots)
 import VProf.Kinematics.Collision (unknownBody)
 import VProf.Kinematics.Model (Robot (..))
 import VProf.Plot.Select (plotSelection)
-import VProf.Select.Format.Task (readTaskFile, taskFileInputs)
+import VProf.Select.Format.Task (readTaskFileWarned, taskFileInputs)
 import qualified VProf.Cli.Output as Out
 import VProf.Select.Parallel (evaluateRobots)
 import VProf.Select.Selection
@@ -79,10 +79,11 @@ runSelect a = do
   -- a plot file that cannot be written (or that is an input) is a bad option, said before the work
   named <- taskFileInputs (saTask a)
   clash <- Out.overwritesInput (("the task file", saTask a) : named) [ ("--plot", f) | Just f <- [saPlot a] ]
-  et <- maybe (readTaskFile (saTask a)) (\m -> pure (Left [m])) clash
+  et <- maybe (readTaskFileWarned (saTask a)) (\m -> pure (Left [m])) clash
   case et of
     Left es -> failWith (intercalate "\n  " es)
-    Right task -> do
+    Right (task, warns) -> do
+      mapM_ (hPutStrLn stderr . ("vprof select: warning: " ++)) warns
       robots <- loadRobots (saTip a) (saRobots a)
       case robots of
         Left e -> failWith e

@@ -9,6 +9,7 @@
 -- (@targets[2].position@) and its value, or the path file's line.
 module VProf.Select.Format.Task
   ( readTaskFile
+  , readTaskFileWarned
   , parseTask
   , readPathTargets
   , resolvePath
@@ -33,7 +34,7 @@ import System.Environment (lookupEnv)
 import System.FilePath (takeDirectory, (</>), isAbsolute)
 
 import VProf.Compress.Format.Path (readWaypoints)
-import VProf.Compress.Clean (Sample (..))
+import VProf.Compress.Clean (Sample (..), fileLocator, nonUnitWarning, renderCleanWarning)
 import VProf.Geometry.Vec (P3 (..), Q4 (..))
 import VProf.Kinematics.Model (Capsule (..))
 import VProf.Kinematics.Transform
@@ -45,7 +46,12 @@ type P a = Either [String] a
 
 -- | Read, resolve the files, read the path, check the numbers; Left every problem.
 readTaskFile :: FilePath -> IO (Either [String] Task)
-readTaskFile path = do
+readTaskFile = fmap (fmap fst) . readTaskFileWarned
+
+-- | 'readTaskFile' with the warnings about what it read, for the command to say: a path file's
+-- quaternions off unit length, normalised (as @vprof plan@ says of a path it is given).
+readTaskFileWarned :: FilePath -> IO (Either [String] (Task, [String]))
+readTaskFileWarned path = do
   r <- try (BS.readFile path)
   case r of
     Left (e :: IOException) -> pure (Left ["cannot read the task file " ++ path ++ ": " ++ ioReason e])
@@ -63,7 +69,7 @@ readTaskFile path = do
                                else Left [path ++ ": environment[" ++ show i ++ "].file: " ++ show (mpFile m) ++ " does not exist (looked for " ++ f ++ ")"]))
                       (zip [0 :: Int ..] (taskEnvironment task))
           pathTargets <- case pathSpec of
-            Nothing -> pure (Right [])
+            Nothing -> pure (Right ([], []))
             Just (file, frame) -> do
               f <- resolvePath dir file
               ok <- doesFileExist f
@@ -71,10 +77,10 @@ readTaskFile path = do
                 then pure (Left [path ++ ": path.file: " ++ show file ++ " does not exist (looked for " ++ f ++ ")"])
                 else either (\e -> Left [e]) Right <$> readPathTargets frame f
           pure $ case (collect env, pathTargets) of
-            (Right env', Right pts) ->
+            (Right env', Right (pts, warns)) ->
               let task' = task {taskEnvironment = env', taskTargets = taskTargets task ++ pts}
               in case checkTask task' of
-                   [] -> Right task'
+                   [] -> Right (task', warns)
                    es -> Left (map ((path ++ ": ") ++) (map renderFieldError es))
             (a, b) -> Left (either id (const []) a ++ either id (const []) b)
 
@@ -203,7 +209,7 @@ pose p v = do
 -- | The waypoints of a path file as targets (each placed by the frame), labelled with their line.
 -- RAPID @.mod@, a headed CSV (@time,x,y,z,qw,qx,qy,qz@, as @vprof compress@ writes it), else TUM,
 -- checked as @vprof plan@ checks a path ("VProf.Compress.Format.Path").
-readPathTargets :: Tf -> FilePath -> IO (Either String [Target])
+readPathTargets :: Tf -> FilePath -> IO (Either String ([Target], [String]))
 readPathTargets frame f = do
   r <- try (BS.readFile f)
   pure $ case r of
@@ -212,8 +218,9 @@ readPathTargets frame f = do
       samples <- readWaypoints f bs
       case samples of
         [] -> Left (f ++ ": no waypoints")
-        _ -> Right [ Target (f ++ " line " ++ show l) (frame `compose` fromQuat (V3 x y z) (normaliseQuat (Quat w a b c)))
-                   | Sample l _ (P3 x y z) (Q4 w a b c) <- samples ]
+        _ -> Right ( [ Target (f ++ " line " ++ show l) (frame `compose` fromQuat (V3 x y z) (normaliseQuat (Quat w a b c)))
+                     | Sample l _ (P3 x y z) (Q4 w a b c) <- samples ]
+                   , [ f ++ ": " ++ renderCleanWarning fileLocator w | Just w <- [nonUnitWarning samples] ] )
 
 ------------------------------------------------------------------------------ helpers
 
