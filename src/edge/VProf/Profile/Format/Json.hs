@@ -30,6 +30,7 @@ import qualified Data.Vector.Unboxed as U
 import VProf.Format.DuplicateKeys (duplicateJsonKeyErrors)
 import VProf.Format.Chunked (chunkRanges, renderChunked)
 import VProf.Format.Number (doubleBuilder)
+import VProf.Format.Text (dropBomLazy)
 import VProf.Profile.Generate
 import VProf.Profile.Legality
 import VProf.Profile.Sampled
@@ -42,14 +43,10 @@ requestFromJson :: BL.ByteString -> Either String Request
 requestFromJson bs0 = case duplicateJsonKeyErrors (BL.toStrict bs) of
   [] -> plainError (eitherDecode bs >>= requestFromValue)
   dups -> Left (intercalate "; " dups)
-  where bs = dropBomL bs0
+  where bs = dropBomLazy bs0
 
 requestFromValue :: Value -> Either String Request
 requestFromValue = plainError . parseEither parseRequest
-
--- | The text without a UTF-8 byte-order mark ("VProf.Format.Text") for a lazy string.
-dropBomL :: BL.ByteString -> BL.ByteString
-dropBomL bs = if BL.take 3 bs == BL.pack [0xEF, 0xBB, 0xBF] then BL.drop 3 bs else bs
 
 -- | A message as a nested field's: ".field: ..." when it names one, else ": ...".
 under :: String -> String
@@ -74,7 +71,7 @@ plainMessage e = case stripPrefix "Error in $" e of
 -- | The request's @request_id@ (0 when absent), which a response echoes; an id that is not
 -- a uint64 is an error naming it.
 requestIdFromJson :: BL.ByteString -> Either String Word64
-requestIdFromJson bs = plainError (eitherDecode (dropBomL bs) >>= parseEither (withObject "ProfileRequest" requestId))
+requestIdFromJson bs = plainError (eitherDecode (dropBomLazy bs) >>= parseEither (withObject "ProfileRequest" requestId))
 
 requestId :: Object -> Parser Word64
 requestId o = fieldWith protoUInt64 o "request_id" 0
