@@ -4,10 +4,12 @@
 -- started from the seed and then from random configurations within the limits.
 --
 -- One step solves (JᵀJ + λI)·δ = Jᵀe with λ = μ·E (E = ½|e|², Chan–Lawrence/Sugihara damping: a
--- Gauss–Newton step near the solution, a short gradient step far from it); a step that does not
--- lower E is refused and μ grows tenfold. The random starts come from a pure SplitMix64 generator
+-- Gauss–Newton step near the solution, a short gradient step far from it); a descent ends when
+-- it converges, after its iteration count, or when E has not dropped by a tenth for a few steps,
+-- and the solver restarts. The random starts come from a pure SplitMix64 generator
 -- seeded by the caller, so a solve is a pure function of its inputs; 'solveNumericIO' adds a
--- wall-time budget between starts. Invariant: a returned solution is within the limits and its
+-- wall-time budget, looked at between two iterations. A target beyond the chain's reach or with an
+-- orientation its tool cannot take fails before any descent. Invariant: a returned solution is within the limits and its
 -- forward kinematics matches the target to the tolerances (the check is the convergence test).
 module VProf.Kinematics.Ik.Numeric
   ( solveNumeric
@@ -15,6 +17,13 @@ module VProf.Kinematics.Ik.Numeric
   , Attempt (..)
   , attempts
   , descend
+  , Descent (..)
+  , descent
+  , outcome
+  , followUntil
+  , lmStep
+  , lmStepPrimal
+  , lmStepDual
   , reachBound
   , orientationTilt
   , SplitMix (..)
@@ -85,9 +94,23 @@ poseError target t =
   let V3 wx wy wz = rotationLog (compose target (inverse t) {tx = 0, ty = 0, tz = 0})
   in (tx target - tx t, ty target - ty t, tz target - tz t, wx, wy, wz)
 
--- | One Levenberg–Marquardt descent from a start (limits enforced when the flag is set).
+-- | One Levenberg–Marquardt descent from a start (limits enforced when the flag is set): its
+-- outcome.
 descend :: IkOptions -> Bool -> Chain -> Tf -> U.Vector Double -> Attempt
-descend IkOptions{..} limited ch target q0 = loop 0 (1 / 0) 0 (clampQ q0)
+descend opts limited ch target q0 = outcome (descent opts limited ch target q0)
+
+-- | A descent as the stream of its iterates, so that a caller with a clock can stop it between
+-- two iterations: 'Going' holds the iterate's state as an unfinished attempt and the rest.
+data Descent = Done !Attempt | Going !Attempt Descent
+
+-- | The last iterate of a descent.
+outcome :: Descent -> Attempt
+outcome (Done a) = a
+outcome (Going _ d) = outcome d
+
+-- | The iterates of one Levenberg–Marquardt descent from a start, lazily.
+descent :: IkOptions -> Bool -> Chain -> Tf -> U.Vector Double -> Descent
+descent IkOptions{..} limited ch target q0 = loop 0 (1 / 0) 0 (clampQ q0)
   where
     n = chainDof ch
     rev = chainRevoluteJoint ch
@@ -97,7 +120,7 @@ descend IkOptions{..} limited ch target q0 = loop 0 (1 / 0) 0 (clampQ q0)
       | limited = U.imap (\i x -> if U.unsafeIndex rev i then project (lo i) (hi i) x else max (lo i) (min (hi i) x)) q
       | otherwise = q
     -- best: the lowest E so far; since: iterations since it dropped by a tenth
-    loop :: Int -> Double -> Int -> U.Vector Double -> Attempt
+    loop :: Int -> Double -> Int -> U.Vector Double -> Descent
     loop !it !best !since !q =
       let (t, j) = jacobian ch q
           e@(e0, e1, e2, e3, e4, e5) = poseError target t
@@ -105,8 +128,8 @@ descend IkOptions{..} limited ch target q0 = loop 0 (1 / 0) 0 (clampQ q0)
           re = sqrt (e3 * e3 + e4 * e4 + e5 * e5)
           en = 0.5 * (pe * pe + re * re)
           (best', since') = if en < 0.9 * best then (en, 0) else (best, since + 1)
-      in if pe <= ikTolPosition && re <= ikTolRotation then Attempt q pe re True (it + 1)
-         else if it >= ikMaxIterations || since' > stallLimit then Attempt q pe re False (it + 1)
+      in if pe <= ikTolPosition && re <= ikTolRotation then Done (Attempt q pe re True (it + 1))
+         else if it >= ikMaxIterations || since' > stallLimit then Done (Attempt q pe re False (it + 1))
          else
            let lam = ikDampingGain * en + 1e-12
                delta0 = lmStep n j e lam noMask
@@ -115,12 +138,22 @@ descend IkOptions{..} limited ch target q0 = loop 0 (1 / 0) 0 (clampQ q0)
                delta
                  | limited && U.or frozen = lmStep n j e lam frozen
                  | otherwise = delta0
-           in loop (it + 1) best' since' (clampQ (U.zipWith (+) q delta))
+           in Going (Attempt q pe re False (it + 1)) (loop (it + 1) best' since' (clampQ (U.zipWith (+) q delta)))
     noMask = U.replicate n False
     pushesOut i x d =
       let w = 1e-9 * (1 + abs x)
           wraps = U.unsafeIndex rev i && hi i - lo i >= 2 * pi
       in not wraps && ((x >= hi i - w && d > 0) || (x <= lo i + w && d < 0))
+
+-- | A descent followed until it ends or the clock passes the deadline (ns, checked before each
+-- iteration after the first); Left the last iterate reached when the deadline cut it.
+followUntil :: Word64 -> Descent -> IO (Either Attempt Attempt)
+followUntil deadline = go
+  where
+    go (Done a) = pure (Right a)
+    go (Going a rest) = do
+      now <- getMonotonicTimeNSec
+      if now > deadline then pure (Left a) else go rest
 
 -- | A descent whose error has not dropped by a tenth for this many iterations restarts.
 stallLimit :: Int
@@ -134,9 +167,62 @@ project lo hi x
   | x < lo = let y = x + 2 * pi * fromIntegral (ceiling ((lo - x) / (2 * pi)) :: Int) in if y <= hi then y else lo
   | otherwise = x
 
--- | δ = (JᵀJ + λI)⁻¹ Jᵀe by Cholesky (n small); masked joints get δ = 0.
+-- | δ = (JᵀJ + λI)⁻¹ Jᵀe; masked joints get δ = 0 (their columns of J taken as zero). Up to
+-- 'primalJoints' joints by the n×n system; beyond, by the same step in its 6×6 form
+-- δ = Jᵀ(JJᵀ + λI)⁻¹e (the two are equal for λ > 0: Jᵀ(JJᵀ + λI) = (JᵀJ + λI)Jᵀ), whose cost grows
+-- linearly in n, not as n³: one step on a chain of 2000 joints took over a second the n×n way.
 lmStep :: Int -> Jacobian -> (Double, Double, Double, Double, Double, Double) -> Double -> U.Vector Bool -> U.Vector Double
-lmStep n j (e0, e1, e2, e3, e4, e5) lam mask = runST $ do
+lmStep n j e lam mask
+  | n <= primalJoints = lmStepPrimal n j e lam mask
+  | otherwise = lmStepDual n j e lam mask
+
+-- | Chains of up to this many joints take the n×n form of the step (as cheap as the 6×6 form
+-- there).
+primalJoints :: Int
+primalJoints = 12
+
+-- | The 6×6 form of 'lmStep'.
+lmStepDual :: Int -> Jacobian -> (Double, Double, Double, Double, Double, Double) -> Double -> U.Vector Bool -> U.Vector Double
+lmStepDual n j (e0, e1, e2, e3, e4, e5) lam mask = runST $ do
+  a <- M.replicate 36 0
+  let col k r = if U.unsafeIndex mask k then 0 else U.unsafeIndex j (6 * k + r)
+      accumulate !k
+        | k >= n = pure ()
+        | otherwise = do
+            let go !r !c
+                  | r >= 6 = pure ()
+                  | c > r = go (r + 1) 0
+                  | otherwise = M.unsafeModify a (+ col k r * col k c) (r * 6 + c) >> go r (c + 1)
+            go 0 0
+            accumulate (k + 1)
+  accumulate 0
+  mapM_ (\r -> M.unsafeModify a (+ lam) (r * 6 + r)) [0 .. 5]
+  cholesky 6 a
+  y <- U.thaw (U.fromListN 6 [e0, e1, e2, e3, e4, e5])
+  let fwd !r
+        | r >= 6 = pure ()
+        | otherwise = do
+            s <- sumTo r (\k -> (*) <$> M.unsafeRead a (r * 6 + k) <*> M.unsafeRead y k)
+            yr <- M.unsafeRead y r
+            d <- M.unsafeRead a (r * 6 + r)
+            M.unsafeWrite y r ((yr - s) / d)
+            fwd (r + 1)
+      back !r
+        | r < 0 = pure ()
+        | otherwise = do
+            s <- sumFrom (r + 1) 6 (\k -> (*) <$> M.unsafeRead a (k * 6 + r) <*> M.unsafeRead y k)
+            yr <- M.unsafeRead y r
+            d <- M.unsafeRead a (r * 6 + r)
+            M.unsafeWrite y r ((yr - s) / d)
+            back (r - 1)
+  fwd 0
+  back 5
+  yv <- U.unsafeFreeze y
+  pure (U.generate n (\k -> U.sum (U.imap (\r yr -> col k r * yr) yv)))
+
+-- | The n×n form of 'lmStep', by Cholesky.
+lmStepPrimal :: Int -> Jacobian -> (Double, Double, Double, Double, Double, Double) -> Double -> U.Vector Bool -> U.Vector Double
+lmStepPrimal n j (e0, e1, e2, e3, e4, e5) lam mask = runST $ do
   a <- M.new (n * n)
   x <- M.unsafeNew n
   let col k r = if U.unsafeIndex mask k then 0 else U.unsafeIndex j (6 * k + r)
@@ -267,37 +353,75 @@ orientationCheck opts ch target = case orientationTilt ch target of
   Just tilt | tilt > ikTolRotation opts * 1.0001 + 1e-12 -> Just (OrientationUnreachable tilt)
   _ -> Nothing
 
+-- | A target farther from the first moving axis than the chain reaches ('reachBound') by more
+-- than the position tolerance fails at once, without a descent.
+reachCheck :: IkOptions -> Chain -> Tf -> Maybe IkFailure
+reachCheck opts ch target
+  | dist > bound + ikTolPosition opts * 1.0001 = Just (BeyondReach dist bound)
+  | otherwise = Nothing
+  where
+    (origin, bound) = reachBound ch
+    dist = v3Norm (v3Sub (translation target) origin)
+
+-- | The failures known before any descent: an orientation the tool cannot take, a target out of
+-- reach.
+precheck :: IkOptions -> Chain -> Tf -> Maybe IkFailure
+precheck opts ch target = case orientationCheck opts ch target of
+  Just f -> Just f
+  Nothing -> reachCheck opts ch target
+
+-- | How many descents without limits the diagnosis of a failed solve tries, and how long each.
+probeStarts, probeIterations :: Int
+probeStarts = 20
+probeIterations = 100
+
 -- | Pure solve: the seed and up to 'ikMaxRestarts' random starts.
 solveNumeric :: IkOptions -> Chain -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
 solveNumeric opts ch target seedM
-  | Just f <- orientationCheck opts ch target = Left f
-  | otherwise = finish opts ch target seed (take (1 + ikMaxRestarts opts) (attempts opts True ch target seed))
+  | Just f <- precheck opts ch target = Left f
+  | otherwise = finish opts ch target seed (take (1 + ikMaxRestarts opts) (attempts opts True ch target seed)) probe
   where
     seed = maybe (midLimits ch) id seedM
+    probe = take probeStarts (attempts opts {ikMaxIterations = probeIterations} False ch target seed)
 
--- | Like 'solveNumeric', also stopping when the wall-time budget (seconds) is spent (checked
--- between starts; the seed's start always runs).
+-- | Like 'solveNumeric', also stopping when the wall-time budget (seconds) is spent: checked
+-- between two iterations of a descent, so that a long chain's descent does not overrun it; the
+-- diagnosis of a failure (the descents without limits) shares the same budget.
 solveNumericIO :: Double -> IkOptions -> Chain -> Tf -> Maybe (U.Vector Double) -> IO (Either IkFailure [IkSolution])
 solveNumericIO _ opts ch target _
-  | Just f <- orientationCheck opts ch target = pure (Left f)
+  | Just f <- precheck opts ch target = pure (Left f)
 solveNumericIO budget opts ch target seedM = do
   t0 <- getMonotonicTimeNSec
-  let deadline = t0 + round (budget * 1e9)
-      run k acc (a : rest)
+  let deadline = t0 + round (max 0 budget * 1e9)
+      run k acc (d : rest)
         | k > ikMaxRestarts opts = pure (reverse acc)
         | otherwise = do
-            now <- getMonotonicTimeNSec
-            if k > 0 && now > deadline then pure (reverse acc)
-            else if attConverged a && not (ikAllSolutions opts) then pure (reverse (a : acc))
-            else attConverged a `seq` run (k + 1) (a : acc) rest
+            r <- followUntil deadline d
+            case r of
+              Left cut -> pure (reverse (cut : acc))
+              Right a
+                | attConverged a && not (ikAllSolutions opts) -> pure (reverse (a : acc))
+                | otherwise -> run (k + 1) (a : acc) rest
       run _ acc [] = pure (reverse acc)
-  as <- run (0 :: Int) [] (attempts opts True ch target seed)
-  pure (finish opts ch target seed as)
+      probeRun acc [] = pure (reverse acc)
+      probeRun acc (d : rest) = do
+        r <- followUntil deadline d
+        case r of
+          Left cut -> pure (reverse (cut : acc))
+          Right a -> probeRun (a : acc) rest
+  as <- run (0 :: Int) [] (map (descent opts True ch target) (starts (ikRandomSeed opts) ch seed))
+  let needProbe = null [() | a <- as, attConverged a]
+  probe <- if needProbe
+             then probeRun [] (take probeStarts (map (descent opts {ikMaxIterations = probeIterations} False ch target) (starts (ikRandomSeed opts) ch seed)))
+             else pure []
+  pure (finish opts ch target seed as probe)
   where
     seed = maybe (midLimits ch) id seedM
 
-finish :: IkOptions -> Chain -> Tf -> U.Vector Double -> [Attempt] -> Either IkFailure [IkSolution]
-finish opts ch target seed as =
+-- | The solutions among the descents, or the diagnosis of none: beyond reach, outside the limits
+-- (a descent without limits, of the probe, converged outside them), or not converged.
+finish :: IkOptions -> Chain -> Tf -> U.Vector Double -> [Attempt] -> [Attempt] -> Either IkFailure [IkSolution]
+finish opts ch target seed as probe =
   case found of
     [] -> Left diagnose
     sols -> Right (sortBySeed (dedupe sols))
@@ -318,8 +442,7 @@ finish opts ch target seed as =
       | dist > bound = BeyondReach dist bound
       | otherwise =
           -- does the pose have solutions if the limits are lifted?
-          let free = take 20 (attempts opts {ikMaxIterations = 100} False ch target seed)
-              outside = [limitViolations (ikLimitTolerance opts) ch (attJoints a) | a <- free, attConverged a]
+          let outside = [limitViolations (ikLimitTolerance opts) ch (attJoints a) | a <- probe, attConverged a]
           in case [v | v <- outside, not (null v)] of
                (v : _) -> OutsideLimits [[(names !! i, x) | (i, x) <- v]]
                [] -> let best = minimumOn (\a -> attPosition a + attRotation a) as
