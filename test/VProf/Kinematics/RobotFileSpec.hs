@@ -95,9 +95,24 @@ spec = do
       errsOf "description: x\n" `shouldSatisfy` (\es -> any ("name: missing" `isInfixOf`) es || any (".name" `isInfixOf`) es)
     it "an unknown convention" $
       errsOf (B.pack "name: x\nconvention: euler\njoints: []\nlinks: []\n") `shouldSatisfy` any ("convention" `isInfixOf`)
-    it "limits given backwards name the field, value and unit" $
+    it "limits given backwards name the field, value and unit, in the file's units (degrees by default, as typed)" $
       errsOf (B.pack (unlines ["name: x", "convention: standard-dh", "joints:", "  - {name: J1, limits: [90, -90]}", "links:", "  - {dh: {a: 1}}"]))
-        `shouldSatisfy` any (\e -> "joints[0].limits.max" `isInfixOf` e && "rad" `isInfixOf` e)
+        `shouldSatisfy` any ("joints[0].limits.max = -90.0 deg: must be above limits.min (90.0)" `isInfixOf`)
+    it "every value of an error is in the units the file states (was in SI: 90 deg read as 1.5707963267948966 rad)" $ do
+      let file u = B.pack (unlines
+            [ "name: x", "convention: standard-dh", "units: " ++ u, "reach: -700"
+            , "joints:", "  - {name: J1, limits: [-170, 170], max_velocity: -250}", "  - {name: J2, limits: [0.5, 0.25]}"
+            , "links:", "  - {dh: {a: 300}, capsules: [{a: [0, 0, 0], b: [300, 0, 0], radius: -40}]}", "  - {dh: {a: 1}}" ])
+          es = errsOf (file "{length: mm, angle: deg}")
+      es `shouldSatisfy` any ("joints[0].max_velocity = -250.0 deg/s" `isInfixOf`)
+      es `shouldSatisfy` any ("reach = -700.0 mm" `isInfixOf`)
+      es `shouldSatisfy` any ("links[0].capsules[0].radius = -40.0 mm" `isInfixOf`)
+      es `shouldSatisfy` any ("joints[1].limits.max = 0.25 deg: must be above limits.min (0.5)" `isInfixOf`)
+      -- the same file in m and rad: the values as typed, in those units
+      let es' = errsOf (file "{length: m, angle: rad}")
+      es' `shouldSatisfy` any ("joints[0].max_velocity = -250.0 rad/s" `isInfixOf`)
+      es' `shouldSatisfy` any ("reach = -700.0 m" `isInfixOf`)
+      es' `shouldSatisfy` any ("joints[1].limits.max = 0.25 rad: must be above limits.min (0.5)" `isInfixOf`)
     it "a wrong-length limits list" $
       errsOf (B.pack (unlines ["name: x", "convention: standard-dh", "joints:", "  - {name: J1, limits: [1]}", "links:", "  - {dh: {a: 1}}"]))
         `shouldSatisfy` any ("joints[0].limits: expected 2 numbers" `isInfixOf`)
@@ -109,7 +124,7 @@ spec = do
       errsOf (minimal "payload: .nan") `shouldSatisfy` any ("payload" `isInfixOf`)
     it "a negative speed" $
       errsOf (B.pack (unlines ["name: x", "convention: standard-dh", "joints:", "  - {name: J1, limits: [-1, 1], max_velocity: -5}", "links:", "  - {dh: {a: 1}}"]))
-        `shouldSatisfy` any (\e -> "joints[0].max_velocity" `isInfixOf` e && "rad/s" `isInfixOf` e)
+        `shouldSatisfy` any ("joints[0].max_velocity = -5.0 deg/s" `isInfixOf`)
     it "a drive naming no joint" $
       errsOf (B.pack (unlines ["name: x", "convention: standard-dh", "joints:", "  - {name: J1, limits: [-1, 1]}", "links:", "  - {dh: {a: 1}, drive: {J9: 1}}"]))
         `shouldSatisfy` any ("links[0].drive.J9" `isInfixOf`)

@@ -8,11 +8,15 @@ module VProf.Kinematics.Validate
   ( FieldError (..)
   , renderFieldError
   , validateRobot
+  , validateRobotIn
+  , ShowUnits (..)
+  , siUnits
   , checkJointVector
   , jointsOutsideLimits
   ) where
 
 import Data.List (nub, (\\))
+import Numeric (showEFloat)
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Kinematics.Model
@@ -23,14 +27,52 @@ import VProf.Kinematics.Transform
 fe :: String -> String -> String -> String -> FieldError
 fe f v = FieldError f (Literal v)
 
+-- | The units a model's values are shown in by 'validateRobotIn': a length in SI is divided by
+-- the length scale and named by its name, an angle likewise (a robot file's @units@: a value typed
+-- in degrees is reported in degrees, not in the radians the model holds).
+data ShowUnits = ShowUnits
+  { suLength :: !Double, suLengthName :: String   -- ^ metres per unit, e.g. 0.001 "mm"
+  , suAngle :: !Double, suAngleName :: String     -- ^ radians per unit, e.g. π/180 "deg"
+  }
+
+-- | The model's own units: m and rad.
+siUnits :: ShowUnits
+siUnits = ShowUnits 1 "m" 1 "rad"
+
+-- | A value in its SI unit ("m", "m/s", "m/s^2", "rad", "rad/s", "rad/s^2"; any other unit is
+-- shown as it is) as text in the shown units, with its unit's name. A converted value is rounded
+-- to 12 significant digits (165° read and shown again is not 165.00000000000003°).
+showIn :: ShowUnits -> String -> Double -> (String, String)
+showIn ShowUnits{..} u v = case u of
+  "m" -> len ""
+  "m/s" -> len "/s"
+  "m/s^2" -> len "/s^2"
+  "rad" -> ang ""
+  "rad/s" -> ang "/s"
+  "rad/s^2" -> ang "/s^2"
+  _ -> (show v, u)
+  where
+    len suffix = conv suLength (suLengthName ++ suffix)
+    ang suffix = conv suAngle (suAngleName ++ suffix)
+    conv scale name
+      | scale == 1 = (show v, name)
+      | otherwise = (showNumber (roundSig (v / scale)), name)
+    roundSig x
+      | isNaN x || isInfinite x || x == 0 = x
+      | otherwise = read (showEFloat (Just 11) x "")
+
 -- | A finite length (unit "m") beyond 'maxCoordinate' or angle (unit "rad") beyond
 -- 'maxAngleDeg': taken for a wrong unit (a link of 1e200 m made every IK residual infinite
 -- or NaN; the sine of 1e300 rad is noise).
-tooLarge :: String -> Double -> String -> [FieldError]
-tooLarge f v u
-  | u == "m", abs v > maxCoordinate = [fe f (show v) u tooLongRule]
-  | u == "rad", abs v > maxAngleDeg * pi / 180 = [fe f (show v) u tooWideRule]
+tooLarge :: ShowUnits -> String -> Double -> String -> [FieldError]
+tooLarge su f v u
+  | u == "m", abs v > maxCoordinate = [feIn su f v u tooLongRule]
+  | u == "rad", abs v > maxAngleDeg * pi / 180 = [feIn su f v u tooWideRule]
   | otherwise = []
+
+-- | An error on a value held in SI unit u, shown in the given units.
+feIn :: ShowUnits -> String -> Double -> String -> String -> FieldError
+feIn su f v u = let (t, u') = showIn su u v in fe f t u'
 
 -- | The largest coupling of a link to a joint (a drive coefficient, a URDF mimic multiplier):
 -- gearings and linkages couple by ratios of a few; 1e300 froze the joint (its limits shrank
@@ -42,8 +84,13 @@ unitOf :: JointKind -> (String, String, String)
 unitOf Revolute = ("rad", "rad/s", "rad/s^2")
 unitOf Prismatic = ("m", "m/s", "m/s^2")
 
+-- | Every problem of a model, values in its SI units.
 validateRobot :: Robot -> [FieldError]
-validateRobot Robot{..} =
+validateRobot = validateRobotIn siUnits
+
+-- | Every problem of a model, each value shown in the given units (those its file was typed in).
+validateRobotIn :: ShowUnits -> Robot -> [FieldError]
+validateRobotIn su Robot{..} =
   [fe "name" (show robotName) "" "must not be empty" | null robotName]
     ++ [fe "joints" "[]" "" "a robot needs at least one actuated joint" | null robotJoints]
     ++ [ fe ("joints[" ++ show i ++ "].name") (show (jointName j)) "" "duplicate joint name"
@@ -55,7 +102,7 @@ validateRobot Robot{..} =
     ++ tfErrs "base" robotBase
     ++ tfErrs "tool" robotTool
     ++ [fe "payload" (show p) "kg" "must be a finite number ≥ 0" | Just p <- [robotPayload], not (finite p && p >= 0)]
-    ++ [fe "reach" (show r) "m" "must be a finite number > 0" | Just r <- [robotReach], not (finite r && r > 0)]
+    ++ [feIn su "reach" r "m" "must be a finite number > 0" | Just r <- [robotReach], not (finite r && r > 0)]
   where
     n = length robotJoints
     driven = [k | l <- robotLinks, linkJointKind l /= Nothing, (k, _) <- driveTerms (linkDrive l)]
@@ -64,12 +111,13 @@ validateRobot Robot{..} =
       let p = "joints[" ++ show i ++ "]"
           (u, uv, ua) = unitOf jointKind
           Limits lo hi = jointLimits
-      in [fe (p ++ ".limits.min") (show lo) u "must be a number (−∞ only for a continuous joint)" | isNaN lo || lo == 1 / 0]
-           ++ [fe (p ++ ".limits.max") (show hi) u "must be a number (+∞ only for a continuous joint)" | isNaN hi || hi == -1 / 0]
-           ++ [fe (p ++ ".limits.max") (show hi) u ("must be above limits.min (" ++ show lo ++ ")") | not (isNaN lo || isNaN hi), hi <= lo]
-           ++ [fe (p ++ ".limits") (show lo ++ ".." ++ show hi) u "a prismatic joint needs finite limits" | jointKind == Prismatic, isInfinite lo || isInfinite hi]
-           ++ [fe (p ++ ".max_velocity") (show v) uv "must be a finite number > 0 (or absent)" | Just v <- [jointMaxVelocity], not (finite v && v > 0)]
-           ++ [fe (p ++ ".max_acceleration") (show a) ua "must be a finite number > 0 (or absent)" | Just a <- [jointMaxAcceleration], not (finite a && a > 0)]
+          shown = fst . showIn su u
+      in [feIn su (p ++ ".limits.min") lo u "must be a number (−∞ only for a continuous joint)" | isNaN lo || lo == 1 / 0]
+           ++ [feIn su (p ++ ".limits.max") hi u "must be a number (+∞ only for a continuous joint)" | isNaN hi || hi == -1 / 0]
+           ++ [feIn su (p ++ ".limits.max") hi u ("must be above limits.min (" ++ shown lo ++ ")") | not (isNaN lo || isNaN hi), hi <= lo]
+           ++ [fe (p ++ ".limits") (shown lo ++ ".." ++ shown hi) (snd (showIn su u lo)) "a prismatic joint needs finite limits" | jointKind == Prismatic, isInfinite lo || isInfinite hi]
+           ++ [feIn su (p ++ ".max_velocity") v uv "must be a finite number > 0 (or absent)" | Just v <- [jointMaxVelocity], not (finite v && v > 0)]
+           ++ [feIn su (p ++ ".max_acceleration") a ua "must be a finite number > 0 (or absent)" | Just a <- [jointMaxAcceleration], not (finite a && a > 0)]
     linkErrs :: Int -> Link -> [FieldError]
     linkErrs i Link{..} =
       let p = "links[" ++ show i ++ "]"
@@ -80,8 +128,8 @@ validateRobot Robot{..} =
               tfErrs (p ++ ".origin") o
                 ++ [fe (p ++ ".axis") (show [x, y, z]) "" "must be a finite, non-zero vector" | not (all finite [x, y, z]) || v3Norm (V3 x y z) < 1e-12]
             FixedTransform t -> tfErrs (p ++ ".transform") t
-          nums xs = [fe (p ++ "." ++ f) (show v) u "must be a finite number" | (f, v, u) <- xs, not (finite v)]
-                    ++ concat [ tooLarge (p ++ "." ++ f) v u | (f, v, u) <- xs, finite v ]
+          nums xs = [feIn su (p ++ "." ++ f) v u "must be a finite number" | (f, v, u) <- xs, not (finite v)]
+                    ++ concat [ tooLarge su (p ++ "." ++ f) v u | (f, v, u) <- xs, finite v ]
           drive = case linkJointKind of
             Nothing -> []
             Just _ ->
@@ -94,15 +142,15 @@ validateRobot Robot{..} =
                 ++ [ fe (p ++ ".drive[" ++ show t ++ "].coefficient") (show c) "" ("must be at most " ++ showBound maxCoupling ++ " in magnitude (a ratio of a million is taken for a wrong value)")
                    | (t, (_, c)) <- zip [0 :: Int ..] (driveTerms linkDrive), finite c, abs c > maxCoupling ]
           caps = concat
-            [ [fe (p ++ ".capsules[" ++ show c ++ "].radius") (show capRadius) "m" "must be a finite number > 0 (a link without a body gives capsules: [])" | not (finite capRadius && capRadius > 0)]
-                ++ (if finite capRadius then tooLarge (p ++ ".capsules[" ++ show c ++ "].radius") capRadius "m" else [])
-                ++ [fe (p ++ ".capsules[" ++ show c ++ "]") "" "m" "endpoints must be finite" | not (all finite [ax, ay, az, bx, by, bz])]
-                ++ take 1 (concat [ tooLarge (p ++ ".capsules[" ++ show c ++ "]") v "m" | v <- [ax, ay, az, bx, by, bz], finite v ])
+            [ [feIn su (p ++ ".capsules[" ++ show c ++ "].radius") capRadius "m" "must be a finite number > 0 (a link without a body gives capsules: [])" | not (finite capRadius && capRadius > 0)]
+                ++ (if finite capRadius then tooLarge su (p ++ ".capsules[" ++ show c ++ "].radius") capRadius "m" else [])
+                ++ [fe (p ++ ".capsules[" ++ show c ++ "]") "" (suLengthName su) "endpoints must be finite" | not (all finite [ax, ay, az, bx, by, bz])]
+                ++ take 1 (concat [ tooLarge su (p ++ ".capsules[" ++ show c ++ "]") v "m" | v <- [ax, ay, az, bx, by, bz], finite v ])
             | (c, Capsule{..}) <- zip [0 :: Int ..] linkCapsules, let V3 ax ay az = capA; V3 bx by bz = capB ]
       in geo ++ drive ++ caps
     tfErrs f t
       | not (all finite (toRows t)) = [fe f (show (toRows t)) "" "every entry must be a finite number"]
-      | e : _ <- concat [ tooLarge (f ++ ".xyz") v "m" | (k, v) <- zip [0 :: Int ..] (toRows t), k `mod` 4 == 3 ] = [e]
+      | e : _ <- concat [ tooLarge su (f ++ ".xyz") v "m" | (k, v) <- zip [0 :: Int ..] (toRows t), k `mod` 4 == 3 ] = [e]
       | not (isRigid 1e-6 t) = [fe (f ++ ".rotation") (show (take 3 (toRows t))) "" "must be orthonormal with determinant +1"]
       | otherwise = []
 

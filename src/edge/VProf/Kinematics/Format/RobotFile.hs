@@ -47,9 +47,15 @@ readRobotYaml bs = case Y.decodeEither' bs of
   Right _ | dups@(_ : _) <- duplicateKeyErrors bs -> Left dups
   Right v -> do
     r <- fromValue v
-    case validateRobot r of
+    case validateRobotIn (either (const siUnits) id (fileUnits v)) r of
       [] -> Right r
       es -> Left (map renderFieldError es)
+
+-- | The units the file's values are typed in, for its errors.
+fileUnits :: A.Value -> P ShowUnits
+fileUnits v = do
+  (l, a) <- obj "file" v >>= units
+  pure (ShowUnits l (if l == 1 then "m" else "mm") a (if a == 1 then "rad" else "deg"))
 
 type P a = Either [String] a
 
