@@ -29,6 +29,17 @@ import System.Directory (doesFileExist)
 run :: Parser (IO ExitCode) -> [String] -> IO ExitCode
 run = runCommand
 
+-- | A command's exit code and what it wrote to standard output.
+captured :: Parser (IO ExitCode) -> [String] -> IO (ExitCode, B.ByteString)
+captured cmd args = withSystemTempDirectory "vprof-cli" $ \dir -> do
+  let out = dir </> "stdout"
+  old <- hDuplicate stdout
+  h <- openFile out WriteMode
+  hDuplicateTo h stdout
+  code <- run cmd args `finally` (hFlush stdout >> hDuplicateTo old stdout >> hClose h)
+  txt <- B.readFile out
+  B.length txt `seq` pure (code, txt)
+
 spec :: Spec
 spec = describe "vprof robots / fk / ik" $ do
   it "lists the library and shows a robot" $ do
@@ -93,20 +104,20 @@ spec = describe "vprof robots / fk / ik" $ do
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--tip", "nosuch"] `shouldReturn` ExitFailure 2
     run fkCommand ["ur5", "0", "0", "0", "0", "0", "0", "--tip", "tool0"] `shouldReturn` ExitFailure 2
     mapM_ (\b -> run ikCommand ["franka-panda", "--pose", "0.5 0 0.3 0 1 0 0", "--time-budget", b] `shouldReturn` ExitFailure 99) ["0", "-5", "nan"]
-  it "fk --format json writes null for the condition number at a singularity (JSON has no infinity; it was the string \"+inf\")" $
-    withSystemTempDirectory "vprof-fk" $ \dir -> do
-      let out = dir </> "fk.json"
-      -- an exact singularity of the UR5 (its condition number is infinite there)
-      old <- hDuplicate stdout
-      h <- openFile out WriteMode
-      hDuplicateTo h stdout
-      code <- run fkCommand ["ur5", "0.7374101693382116", "1.450721935564376", "3.141592653589793", "2.654701702662302"
-                            , "1.4393914484395847", "2.533949979992502", "--format", "json"]
-                `finally` (hFlush stdout >> hDuplicateTo old stdout >> hClose h)
-      code `shouldBe` ExitSuccess
-      txt <- B.readFile out
-      B.isInfixOf (BC.pack "\"condition_number\":null") txt `shouldBe` True
-      B.isInfixOf (BC.pack "inf") txt `shouldBe` False
+  it "fk --format json writes null for the condition number at a singularity (JSON has no infinity; it was the string \"+inf\")" $ do
+    -- an exact singularity of the UR5 (its condition number is infinite there)
+    (code, txt) <- captured fkCommand ["ur5", "0.7374101693382116", "1.450721935564376", "3.141592653589793", "2.654701702662302"
+                                      , "1.4393914484395847", "2.533949979992502", "--format", "json"]
+    code `shouldBe` ExitSuccess
+    B.isInfixOf (BC.pack "\"condition_number\":null") txt `shouldBe` True
+    B.isInfixOf (BC.pack "inf") txt `shouldBe` False
+  it "ik --deg names the units of its columns: (deg, m) for an arm with a prismatic joint (it said (deg) over the Cobra's quill in m)" $ do
+    (c1, cobra) <- captured ikCommand ["adept-cobra600", "--pose", "0.55822 0.193936 0.287 0 1 0 0", "--deg"]
+    c1 `shouldBe` ExitSuccess
+    BC.unpack cobra `shouldSatisfy` isInfixOf "first (deg, m)\n"
+    (c2, ur5) <- captured ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--deg"]
+    c2 `shouldBe` ExitSuccess
+    BC.unpack ur5 `shouldSatisfy` isInfixOf " (deg)\n"
   it "inverse kinematics in the work cell: 0 clear of it, 1 when every solution hits it, 2 for a bad scene or clearance" $ do
     dir <- shared
     let cell = dir </> "data" </> "cell" </> "cell.obj"

@@ -395,7 +395,7 @@ runIk o = do
                       ++ maybe "" (const (" and clear of the environment by " ++ num 3 (ikClearance o) ++ " m")) (ikEnvironment o)
                       ++ (if ikAll o || length sols == 1 then ", " ++ order ++ " first"
                           else "; the " ++ order ++ " (--all lists them)")
-                      ++ (if ikDeg o then " (deg)" else " (rad, m)")
+                      ++ (if ikDeg o then (if any ((== Prismatic) . jointKind) (robotJoints r) then " (deg, m)" else " (deg)") else " (rad, m)")
                     mapM_ (\s -> putStrLn ("  " ++ maybe "" (++ "  ") (solBranch s) ++ unwords (map (num 6) (jointsTo (ikDeg o) r (solJoints s)))
                                            ++ "   error " ++ showEFloat (Just 1) (solPositionError s) "" ++ " m, "
                                            ++ showEFloat (Just 1) (solRotationError s) "" ++ " rad"
