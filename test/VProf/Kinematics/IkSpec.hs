@@ -163,6 +163,14 @@ spec = do
           -- in the joint's unit: a revolute joint's in rad and degrees
           describeFailureFor (chainRobot ch) f `shouldSatisfy` isInfixOf "J2 above its maximum by 0.087266 rad (5.0000°)"
         other -> expectationFailure (show other)
+    it "several solutions' limit misses are numbered one by one (they ran together as [..][..])" $ do
+      let many = OutsideLimits [[("J2", deg 40), ("J4", deg (-35))], [("J2", deg (-111))]]
+          one = OutsideLimits [[("J3", deg (-9)), ("J4", deg (-35))]]
+      describeFailureFor (chainRobot ch) many `shouldBe`
+        "every one of the 2 solutions breaks a joint limit: (1) J2 above its maximum by 0.698132 rad (40.0000°), J4 below its minimum by 0.610865 rad (35.0000°); (2) J2 below its minimum by 1.937315 rad (111.0000°)"
+      describeFailureFor (chainRobot ch) one `shouldBe`
+        "every solution breaks a joint limit: J3 below its minimum by 0.157080 rad (9.0000°), J4 below its minimum by 0.610865 rad (35.0000°)"
+      describeFailure many `shouldSatisfy` isInfixOf "(1) J2 by 0.698132, J4 by -0.610865; (2) J2 by -1.937315"
 
   describe "numerical IK, all solutions" $
     it "UR5: several distinct solutions of one pose, each exact and within limits, nearest the seed first" $ do

@@ -163,7 +163,7 @@ spec = do
       rsp <- serveIk (ikReq (named "stanford") (fromQuat (V3 0.2 0.1 0.3) (Quat 0 1 0 0)))
       let (code, field, msg) = errorOf (getField (ikrError rsp))
       (code, field) `shouldBe` (ErrInfeasible, "target")
-      T.unpack msg `shouldContain` "every solution breaks a joint limit: [J3 below its minimum by "
+      T.unpack msg `shouldContain` "every solution breaks a joint limit: J3 below its minimum by "
       T.unpack msg `shouldContain` " mm"
       T.unpack msg `shouldContain` "J5 above its maximum by "
       T.unpack msg `shouldContain` "°)"

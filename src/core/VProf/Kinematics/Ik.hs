@@ -21,7 +21,6 @@ module VProf.Kinematics.Ik
   , module VProf.Kinematics.Ik.Types
   ) where
 
-import Data.List (intercalate)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
 
@@ -57,8 +56,7 @@ prepareChain ch = Kinematics ch method
 describeFailureFor :: Robot -> IkFailure -> String
 describeFailureFor r = \case
   OutsideLimits sols ->
-    "every solution breaks a joint limit: "
-    ++ concatMap (\sol -> "[" ++ intercalate "; " [ nm ++ " " ++ side v ++ " by " ++ amount nm (abs v) | (nm, v) <- sol ] ++ "]") sols
+    limitMisses "" [[ nm ++ " " ++ side v ++ " by " ++ amount nm (abs v) | (nm, v) <- sol ] | sol <- sols]
   f -> describeFailure f
   where
     side v = if v < 0 then "below its minimum" else "above its maximum"

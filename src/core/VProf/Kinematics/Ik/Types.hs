@@ -10,6 +10,7 @@ module VProf.Kinematics.Ik.Types
   , IkSolution (..)
   , IkFailure (..)
   , describeFailure
+  , limitMisses
   , residual
   , sortBySeed
   , seedDistance
@@ -71,12 +72,21 @@ data IkFailure
 instance NFData IkFailure where
   rnf f = length (show f) `seq` ()
 
+-- | The sentence of 'OutsideLimits' from each solution's misses (a note on units after
+-- "limit"): one solution's misses as a list, several solutions' numbered, "(1) J2 above its
+-- maximum by …, J3 …; (2) …".
+limitMisses :: String -> [[String]] -> String
+limitMisses note = \case
+  [one] -> "every solution breaks a joint limit" ++ note ++ ": " ++ intercalate ", " one
+  sols -> "every one of the " ++ show (length sols) ++ " solutions breaks a joint limit" ++ note ++ ": "
+            ++ intercalate "; " ["(" ++ show i ++ ") " ++ intercalate ", " s | (i, s) <- zip [1 :: Int ..] sols]
+
 -- | One sentence for a user.
 describeFailure :: IkFailure -> String
 describeFailure = \f -> case f of
   BeyondReach d r -> "beyond reach: the target is " ++ mm d ++ " away, the arm reaches " ++ mm r ++ " (" ++ mm (d - r) ++ " too far)"
   InsideReach d r -> "too close: the target is " ++ mm d ++ " away, the arm cannot fold closer than " ++ mm r ++ " (" ++ mm (r - d) ++ " too close)"
-  OutsideLimits sols -> "every solution breaks a joint limit (rad, m for a prismatic joint; negative below the minimum): " ++ concatMap (\s -> "[" ++ intercalate "; " [j ++ " by " ++ showFFloat (Just 6) v "" | (j, v) <- s] ++ "]") sols
+  OutsideLimits sols -> limitMisses " (rad, m for a prismatic joint; negative below the minimum)" [[j ++ " by " ++ showFFloat (Just 6) v "" | (j, v) <- s] | s <- sols]
   OrientationUnreachable t -> "the tool stays level: the target is tilted by " ++ showFFloat (Just 4) (t * 180 / pi) " deg"
   Singular why -> "singular: " ++ why
   NotConverged p r -> "not converged: best residual " ++ mm p ++ ", " ++ showFFloat (Just 4) (r * 180 / pi) "°"
