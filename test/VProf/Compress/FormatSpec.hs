@@ -4,7 +4,8 @@ module VProf.Compress.FormatSpec (spec) where
 import Control.Monad (forM_)
 import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy.Char8 as BL
-import Data.List (intercalate, isInfixOf)
+import Data.Char (isSpace)
+import Data.List (dropWhileEnd, intercalate, isInfixOf)
 import Numeric (showFFloat)
 import GHC.Float (castWord64ToDouble)
 import Text.Printf (printf)
@@ -414,6 +415,28 @@ spec = do
           Right _ -> expectationFailure ("accepted: " ++ unlines body)
       -- moves in one procedure that main calls are fine
       fmap trackLength (parseRapid (B.pack (modl (["  PROC main()", "    path1;", "  ENDPROC", "  PROC path1()"] ++ moves ++ ["  ENDPROC"])))) `shouldBe` Right 2
+    it "refuses a module cut short anywhere (the moves after the cut were lost without a word), naming the line" $
+      property $ forAll genTrack $ \tr -> do
+        let txt = renderRapid defaultRapidOptions tr
+            complete = length (dropWhileEnd isSpace txt)
+        forAll (choose (0, complete - 1)) $ \c ->
+          case parseRapid (B.pack (take c txt)) of
+            Left e -> counterexample e (c == 0 || "line" `isInfixOf` e || "no MoveL" `isInfixOf` e)
+            Right tr' -> counterexample ("accepted a module cut after " ++ show c ++ " of " ++ show complete ++ " characters, "
+                                          ++ show (trackLength tr') ++ " of " ++ show (trackLength tr) ++ " waypoints") False
+    it "a cut module's message says which part is missing" $ do
+      let modl = [ "MODULE m"
+                 , "  CONST robtarget p0 := [[400,0,300],[0,1,0,0],[0,0,0,0],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];"
+                 , "  CONST robtarget p1 := [[500,0,300],[0,1,0,0],[0,0,0,0],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];"
+                 , "  PROC main()", "    MoveL p0, v500, z10, tool0;", "    MoveL p1, v500\\T:=1, fine, tool0;", "  ENDPROC", "ENDMODULE" ]
+          err n = either id (const "accepted") (parseRapid (B.pack (unlines (take n modl))))
+      fmap trackLength (parseRapid (B.pack (unlines modl))) `shouldBe` Right 2
+      err 7 `shouldBe` "RAPID line 1: MODULE m has no ENDMODULE: is the file cut short?"
+      err 6 `shouldBe` "RAPID line 4: PROC main has no ENDPROC: is the file cut short?"
+      either id (const "accepted") (parseRapid (B.pack (unlines (take 5 modl) ++ "    MoveL p1, v500\\T:=1, fi")))
+        `shouldBe` "RAPID line 6: the statement is not ended by ';': is the file cut short?"
+      -- a procedure alone, without a module, is taken
+      fmap trackLength (parseRapid (B.pack (unlines (take 6 (drop 1 modl))))) `shouldBe` Right 2
     it "names the line of a move to an undeclared target" $ do
       let Left e = parseRapid (B.pack "MODULE m\nPROC main()\n  MoveL nowhere, v500, z10, tool0;\nENDPROC\nENDMODULE\n")
       e `shouldSatisfy` ("line 3" `isInfixOf`)

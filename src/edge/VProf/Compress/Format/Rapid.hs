@@ -43,10 +43,14 @@ defaultRapidOptions :: RapidOptions
 defaultRapidOptions = RapidOptions "VprofPath" "v500" "z10" "tool0" "wobj0"
 
 -- | One statement (up to ';') with the line it starts on; comments removed.
-statements :: String -> ([(Int, String)], Maybe Double)
+-- | The statements with their first lines, the start time of a @vprof start time:@ comment, and
+-- the text after the last statement's end (a keyword line such as ENDMODULE, which needs no ';',
+-- or a statement the file was cut short in).
+statements :: String -> ([(Int, String)], Maybe Double, Maybe (Int, String))
 statements src = go (zip [1 ..] (lines src)) Nothing "" Nothing []
   where
-    go [] _ _ st acc = (reverse acc, st)
+    -- the text after the last ';' (an ENDMODULE, or a statement the file was cut short in)
+    go [] start cur st acc = (reverse acc, st, if all isSpace cur then Nothing else Just (maybe 0 id start, trim cur))
     go ((i, l) : rest) start cur st acc =
       let (code, comment) = break (== '!') l
           st' = case parseStart comment of
@@ -117,7 +121,9 @@ rapidTrack ss =
 -- | The waypoints of a module as samples, each with the line its move starts on.
 readRapid :: B.ByteString -> Either String [Sample]
 readRapid bs = do
-  let (stmts, startT) = statements (B.unpack bs)
+  let (stmts0, startT, tailStmt) = statements (B.unpack bs)
+      stmts = stmts0 ++ maybe [] pure tailStmt
+  cutShort stmts tailStmt
   declared <- traverse robtarget [ s | s@(_, x) <- stmts, "robtarget" `elem` words (lower (map sep x)) ]
   -- RAPID names are case-insensitive; a name declared twice is ambiguous
   targets <- M.traverseWithKey (\name -> \case
@@ -192,6 +198,35 @@ readRapid bs = do
                _ -> Left ("RAPID line " ++ show ln ++ ": move to " ++ name ++ ": \\T:= " ++ show numTxt
                           ++ " is not a positive time")
       Right (dt, pose)
+
+-- | A module that ends before its ENDMODULE, a procedure before its ENDPROC, or a last
+-- statement without its ';' was cut short (a copy or a transfer that stopped): its last moves
+-- would be lost without a word, so it is refused. A text without MODULE (a procedure alone) needs
+-- no ENDMODULE.
+cutShort :: [(Int, String)] -> Maybe (Int, String) -> Either String ()
+cutShort stmts tailStmt = do
+  let firstWords = [ (ln, ws) | (ln, x) <- stmts, let ws = dropLocal (words (lower x)), not (null ws) ]
+      opened open close = go' [] firstWords
+        where
+          go' stack [] = stack
+          go' stack ((ln, w : rest) : more)
+            | w == open = go' ((ln, takeWhile (\c -> isAlphaNum c || c == '_') (concat (take 1 rest))) : stack) more
+            | w == close = go' (drop 1 stack) more
+          go' stack (_ : more) = go' stack more
+  case tailStmt of
+    Just (ln, x) | take 1 (dropLocal (words (lower x))) `notElem` map pure blockWords ->
+      Left ("RAPID line " ++ show ln ++ ": the statement is not ended by ';': is the file cut short?")
+    _ -> Right ()
+  case opened "proc" "endproc" of
+    (ln, n) : _ -> Left ("RAPID line " ++ show ln ++ ": PROC " ++ n ++ " has no ENDPROC: is the file cut short?")
+    [] -> Right ()
+  case opened "module" "endmodule" of
+    (ln, n) : _ -> Left ("RAPID line " ++ show ln ++ ": MODULE " ++ n ++ " has no ENDMODULE: is the file cut short?")
+    [] -> Right ()
+
+-- | The words that open or close a block: their lines need no ';'.
+blockWords :: [String]
+blockWords = ["module", "endmodule", "proc", "endproc", "func", "endfunc", "trap", "endtrap"]
 
 joinLines :: [Int] -> String
 joinLines = commaList . map show
