@@ -45,7 +45,7 @@ import VProf.Plan.Limits
 import VProf.Plan.Route
 import VProf.Plan.Track
 import VProf.Profile (Request (..), Result (..), SpeedZone (..), Outcome (..), defaultRequest, generatePure, resultLegal, renderFailure)
-import VProf.Profile.Request (maxSamples, speedResolution)
+import VProf.Profile.Request (leastStepLimit, maxSamples)
 import VProf.Profile.Sampled (Columns (..), columns, duration)
 import VProf.Profile.Legality (slack)
 import VProf.Units
@@ -271,8 +271,8 @@ descendAdmitted timeOf ok xs =
 validateRequest :: PlanRequest -> [FieldError]
 validateRequest PlanRequest{..} = concat
   [ positive "speed" (si prSpeed) "m/s"
-  , positive "acceleration" (si prAcceleration) "m/s²" `orElse` weak "acceleration" (si prAcceleration) "m/s²" "dt" dt
-  , positive "jerk" (si prJerk) "m/s³" `orElse` weak "jerk" (si prJerk) "m/s³" "dt²" (dt * dt)
+  , positive "acceleration" (si prAcceleration) "m/s²" `orElse` weak "acceleration" (si prAcceleration) "m/s²" "dt" 1
+  , positive "jerk" (si prJerk) "m/s³" `orElse` weak "jerk" (si prJerk) "m/s³" "dt²" 2
   , ensureFinite "dt" dt "s" $ ensure (dt >= minTimeStep && dt <= maxTimeStep) (fieldError "dt" dt "s" timeStepRule)
   , positive "end_tolerance" (si prEndTolerance) "m"
   , case prStart of
@@ -294,11 +294,11 @@ validateRequest PlanRequest{..} = concat
     -- be refused by the generator for every stretch, under its own field names; the
     -- stretches run at fractions of the acceleration down to a fifth ('accelerationFractions'):
     -- 'planResolutionMargin' times the generator's least
-    weak f x u by scale
-      | finite dt && dt >= minTimeStep && dt <= maxTimeStep && x * scale <= planResolutionMargin * speedResolution =
+    weak f x u by order
+      | finite dt && dt >= minTimeStep && dt <= maxTimeStep && x <= planResolutionMargin * leastStepLimit order dt =
           [fieldError f x u ("is too weak for dt " ++ showNumber dt ++ " s: a step at it would change the speed by "
-                              ++ sig (x * scale) ++ " m/s (" ++ f ++ "·" ++ by ++ "); it must be above "
-                              ++ sig (planResolutionMargin * speedResolution / scale) ++ " " ++ u ++ " at this dt")]
+                              ++ sig (x * dt ^ order) ++ " m/s (" ++ f ++ "·" ++ by ++ "); it must be above "
+                              ++ sig (planResolutionMargin * leastStepLimit order dt) ++ " " ++ u ++ " at this dt")]
       | otherwise = []
     outside i j x =
       let Limits lo hi = jointLimits j

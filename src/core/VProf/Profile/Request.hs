@@ -24,6 +24,8 @@ module VProf.Profile.Request
   , defaultMaxIterations
   , maxSamples
   , speedResolution
+  , leastStepLimit
+  , leastStepTime
   , leastSamples
   , dynamicLeastSamples
   , problemLeastSamples
@@ -141,6 +143,17 @@ leastSamples len dt zones =
 -- rounding lie at 1e-10 m/s and below, cannot plan it (it stood still, or spent its budget).
 speedResolution :: Double
 speedResolution = checkerSlack
+
+-- | The least magnitude an acceleration (order 1) or a jerk (order 2) limit must exceed at
+-- time step dt: a step at it, from zero, changes the speed by x·dt^order, which must be above
+-- 'speedResolution'.
+leastStepLimit :: Int -> Double -> Double
+leastStepLimit order dt = speedResolution / dt ^ order
+
+-- | The least time step at which a limit of magnitude x (order 1 or 2) exceeds
+-- 'speedResolution' in one step ('leastStepLimit' solved for dt).
+leastStepTime :: Int -> Double -> Double
+leastStepTime order x = (speedResolution / abs x) ** (1 / fromIntegral order)
 
 -- | The samples a profile needs at the very least under its jerk and acceleration limits
 -- ("VProf.Profile.LeastTime": the fastest run-up from the start state and to the end
@@ -304,15 +317,16 @@ validate rq =
     -- j·dt and the speed j·dt², a step at the acceleration a the speed a·dt.
     resolutionErrors
       | finite dt && dt >= minTimeStep && dt <= maxTimeStep = concat
-          [ weak "min_jerk" jMin "m/s³" "time_step²" (dt * dt) 2
-          , weak "max_jerk" jMax "m/s³" "time_step²" (dt * dt) 2
-          , weak "min_acceleration" aMin "m/s²" "time_step" dt 1
-          , weak "max_acceleration" aMax "m/s²" "time_step" dt 1 ]
+          [ weak "min_jerk" jMin "m/s³" "time_step²" 2
+          , weak "max_jerk" jMax "m/s³" "time_step²" 2
+          , weak "min_acceleration" aMin "m/s²" "time_step" 1
+          , weak "max_acceleration" aMax "m/s²" "time_step" 1 ]
       | otherwise = []
-    weak f x unit by scale power
-      | finite x && x /= 0 && abs x * scale <= speedResolution =
-          let least = speedResolution / scale
-              dtLeast = (speedResolution / abs x) ** (1 / power)
+    weak f x unit by order
+      | finite x && x /= 0 && abs x <= leastStepLimit order dt =
+          let least = leastStepLimit order dt
+              scale = dt ^ order
+              dtLeast = leastStepTime order x
           in err f x unit
                ("is too weak for time_step " ++ num dt ++ " s: one step at it changes the speed by "
                 ++ sig (abs x * scale) ++ " m/s (|" ++ f ++ "|·" ++ by ++ "), not more than the checker's resolution of "
