@@ -93,7 +93,8 @@ spec = do
       let ur5 = either error id (lookupRobot "ur5")
           res = evaluateRobot defaultSelectOptions (task0 0 [trans 2.5 0 0.3]) bvh "ur5" ur5
       map trFailure (rrTargets res) `shouldSatisfy` \case
-        [Just f] -> "beyond reach: 2.51" `isInfixOf` f && "reaches at most" `isInfixOf` f && "mm too far" `isInfixOf` f
+        -- from the shoulder, (0, 0, 0.0892) m: the target is 2.5089 m from it
+        [Just f] -> "beyond reach: 2.5089 m from the shoulder" `isInfixOf` f && "reaches at most 1.1034 m" `isInfixOf` f && "(1405.5 mm too far)" `isInfixOf` f
         _ -> False
     it "a robot whose base column stands in the table fails every target without IK, naming the body and the point; left out, it does not" $ do
       let irb = either error id (lookupRobot "abb-irb6700-200-2.60")

@@ -186,7 +186,7 @@ evaluateRobot opts task bvh key robot0
     distanceOf t = v3Norm (v3Sub (translation (tgPose t)) centre)
     solveTarget seed t
       | distanceOf t > bound + 1e-9 =
-          failed t FailReach ("beyond reach: " ++ showM (distanceOf t) ++ " from the first joint, the arm with its tool reaches at most "
+          failed t FailReach ("beyond reach: " ++ showM (distanceOf t) ++ " from the shoulder (the arm's last point no joint moves), the arm with its tool reaches at most "
                               ++ showM bound ++ " (" ++ show (roundTo 1 (1000 * (distanceOf t - bound))) ++ " mm too far)")
       | Just cl <- fixedHit = failed t FailCollision (describeFixedCollision d cl)
       | otherwise = case fastPath seed (tgPose t) of

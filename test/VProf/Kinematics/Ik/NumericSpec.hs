@@ -11,8 +11,9 @@ import qualified Numeric.LinearAlgebra as LA
 import Test.Hspec
 import Test.QuickCheck
 
+import Support.Gen (genQ, libraryChains)
 import VProf.Kinematics
-import VProf.Kinematics.Ik.Numeric (lmStepDual, lmStepPrimal, solveNumericIO)
+import VProf.Kinematics.Ik.Numeric (lmStepDual, lmStepPrimal, reachBound, solveNumericIO)
 
 -- | δ = V·diag(σ/(σ² + λ))·Uᵀ·e for J with its masked columns zeroed: the damped least-squares
 -- step from the singular values, independent of either normal-equation form; with it the
@@ -66,6 +67,37 @@ asTuple :: [Double] -> (Double, Double, Double, Double, Double, Double)
 asTuple [a, b, c, d, e, f] = (a, b, c, d, e, f)
 asTuple _ = error "six values"
 
+-- | Random serial arms of 1 to 8 links in every geometry the model has: standard and modified DH,
+-- URDF joints about random axes; revolute and prismatic joints, couplings; links whose offset
+-- lies on their axis (a column, where the reach bound's fixed point moves up the chain) as often
+-- as not.
+genRobot :: Gen Robot
+genRobot = do
+  n <- choose (1, 8)
+  kinds <- vectorOf n (frequency [(4, pure Revolute), (1, pure Prismatic)])
+  geos <- mapM geometry [0 .. n - 1]
+  drives <- mapM (\i -> frequency [(4, pure (directDrive i 1 0)), (1, (\c j -> Drive 0.1 [(j, c)]) <$> choose (-2, 2) <*> choose (0, n - 1))]) [0 .. n - 1]
+  base <- frequency [(1, pure identity), (1, fromRpy <$> v3 0.5 <*> v3 3)]
+  tool <- frequency [(1, pure identity), (1, fromRpy <$> v3 0.2 <*> v3 3)]
+  pure (emptyRobot "random")
+    { robotJoints = [Joint ("j" ++ show i) k (if k == Revolute then Limits (-3) 3 else Limits (-0.2) 0.4) Nothing Nothing | (i, k) <- zip [0 :: Int ..] kinds]
+    , robotLinks = [Link ("l" ++ show i) (Just k) g d [] | (i, k, g, d) <- zip4' [0 :: Int ..] kinds geos drives]
+    , robotBase = base, robotTool = tool }
+  where
+    v3 r = V3 <$> choose (-r, r) <*> choose (-r, r) <*> choose (-r, r)
+    len = frequency [(1, pure 0), (3, choose (-0.5, 0.5))]
+    ang = frequency [(1, pure 0), (1, elements [pi / 2, -pi / 2, pi]), (2, choose (-pi, pi))]
+    geometry :: Int -> Gen Geometry
+    geometry _ = oneof
+      [ DhStandard <$> ang <*> len <*> len <*> ang
+      , DhModified <$> ang <*> len <*> ang <*> len
+      , do ax <- v3 1 `suchThat` (\v -> v3Norm v > 0.1)
+           o <- frequency [(1, pure (V3 0 0 0)), (1, (\k -> v3Scale k ax) <$> choose (-1, 1)), (2, v3 0.4)]
+           r <- v3 3
+           pure (UrdfJoint (fromRpy o r) ax) ]
+    zip4' (a : as) (b : bs) (c : cs) (d : ds) = (a, b, c, d) : zip4' as bs cs ds
+    zip4' _ _ _ _ = []
+
 -- | A standard-DH chain of n revolute joints, each link 1 cm: a snake of n cm.
 snake :: Int -> Double -> Robot
 snake n limit =
@@ -94,6 +126,25 @@ spec = do
         let d1 = lmStepDual n j (asTuple e) lam mask
             d2 = lmStepPrimal n j (asTuple e) lam mask
         in conjoin [U.and (U.zipWith (\m x -> not m || x == 0) mask d) | d <- [d1, d2]]
+
+  describe "the reach bound" $ do
+    let holds ch q =
+          let (centre, bound) = reachBound ch
+              d = v3Norm (v3Sub (translation (forward ch q)) centre)
+          in counterexample ("distance " ++ show d ++ " m, bound " ++ show bound ++ " m from " ++ show centre) (d <= bound * (1 + 1e-12) + 1e-12)
+    it "no configuration of a random arm takes the tool beyond it (standard and modified DH, URDF, slides, couplings)" $
+      property $ withMaxSuccess 2000 $ forAll genRobot $ \r -> let ch = compile r in forAll (genQ ch) (holds ch)
+    it "no configuration of a library robot does either" $
+      conjoin [ counterexample name (forAll (genQ ch) (holds ch)) | (name, Right ch) <- libraryChains ]
+    it "is measured from the shoulder when the column lies on the first axis: the LBR iiwa's at (0, 0, 0.36) m, 0.946 m (0.42 + 0.4 + 0.126), met stretched upright" $ do
+      let Just (Right iiwa) = lookup "kuka-lbr-iiwa14" libraryChains
+          (V3 x y z, bound) = reachBound iiwa
+      (x, y) `shouldBe` (0, 0)
+      z `shouldSatisfy` (\h -> abs (h - 0.36) < 1e-9)
+      bound `shouldSatisfy` (\b -> abs (b - 0.946) < 1e-9)
+      -- stretched straight up, the flange is exactly the bound away from the shoulder
+      let up = forward iiwa (U.replicate 7 0)
+      abs (v3Norm (v3Sub (translation up) (V3 x y z)) - bound) `shouldSatisfy` (< 1e-9)
 
   describe "a chain of a thousand joints" $ do
     let ch = compile (snake 1000 3)

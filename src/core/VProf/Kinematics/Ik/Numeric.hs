@@ -300,14 +300,37 @@ cholesky n a = outer 0
           rows (c + 1)
           outer (c + 1)
 
--- | An upper bound of the distance from the first moving axis's origin to the tool origin: the sum
--- of the constant translations plus each prismatic joint's largest travel. (m)
+-- | A point the arm cannot move and an upper bound of the distance from it to the tool origin
+-- (m). The point is the origin of the deepest link frame that no joint moves: the base, then,
+-- while the next constant translation lies on the axes of the revolute joints before it (a
+-- column's height d₁ on the first axis), the frame at its end (the shoulder). The bound is the
+-- sum of the constant translations after that point plus the largest travel of each prismatic
+-- joint from it on: by the triangle inequality no configuration takes the tool farther. A target
+-- beyond it has no solution at any joint values; measured from the shoulder rather than the base
+-- it leaves out the column, which points nowhere but up.
 reachBound :: Chain -> (V3, Double)
-reachBound Chain{..} =
-  ( translation (constAt chainConst 0)
-  , sum [v3Norm (translation (constAt chainConst i)) | i <- [1 .. chainLinks]]
-      + sum [maximum (map abs (travel i)) | i <- [0 .. chainLinks - 1], chainPrismatic U.! i] )
+reachBound ch@Chain{..} =
+  ( translation (frames !! fixedDepth)
+  , sum [v3Norm (translation (constAt chainConst i)) | i <- [fixedDepth + 1 .. chainLinks]]
+      + sum [maximum (map abs (travel i)) | i <- [fixedDepth .. chainLinks - 1], chainPrismatic U.! i] )
   where
+    -- frames !! k: base · M₀ · C₁ · … · C_k at zero joint values (only the fixed ones are used,
+    -- whose origins are the same at every joint value)
+    q0 = U.replicate chainDof 0
+    frames = scanl (\acc i -> motion (chainPrismatic U.! i) (linkVar ch q0 i) acc `compose` constAt chainConst (i + 1))
+                   (constAt chainConst 0) [0 .. chainLinks - 1]
+    fixedDepth = length (takeWhile id [fixedAfter k | k <- [0 .. chainLinks - 1]])
+    -- the origin after link k's motion and C_{k+1} stays put, given that before it does: link k
+    -- turns (a slide moves it) and C_{k+1}'s translation, carried back through the frames before,
+    -- lies on each revolute axis it passes
+    fixedAfter k = not (chainPrismatic U.! k) && onAxes k (translation (constAt chainConst (k + 1)))
+    onAxes j v
+      | j < 0 || v3Norm v == 0 = True
+      | not (chainPrismatic U.! j) && not (alongZ v) = False
+      | otherwise = onAxes (j - 1) (rotateBy (constAt chainConst j) v)
+    alongZ (V3 x y z) = abs x <= 1e-12 * abs z && abs y <= 1e-12 * abs z
+    rotateBy t (V3 x y z) =
+      V3 (r00 t * x + r01 t * y + r02 t * z) (r10 t * x + r11 t * y + r12 t * z) (r20 t * x + r21 t * y + r22 t * z)
     -- the extreme values a prismatic link variable takes over the joint box
     travel i =
       let ts = [chainTermStart U.! i .. chainTermStart U.! (i + 1) - 1]
