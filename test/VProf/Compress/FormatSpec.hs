@@ -257,6 +257,14 @@ spec = do
       map smLoc ss `shouldBe` [8, 9]
       smPos (head ss) `shouldBe` P3 1 2 3
       (\(P3 x _ _) -> isNaN x) (smPos (ss !! 1)) `shouldBe` True
+    it "refuses a row that ends before the body's columns, naming the line (a cut file's last row was taken for a lost frame)" $ do
+      let src = motiveText ["Tool"] "Millimeters" "Quaternion" ["0,0.0,0,0,0,1,1000,2000,3000,0.1", "1,0.01,0,0,0,1,1000,20"]
+      either id (const "no error") (readMotive Nothing (B.pack src))
+        `shouldBe` "Motive CSV line 9: the row ends after 8 columns, but Tool's run to column 9: is the file cut short? (a frame where the body was lost keeps its commas, with empty cells)"
+      -- the second body's columns are cut, the first one's are whole: only a read of the second fails
+      let two = motiveText ["Tool", "Cup"] "Meters" "Quaternion" ["0,0.0,0,0,0,1,1,2,3,0.0001,0,0,0,1,4,5,6,0.0002", "1,0.01,0,0,0,1,1,2,3,0.0001,0,0"]
+      fmap (length . snd) (readMotive (Just "Tool") (B.pack two)) `shouldBe` Right 2
+      either id (const "no error") (readMotive (Just "Cup") (B.pack two)) `shouldSatisfy` isInfixOf "line 9: the row ends after 12 columns, but Cup's run to column 17"
     it "refuses Euler angles and an unknown length unit, naming the setting and its value" $ do
       either id (const "no error") (readMotive Nothing (B.pack (motiveText ["Tool"] "Meters" "XYZ" ["0,0.0,0,0,0,1,1,2,3,0"])))
         `shouldSatisfy` (\e -> "Rotation Type is \"XYZ\"" `isInfixOf` e && "Quaternion" `isInfixOf` e)

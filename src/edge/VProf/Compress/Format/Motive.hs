@@ -4,7 +4,8 @@
 -- @Frame,Time (Seconds),X,Y,Z,W,X,Y,Z,…@ and one frame a line. The pose of one rigid body (or
 -- skeleton bone) is read: its quaternion (Motive writes x y z w) and its position in the
 -- file's length unit. A frame where the body was lost has empty cells: read as NaN, for the
--- cleaning to drop with a warning. Euler-angle exports are refused (their convention is the
+-- cleaning to drop with a warning; a row that ends before the body's columns is an error (the
+-- file was cut short: Motive keeps a lost frame's commas). Euler-angle exports are refused (their convention is the
 -- exporter's setting, not written in the file).
 module VProf.Compress.Format.Motive
   ( isMotiveCsv
@@ -127,6 +128,13 @@ readMotive want src = do
       row (i, l) = do
         let cs = V.fromList (map (unquote . B.strip) (B.split ',' l))
             cell c = maybe B.empty id (cs V.!? (c - 1))
+            needed = maximum [qx, qy, qz, qw, px, py, pz]
+        -- a lost frame keeps its commas (empty cells); a row that ends before the body's
+        -- columns was cut (a copy or an export that stopped), not lost
+        if V.length cs < needed
+          then Left ("Motive CSV line " ++ show i ++ ": the row ends after " ++ show (V.length cs) ++ " columns, but " ++ body
+                     ++ "'s run to column " ++ show needed ++ ": is the file cut short? (a frame where the body was lost keeps its commas, with empty cells)")
+          else Right ()
         t <- if B.null (cell 2) then Left ("Motive CSV line " ++ show i ++ ", column 2: no time") else numberField "Motive CSV" i 2 (cell 2)
         vs <- traverse (\c -> head <$> poseFields "Motive CSV" i c [cell c]) [qx, qy, qz, qw, px, py, pz]
         case vs of
