@@ -8,9 +8,10 @@
 -- it converges, after its iteration count, or when E has not dropped by a tenth for a few steps,
 -- and the solver restarts. The random starts come from a pure SplitMix64 generator
 -- seeded by the caller, so a solve is a pure function of its inputs; 'solveNumericIO' adds a
--- wall-time budget, looked at between two iterations. A target beyond the chain's reach or with an
--- orientation its tool cannot take fails before any descent. Invariant: a returned solution is within the limits and its
--- forward kinematics matches the target to the tolerances (the check is the convergence test).
+-- wall-time budget, looked at between two iterations. A target beyond the chain's reach or with
+-- an orientation its tool cannot take fails before any descent. Invariant: a returned solution
+-- is within the limits and its forward kinematics matches the target to the tolerances (the
+-- check is the convergence test).
 module VProf.Kinematics.Ik.Numeric
   ( solveNumeric
   , solveNumericIO
@@ -376,8 +377,8 @@ orientationCheck opts ch target = case orientationTilt ch target of
   Just tilt | tilt > ikTolRotation opts * 1.0001 + 1e-12 -> Just (OrientationUnreachable tilt)
   _ -> Nothing
 
--- | A target farther from the first moving axis than the chain reaches ('reachBound') by more
--- than the position tolerance fails at once, without a descent.
+-- | A target farther from the shoulder than the chain reaches ('reachBound') by more than the
+-- position tolerance fails at once, without a descent.
 reachCheck :: IkOptions -> Chain -> Tf -> Maybe IkFailure
 reachCheck opts ch target
   | dist > bound + ikTolPosition opts * 1.0001 = Just (BeyondReach dist bound)
@@ -433,11 +434,13 @@ solveNumericIO budget opts ch target seedM = do
           Left cut -> pure (reverse (cut : acc))
           Right a -> probeRun (a : acc) rest
   as <- run (0 :: Int) [] (map (descent opts True ch target) (starts (ikRandomSeed opts) ch seed))
-  let needProbe = null [() | a <- as, attConverged a]
-  probe <- if needProbe
-             then probeRun [] (take probeStarts (map (descent opts {ikMaxIterations = probeIterations} False ch target) (starts (ikRandomSeed opts) ch seed)))
-             else pure []
-  pure (finish opts ch target seed as probe)
+  case finish opts ch target seed as [] of
+    Right sols -> pure (Right sols)
+    Left _ -> do
+      -- no solution: the diagnosis's descents without limits, in what is left of the budget
+      probe <- probeRun [] (take probeStarts (map (descent opts {ikMaxIterations = probeIterations} False ch target)
+                                                  (starts (ikRandomSeed opts) ch seed)))
+      pure (finish opts ch target seed as probe)
   where
     seed = maybe (midLimits ch) id seedM
 

@@ -42,10 +42,9 @@ data RapidOptions = RapidOptions
 defaultRapidOptions :: RapidOptions
 defaultRapidOptions = RapidOptions "VprofPath" "v500" "z10" "tool0" "wobj0"
 
--- | One statement (up to ';') with the line it starts on; comments removed.
--- | The statements with their first lines, the start time of a @vprof start time:@ comment, and
--- the text after the last statement's end (a keyword line such as ENDMODULE, which needs no ';',
--- or a statement the file was cut short in).
+-- | The statements (each up to its ';', comments removed) with the lines they start on, the
+-- start time of a @vprof start time:@ comment, and the text after the last statement's end (a
+-- keyword line such as ENDMODULE, which needs no ';', or a statement the file was cut short in).
 statements :: String -> ([(Int, String)], Maybe Double, Maybe (Int, String))
 statements src = go (zip [1 ..] (lines src)) Nothing "" Nothing []
   where
