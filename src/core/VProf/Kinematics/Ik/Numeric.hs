@@ -200,24 +200,7 @@ lmStepDual n j (e0, e1, e2, e3, e4, e5) lam mask = runST $ do
   mapM_ (\r -> M.unsafeModify a (+ lam) (r * 6 + r)) [0 .. 5]
   cholesky 6 a
   y <- U.thaw (U.fromListN 6 [e0, e1, e2, e3, e4, e5])
-  let fwd !r
-        | r >= 6 = pure ()
-        | otherwise = do
-            s <- sumTo r (\k -> (*) <$> M.unsafeRead a (r * 6 + k) <*> M.unsafeRead y k)
-            yr <- M.unsafeRead y r
-            d <- M.unsafeRead a (r * 6 + r)
-            M.unsafeWrite y r ((yr - s) / d)
-            fwd (r + 1)
-      back !r
-        | r < 0 = pure ()
-        | otherwise = do
-            s <- sumFrom (r + 1) 6 (\k -> (*) <$> M.unsafeRead a (k * 6 + r) <*> M.unsafeRead y k)
-            yr <- M.unsafeRead y r
-            d <- M.unsafeRead a (r * 6 + r)
-            M.unsafeWrite y r ((yr - s) / d)
-            back (r - 1)
-  fwd 0
-  back 5
+  solveFactored 6 a y
   yv <- U.unsafeFreeze y
   pure (U.generate n (\k -> U.sum (U.imap (\r yr -> col k r * yr) yv)))
 
@@ -243,26 +226,30 @@ lmStepPrimal n j (e0, e1, e2, e3, e4, e5) lam mask = runST $ do
             fill r (c + 1)
   fill 0 0
   cholesky n a
-  -- forward: L y = g
-  let fwd !r
-        | r >= n = pure ()
-        | otherwise = do
-            s <- sumTo r (\k -> (*) <$> M.unsafeRead a (r * n + k) <*> M.unsafeRead x k)
-            gr <- M.unsafeRead x r
-            d <- M.unsafeRead a (r * n + r)
-            M.unsafeWrite x r ((gr - s) / d)
-            fwd (r + 1)
-      back !r
-        | r < 0 = pure ()
-        | otherwise = do
-            s <- sumFrom (r + 1) n (\k -> (*) <$> M.unsafeRead a (k * n + r) <*> M.unsafeRead x k)
-            yr <- M.unsafeRead x r
-            d <- M.unsafeRead a (r * n + r)
-            M.unsafeWrite x r ((yr - s) / d)
-            back (r - 1)
-  fwd 0
-  back (n - 1)
+  solveFactored n a x
   U.unsafeFreeze x
+
+-- | Solve L·Lᵀ·x = b in place (b in x on entry) with the lower Cholesky factor of 'cholesky' in
+-- the n×n row-major a: forward L·y = b, then back Lᵀ·x = y.
+solveFactored :: Int -> M.MVector s Double -> M.MVector s Double -> ST s ()
+solveFactored n a x = fwd 0 >> back (n - 1)
+  where
+    fwd !r
+      | r >= n = pure ()
+      | otherwise = do
+          s <- sumTo r (\k -> (*) <$> M.unsafeRead a (r * n + k) <*> M.unsafeRead x k)
+          br <- M.unsafeRead x r
+          d <- M.unsafeRead a (r * n + r)
+          M.unsafeWrite x r ((br - s) / d)
+          fwd (r + 1)
+    back !r
+      | r < 0 = pure ()
+      | otherwise = do
+          s <- sumFrom (r + 1) n (\k -> (*) <$> M.unsafeRead a (k * n + r) <*> M.unsafeRead x k)
+          yr <- M.unsafeRead x r
+          d <- M.unsafeRead a (r * n + r)
+          M.unsafeWrite x r ((yr - s) / d)
+          back (r - 1)
 
 sumTo :: Int -> (Int -> ST s Double) -> ST s Double
 sumTo m f = go 0 0
@@ -417,29 +404,22 @@ solveNumericIO _ opts ch target _
 solveNumericIO budget opts ch target seedM = do
   t0 <- getMonotonicTimeNSec
   let deadline = t0 + round (max 0 budget * 1e9)
-      run k acc (d : rest)
-        | k > ikMaxRestarts opts = pure (reverse acc)
-        | otherwise = do
-            r <- followUntil deadline d
-            case r of
-              Left cut -> pure (reverse (cut : acc))
-              Right a
-                | attConverged a && not (ikAllSolutions opts) -> pure (reverse (a : acc))
-                | otherwise -> run (k + 1) (a : acc) rest
-      run _ acc [] = pure (reverse acc)
-      probeRun acc [] = pure (reverse acc)
-      probeRun acc (d : rest) = do
+      -- the descents in turn until one ends that stops the run, or the deadline cuts one
+      follow stop acc (d : rest) = do
         r <- followUntil deadline d
         case r of
           Left cut -> pure (reverse (cut : acc))
-          Right a -> probeRun (a : acc) rest
-  as <- run (0 :: Int) [] (map (descent opts True ch target) (starts (ikRandomSeed opts) ch seed))
+          Right a
+            | stop a -> pure (reverse (a : acc))
+            | otherwise -> follow stop (a : acc) rest
+      follow _ acc [] = pure (reverse acc)
+      descents o limited = map (descent o limited ch target) (starts (ikRandomSeed opts) ch seed)
+  as <- follow (\a -> attConverged a && not (ikAllSolutions opts)) [] (take (1 + ikMaxRestarts opts) (descents opts True))
   case finish opts ch target seed as [] of
     Right sols -> pure (Right sols)
     Left _ -> do
       -- no solution: the diagnosis's descents without limits, in what is left of the budget
-      probe <- probeRun [] (take probeStarts (map (descent opts {ikMaxIterations = probeIterations} False ch target)
-                                                  (starts (ikRandomSeed opts) ch seed)))
+      probe <- follow (const False) [] (take probeStarts (descents opts {ikMaxIterations = probeIterations} False))
       pure (finish opts ch target seed as probe)
   where
     seed = maybe (midLimits ch) id seedM
