@@ -230,7 +230,7 @@ runCompress o = do
                 go (clWarnings cl) (Recording (clTrack cl))
     -- sign flips change no orientation (q and -q are the same): a note, not a warning
     label = \case SignFlips {} -> "note"; _ -> "warning"
-    failInput msg = hPutStrLn stderr ("vprof compress: " ++ msg) >> pure (ExitFailure 2)
+    failInput = Out.failIn "compress"
     guessIn f bytes = case map toLower (takeExtension f) of
       ".log" -> InLog
       ".csv" | hasCsvHeader bytes -> InCsv

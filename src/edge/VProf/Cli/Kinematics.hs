@@ -36,6 +36,7 @@ import VProf.Kinematics
 import VProf.Kinematics.Format.RobotFile (readRobotFile)
 import VProf.Kinematics.Format.Urdf (UrdfOptions (..), defaultUrdfOptions, readUrdfFile)
 import VProf.Kinematics.Library (libraryRobots, lookupRobot)
+import VProf.Cli.Output (failIn)
 import qualified VProf.Cli.Output as Out
 import VProf.Compress.Format.Common (readDouble)
 import VProf.Geometry.Bvh (buildBvh)
@@ -71,10 +72,6 @@ loadRobot tip name = case map toLower (takeExtension name) of
   where
     joinErrors = either (Left . ((name ++ ": ") ++) . intercalate "; ") Right
 
--- | A bad input to a command: the message after the command's name on stderr, exit 2.
-failIn :: String -> String -> IO ExitCode
-failIn cmd msg = hPutStrLn stderr ("vprof " ++ cmd ++ ": " ++ msg) >> pure (ExitFailure 2)
-
 num :: Int -> Double -> String
 num d x = showFFloat (Just d) x ""
 
@@ -90,8 +87,8 @@ robotsCommand = runPlot <$> optional (strArgument (metavar "NAME" <> help "show 
                     <*> switch (long "deg" <> help "with --plot: --q in degrees")
   where
     runPlot name tip fmt Nothing qs deg
-      | Just _ <- qs = failIn "robots" "--q needs --plot FILE.png" >> pure (ExitFailure 2)
-      | deg = failIn "robots" "--deg needs --plot FILE.png" >> pure (ExitFailure 2)
+      | Just _ <- qs = failIn "robots" "--q needs --plot FILE.png"
+      | deg = failIn "robots" "--deg needs --plot FILE.png"
       | otherwise = run name tip fmt
     runPlot Nothing _ _ (Just _) _ _ = failIn "robots" "--plot needs a robot NAME (a library name or a robot file)"
     runPlot (Just name) tip _ (Just file) qs deg = do

@@ -1,10 +1,12 @@
 -- | Writing a command's output: a file or standard output that cannot be written is a bad
 -- option (exit 2), said on stderr with what could not be written, never a raw exception; an
 -- output that is one of the command's inputs is refused before anything runs, so that a
--- slip of the command line does not destroy a recording or a request.
+-- slip of the command line does not destroy a recording or a request. A bad input of any kind
+-- is said the same way by every command ('failIn').
 module VProf.Cli.Output
   ( writing
   , overwritesInput
+  , failIn
   ) where
 
 import Control.Exception (IOException, try)
@@ -12,9 +14,14 @@ import Control.Monad (filterM)
 import Data.Maybe (catMaybes, listToMaybe)
 import System.Directory (canonicalizePath, doesDirectoryExist, doesFileExist)
 import System.FilePath (takeDirectory)
+import System.Exit (ExitCode (..))
 import System.IO (hFlush, hPutStrLn, stderr, stdout)
 
 import VProf.Format.IOError (ioWriteReason)
+
+-- | A bad input to a command: "vprof COMMAND: message" on stderr, exit 2.
+failIn :: String -> String -> IO ExitCode
+failIn cmd msg = hPutStrLn stderr ("vprof " ++ cmd ++ ": " ++ msg) >> pure (ExitFailure 2)
 
 -- | Run the writing action (and flush standard output, so that a full disk shows here):
 -- True when it worked, else False after a message "PREFIX: cannot write WHAT: why".

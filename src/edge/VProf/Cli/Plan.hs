@@ -163,7 +163,7 @@ planCommand = runPlan <$> (PlanOpts
       _ -> Left ("--format " ++ show s ++ ": expected summary, csv or json")
 
 failWith :: String -> IO ExitCode
-failWith msg = hPutStrLn stderr ("vprof plan: " ++ msg) >> pure (ExitFailure 2)
+failWith = Out.failIn "plan"
 
 poseTf :: [Double] -> Tf
 poseTf = \case

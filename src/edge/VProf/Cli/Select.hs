@@ -67,7 +67,7 @@ selectCommand = runSelect <$> (SelectArgs
       _ -> Left ("--format: unknown format " ++ show s ++ " (table or json)")
 
 failWith :: String -> IO ExitCode
-failWith msg = hPutStrLn stderr ("vprof select: " ++ msg) >> pure (ExitFailure 2)
+failWith = Out.failIn "select"
 
 splitComma :: String -> [String]
 splitComma s = case break (== ',') s of
