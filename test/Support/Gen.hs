@@ -4,6 +4,7 @@ module Support.Gen
   , libraryChains
   , forAllQ
   , turnedBy
+  , snake
   ) where
 
 import qualified Data.Vector.Unboxed as U
@@ -39,3 +40,14 @@ turnedBy angle q = do
   th <- angle
   let k = sqrt (sum (map (^ (2 :: Int)) ax)); [a, b, c] = map (* (sin (th / 2) / k)) ax
   pure (qmul q (Q4 (cos (th / 2)) a b c))
+
+-- | A standard-DH chain of n revolute joints within ±limit rad, each link 1 cm (twists of ±90°
+-- in turn): a snake of n cm.
+snake :: Int -> Double -> Robot
+snake n limit =
+  (emptyRobot ("snake" ++ show n))
+    { robotJoints = [Joint ("j" ++ show i) Revolute (Limits (-limit) limit) Nothing Nothing | i <- [0 .. n - 1]]
+    , robotLinks =
+        [ Link ("l" ++ show i) (Just Revolute) (DhStandard 0 0 0.01 (if even i then pi / 2 else -pi / 2)) (directDrive i 1 0) []
+        | i <- [0 .. n - 1] ]
+    }

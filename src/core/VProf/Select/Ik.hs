@@ -14,6 +14,7 @@ module VProf.Select.Ik
   , describeSelectIkFailure
   , describeFixedCollision
   , solveCollisionFree
+  , solveCollisionFreeIO
   , collisionFreeCandidates
   ) where
 
@@ -88,10 +89,13 @@ showPoint (V3 x y z) = "(" ++ concatMap (\(k, v) -> k ++ show (fromIntegral (rou
 solveCollisionFree
   :: SelectIkOptions -> Kinematics -> CollisionModel -> Bvh -> Tf -> Maybe (U.Vector Double)
   -> Either SelectIkFailure [Candidate]
-solveCollisionFree opts kin cm bvh target seed = sortOn key <$> collisionFreeCandidates opts kin cm bvh target seed
-  where
-    key c = ( negate (fromIntegral (floor (1000 * maybe 1e9 clrDistance (cdClearance c)) :: Integer) :: Double)
-            , solSeedDistance (cdSolution c) )
+solveCollisionFree opts kin cm bvh target seed = sortOn candidateOrder <$> collisionFreeCandidates opts kin cm bvh target seed
+
+-- | Largest clearance first (whole millimetres), then nearest the seed.
+candidateOrder :: Candidate -> (Double, Double)
+candidateOrder c =
+  ( negate (fromIntegral (floor (1000 * maybe 1e9 clrDistance (cdClearance c)) :: Integer) :: Double)
+  , solSeedDistance (cdSolution c) )
 
 -- | 'solveCollisionFree' without the order: the solutions clear of the scene and of themselves in
 -- the IK's order (nearest the seed first), each with its exact clearance computed only when it is
@@ -107,8 +111,25 @@ solveCollisionFree opts kin cm bvh target seed = sortOn key <$> collisionFreeCan
 collisionFreeCandidates
   :: SelectIkOptions -> Kinematics -> CollisionModel -> Bvh -> Tf -> Maybe (U.Vector Double)
   -> Either SelectIkFailure [Candidate]
-collisionFreeCandidates SelectIkOptions{..} kin cm bvh target seed =
-  case solveIk siIk {ikAllSolutions = True} kin target seed of
+collisionFreeCandidates opts kin cm bvh target seed =
+  candidatesOf opts cm bvh (solveIk (siIk opts) {ikAllSolutions = True} kin target seed)
+
+-- | 'solveCollisionFree' with a wall-time budget (seconds) for the IK's search: the numerical
+-- solver restarts until the budget is spent (or its restart count), as 'solveIkIO'; the
+-- clearances of the solutions found are checked after it.
+solveCollisionFreeIO
+  :: Double -> SelectIkOptions -> Kinematics -> CollisionModel -> Bvh -> Tf -> Maybe (U.Vector Double)
+  -> IO (Either SelectIkFailure [Candidate])
+solveCollisionFreeIO budget opts kin cm bvh target seed = do
+  sols <- solveIkIO budget (siIk opts) {ikAllSolutions = True} kin target seed
+  pure (sortOn candidateOrder <$> candidatesOf opts cm bvh sols)
+
+-- | The candidates among the IK's answer (every solution, nearest the seed first).
+candidatesOf
+  :: SelectIkOptions -> CollisionModel -> Bvh -> Either IkFailure [IkSolution]
+  -> Either SelectIkFailure [Candidate]
+candidatesOf SelectIkOptions{..} cm bvh ik =
+  case ik of
     Left f -> Left (IkFailed f)
     Right [] -> Left (IkFailed (Unreachable "no solution" 0))
     Right sols ->
@@ -147,6 +168,9 @@ bestGeometry d selfM cm bvh = go (-1 / 0) []
     selfMargin g = maybe (1 / 0) (\sc -> scDistance sc - selfM) (geoSelf g)
     go _ acc [] = acc
     go k acc ((key, g) : rest)
+        -- a checked pair nearer than k + the self margin (with an allowance for rounding): the
+        -- margin is below k, found without the distance of every pair
+      | k > -1 / 0 && selfCollides cm (k + selfM - 1e-9 * (1 + abs k + abs selfM)) (geoJoints g) = go k acc rest
       | selfMargin g < k = go k acc rest
         -- the scene clearance is below k + d (with an allowance for rounding): the margin is below k
       | k > -1 / 0 && not (robotClearanceAtLeast cm bvh (geoJoints g) (k + d - 1e-9 * (1 + abs k + abs d))) = go k acc rest

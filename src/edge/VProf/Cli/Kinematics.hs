@@ -353,7 +353,7 @@ runIk o = do
       Just bvh ->
         let sopts = defaultSelectIkOptions { siIk = opts, siClearance = ikClearance o }
             cm = collisionModel defaultCollisionOptions { coSceneIgnore = ikIgnoreBodies o } r
-        in pure $ case solveCollisionFree sopts (kinematicsFor r) cm bvh target seed of
+        in flip fmap (solveCollisionFreeIO (ikBudget o) sopts (kinematicsFor r) cm bvh target seed) $ \case
              Left (IkFailed f) -> Left (ikFail r f)
              Left f -> Left (Right (describeSelectIkFailure sopts f))
              Right cs -> Right [ (cdSolution c, clrDistance <$> cdClearance c) | c <- cs ]

@@ -18,7 +18,7 @@ import GHC.Clock (getMonotonicTime)
 
 import VProf.Kinematics
 import VProf.Kinematics.Collision (Clearance (..))
-import VProf.Select.Ik (Candidate (..), SelectIkFailure (..), solveCollisionFree)
+import VProf.Select.Ik (Candidate (..), SelectIkFailure (..), solveCollisionFreeIO)
 import VProf.Wire.Kinematics
 import VProf.Validation (renderFieldErrors)
 import VProf.Wire.Messages
@@ -87,6 +87,8 @@ serveIk m = do
           Left f -> Left (ikFailureToError (robotOf q) Nothing (IkFailed f))
           Right [] -> Left (ikFailureToError (robotOf q) Nothing (IkFailed (Unreachable "no solution" 0)))
           Right sols -> Right [ (s, Nothing) | s <- sols ]
-      Just (bvh, cm, so) -> pure $ case solveCollisionFree so (iqKinematics q) cm bvh (iqTarget q) (iqSeed q) of
-        Left f -> Left (ikFailureToError (robotOf q) (Just so) f)
-        Right cs -> Right [ (cdSolution c, clrDistance <$> cdClearance c) | c <- cs ]
+      Just (bvh, cm, so) -> do
+        res <- solveCollisionFreeIO (iqBudget q) so (iqKinematics q) cm bvh (iqTarget q) (iqSeed q)
+        pure $ case res of
+          Left f -> Left (ikFailureToError (robotOf q) (Just so) f)
+          Right cs -> Right [ (cdSolution c, clrDistance <$> cdClearance c) | c <- cs ]

@@ -11,7 +11,7 @@ import qualified Numeric.LinearAlgebra as LA
 import Test.Hspec
 import Test.QuickCheck
 
-import Support.Gen (genQ, libraryChains)
+import Support.Gen (genQ, libraryChains, snake)
 import VProf.Kinematics
 import VProf.Kinematics.Ik.Numeric (lmStepDual, lmStepPrimal, reachBound, solveNumericIO)
 
@@ -97,16 +97,6 @@ genRobot = do
            pure (UrdfJoint (fromRpy o r) ax) ]
     zip4' (a : as) (b : bs) (c : cs) (d : ds) = (a, b, c, d) : zip4' as bs cs ds
     zip4' _ _ _ _ = []
-
--- | A standard-DH chain of n revolute joints, each link 1 cm: a snake of n cm.
-snake :: Int -> Double -> Robot
-snake n limit =
-  (emptyRobot ("snake" ++ show n))
-    { robotJoints = [Joint ("j" ++ show i) Revolute (Limits (-limit) limit) Nothing Nothing | i <- [0 .. n - 1]]
-    , robotLinks =
-        [ Link ("l" ++ show i) (Just Revolute) (DhStandard 0 0 0.01 (if even i then pi / 2 else -pi / 2)) (directDrive i 1 0) []
-        | i <- [0 .. n - 1] ]
-    }
 
 spec :: Spec
 spec = do
