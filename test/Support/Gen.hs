@@ -5,6 +5,7 @@ module Support.Gen
   , forAllQ
   , turnedBy
   , snake
+  , planarSnake
   ) where
 
 import qualified Data.Vector.Unboxed as U
@@ -49,5 +50,16 @@ snake n limit =
     { robotJoints = [Joint ("j" ++ show i) Revolute (Limits (-limit) limit) Nothing Nothing | i <- [0 .. n - 1]]
     , robotLinks =
         [ Link ("l" ++ show i) (Just Revolute) (DhStandard 0 0 0.01 (if even i then pi / 2 else -pi / 2)) (directDrive i 1 0) []
+        | i <- [0 .. n - 1] ]
+    }
+
+-- | A planar chain of n revolute joints about z within ±limit rad, each link 1 cm along x: the
+-- straight chain (every joint 0) reaches (n cm, 0, 0).
+planarSnake :: Int -> Double -> Robot
+planarSnake n limit =
+  (emptyRobot ("planar" ++ show n))
+    { robotJoints = [Joint ("j" ++ show i) Revolute (Limits (-limit) limit) Nothing Nothing | i <- [0 .. n - 1]]
+    , robotLinks =
+        [ Link ("l" ++ show i) (Just Revolute) (DhStandard 0 0 0.01 0) (directDrive i 1 0) []
         | i <- [0 .. n - 1] ]
     }

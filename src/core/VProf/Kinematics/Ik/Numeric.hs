@@ -72,9 +72,14 @@ data Attempt = Attempt
   }
 
 -- | The starts: the seed, then uniform random configurations within the limits (±π for an
--- unbounded side).
+-- unbounded side). A long chain (more than 12 joints) alternates those with the seed moved by a
+-- random fraction of each joint's range, the fraction growing from 1 % by half each time up to
+-- the whole range: a uniform draw crumples a snake of hundreds of joints and its seed (the
+-- middle of the limits, often straight) is singular, where the seed bent a little converges.
 starts :: Word64 -> Chain -> U.Vector Double -> [U.Vector Double]
-starts s ch seed = seed : go (SplitMix s)
+starts s ch seed
+  | n > 12 = seed : interleave (near 0.01 (SplitMix (s `xor` 0x5851F42D4C957F2D))) (go (SplitMix s))
+  | otherwise = seed : go (SplitMix s)
   where
     n = chainDof ch
     lo i = let l = chainLo ch U.! i in if isInfinite l then -pi else l
@@ -83,6 +88,17 @@ starts s ch seed = seed : go (SplitMix s)
     draw i g acc
       | i >= n = (reverse acc, g)
       | otherwise = let (u, g') = nextDouble g in draw (i + 1) g' (lo i + u * (hi i - lo i) : acc)
+    -- the seed moved by up to ±f of each range (clamped to the limits), f ×1.5 a start
+    near f g = let (q, g') = nudge f 0 g [] in U.fromListN n q : near (min 1 (1.5 * f)) g'
+    nudge f i g acc
+      | i >= n = (reverse acc, g)
+      | otherwise =
+          let (u, g') = nextDouble g
+              x = seed U.! i + f * (2 * u - 1) * (hi i - lo i)
+          in nudge f (i + 1) g' (max (chainLo ch U.! i) (min (chainHi ch U.! i) x) : acc)
+    interleave (a : as) (b : bs) = a : b : interleave as bs
+    interleave as [] = as
+    interleave [] bs = bs
 
 -- | Every descent from every start, lazily.
 attempts :: IkOptions -> Bool -> Chain -> Tf -> U.Vector Double -> [Attempt]
