@@ -18,7 +18,7 @@ import GHC.Clock (getMonotonicTimeNSec)
 import System.CPUTime (getCPUTime)
 
 import VProf.Kinematics
-import VProf.Kinematics.Ik.Numeric (SplitMix (..), nextDouble)
+import VProf.Kinematics.Ik.Numeric (SplitMix (..), nextDouble, orientationTilt, reachBound)
 import VProf.Kinematics.Library
 
 lib :: String -> Kinematics
@@ -87,6 +87,16 @@ kinematicsBenchmarks =
       [ bench key (nf (\t -> solveIk defaultIkOptions k t Nothing) target)
       | key <- ["dobot-magician-lite", "dobot-magician"]
       , let k = lib key; ch = kinChain k; target = forward ch (U.fromList [0.4, 0.5, 0.3, -0.6]) ]
+  , bgroup "kinematics/ik-numeric-precheck"
+      -- the checks before any descent (reach bound, orientation a planar chain cannot take) beside
+      -- a solve from a seed near the answer, as a plan's per-sample tracking solves
+      [ b
+      | key <- ["franka-panda", "kuka-lbr-iiwa14"]
+      , let k = lib key; ch = kinChain k; q = midLimits ch U.// [(0, 0.3), (1, 0.4)]
+            t = forward ch q; near = U.map (+ 0.002) q
+      , b <- [ bench (key ++ "/reach-bound") (nf (snd . reachBound) ch)
+             , bench (key ++ "/orientation-tilt") (nf (orientationTilt ch) t)
+             , bench (key ++ "/seeded-solve") (nf (\t' -> either (const 0) length (solveIk defaultIkOptions k t' (Just near))) t) ] ]
   , bgroup "kinematics/ik-numeric-tracik (100 solves)"
       [ bench key $ nfIO $ forM targets $ \t -> solveIkIO 0.005 protocolOptions k t (Just seed)
       | key <- ["ur5", "franka-panda"]
