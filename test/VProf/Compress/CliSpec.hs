@@ -3,6 +3,7 @@ module VProf.Compress.CliSpec (spec) where
 
 import Control.Exception (finally)
 import qualified Data.ByteString.Char8 as B
+import Control.Monad (forM_)
 import Data.List (intercalate, isInfixOf, zip4)
 import GHC.IO.Handle (hDuplicate, hDuplicateTo)
 import Options.Applicative
@@ -140,17 +141,24 @@ spec = describe "vprof compress" $ do
       code' `shouldBe` ExitFailure 2
       err' `shouldSatisfy` (("with the times of " ++ kt) `isInfixOf`)
       err' `shouldSatisfy` ("line 5" `isInfixOf`)
-  it "says how a CSV without a header is read (a Polhemus log: ms and mm), and names tabs in a tab-separated header" $
+  it "says how a CSV without a header is read (a Polhemus log: ms and mm), and reads a tab-separated one with a header, in .csv and in .txt" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       let f = dir </> "nohdr.csv"; t = dir </> "tabs.csv"
       writeFile f (unlines [ intercalate "," (map show [10 * i, i, 0, 0, 1, 0, 0, 0 :: Double]) | i <- [0 .. 20] ])
       (code, err) <- captureStderr (dir </> "err") (runCli [f, "--points", "3", "-o", dir </> "out.txt"])
       code `shouldBe` ExitSuccess
       err `shouldSatisfy` ("no header: read as a Polhemus-style log (time in ms, position in mm" `isInfixOf`)
-      writeFile t "time\tx\ty\tz\tqw\tqx\tqy\tqz\n0\t0\t0\t0\t1\t0\t0\t0\n1\t1\t0\t0\t1\t0\t0\t0\n"
-      (code', err') <- captureStderr (dir </> "err2") (runCli [t])
-      code' `shouldBe` ExitFailure 2
-      err' `shouldSatisfy` ("separated by tabs" `isInfixOf`)
+      -- qw before qx: read as TUM (x y z order, w last) this would be another orientation
+      let tabbed = "time\tx\ty\tz\tqw\tqx\tqy\tqz\n0\t0\t0\t0\t0.6\t0.8\t0\t0\n1\t1\t0\t0\t0.6\t0.8\t0\t0\n2\t2\t0\t0\t0.6\t0.8\t0\t0\n"
+      forM_ [t, dir </> "tabs.txt"] $ \g -> do
+        writeFile g tabbed
+        (code', err') <- captureStderr (dir </> "err2") (runCli [g, "-o", dir </> "tabs-out.csv"])
+        code' `shouldBe` ExitSuccess
+        err' `shouldSatisfy` ("read as CSV (tab-separated) with the header of line 1" `isInfixOf`)
+        out <- readFile (dir </> "tabs-out.csv")
+        let quats = [ map read (drop 4 (splitOn ',' l)) :: [Double] | l <- drop 1 (lines out) ]
+        length quats `shouldSatisfy` (>= 2)
+        quats `shouldSatisfy` all (\q -> maximum (zipWith (\a b -> abs (a - b)) q [0.6, 0.8, 0, 0]) < 1e-9)
   it "refuses an --outlier-factor below 1 (it rejected 995 of 997 samples at 1e-9) and --weights beyond 10^6 (the report overflowed)" $ do
     rec <- dataFile "freiburg1_xyz-groundtruth.txt"
     mapM_ (\k -> runCli [rec, "--outlier-factor", k] `shouldReturn` ExitFailure 99) ["0.5", "1e-9", "0", "2e6"]
@@ -402,3 +410,8 @@ spec = describe "vprof compress" $ do
         code `shouldBe` ExitSuccess
         err `shouldSatisfy` (("1 outlier rejected") `isInfixOf`)
         err `shouldSatisfy` (("at line " ++ show i ++ ")") `isInfixOf`)
+
+splitOn :: Char -> String -> [String]
+splitOn c str = case break (== c) str of
+  (a, _ : rest) -> a : splitOn c rest
+  (a, []) -> [a]

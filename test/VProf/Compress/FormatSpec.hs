@@ -165,6 +165,27 @@ spec = do
                Right (lay, ss) ->
                  clTimeUnit lay === (1 / tk, tu, False) .&&. fst (clPosUnit lay) * pk === 1
                  .&&. closeTo (1e-6, 1e-8, 1e-8) tr (Track (U.fromList (map smTime ss)) (pfromList (map smPos ss)) (pfromList (map smRot ss)))
+    it "reads the same recording with its columns separated by tabs, semicolons (decimal commas) or blanks (units apart in brackets)" $
+      property $ forAll genTrack $ \tr -> forAll (shuffle [0 .. 8 :: Int]) $ \perm ->
+        forAll (elements [(Comma, ","), (Tab, "\t"), (Semicolon, ";"), (Blanks, " "), (Blanks, "   "), (Tab, " \t  ")]) $ \(sep, gap) ->
+          let names = ["time [ms]", "x [mm]", "y [mm]", "z [mm]", "qw", "qx", "qy", "qz", "temperature [C]"]
+              vals t (P3 x y z) (Q4 w a b c) = [t * 1e3, x * 1e3, y * 1e3, z * 1e3, w, a, b, c, 21.5]
+              num v = let str = showFFloat (Just 12) v "" in if sep == Semicolon then map (\ch -> if ch == '.' then ',' else ch) str else str
+              line vs = intercalate gap [ num (vs !! j) | j <- perm ]
+              samples = zip3 (U.toList (tTime tr)) (ptoList (tPos tr)) (ptoList (tRot tr))
+              src = unlines ("# a comment line of more than four words before the header"
+                             : intercalate gap [names !! j | j <- perm] : [ line (vals t p q) | (t, p, q) <- samples ])
+          in counterexample src $ case readCsv (B.pack src) of
+               Left e -> counterexample e False
+               Right (lay, ss) ->
+                 clSeparator lay === sep .&&. clHeaderLine lay === 2 .&&. hasNamedHeader (B.pack src) === True
+                 .&&. closeTo (1e-6, 1e-8, 1e-8) tr (Track (U.fromList (map smTime ss)) (pfromList (map smPos ss)) (pfromList (map smRot ss)))
+    it "takes TUM's own comment line (# timestamp tx ty tz qx qy qz qw) for a comment, not a header" $ do
+      forM_ ["freiburg1_xyz-groundtruth.txt", "V101_gt.txt"] $ \f -> do
+        src <- B.readFile ("../shared/data/" ++ f)
+        hasNamedHeader src `shouldBe` False
+      hasNamedHeader (B.pack "# timestamp tx ty tz qx qy qz qw\n1 0 0 0 0 0 0 1\n") `shouldBe` False
+      hasNamedHeader (B.pack "timestamp tx ty tz qx qy qz qw\n1 0 0 0 0 0 0 1\n") `shouldBe` True
     it "reads the EuRoC ground truth layout (#timestamp in ns without a unit, q_RS_w first, 17 columns) as the same recording as its TUM copy" $ do
       Recording tr <- loadTum "V101_gt.txt"
       let hdr = "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z [], \

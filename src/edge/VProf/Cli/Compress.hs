@@ -237,6 +237,7 @@ runCompress o = do
              | otherwise -> InLog
       ".mod" -> InMod
       _ | isMotiveCsv bytes -> InCsv
+        | hasNamedHeader bytes -> InCsv      -- a tab- or blank-separated file with a header of names
         | looksLikeKitti bytes -> InKitti
         | otherwise -> InTum
     file = coInput o

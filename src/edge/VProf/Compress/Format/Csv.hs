@@ -3,14 +3,18 @@
 -- (@#timestamp, p_RS_R_x [m], …, q_RS_w [], …@, times in ns, further columns ignored), a
 -- ROS @rostopic echo -p@ pose export (@field.header.stamp@, @….position.x@,
 -- @….orientation.w@) and any header naming a time, x, y, z and the four quaternion parts,
--- in any order, with units in brackets. The layout it found is reported, so a file read
--- with the wrong unit does not pass unnoticed.
+-- in any order, with units in brackets. The columns may be separated by commas, tabs, semicolons
+-- (then a decimal comma is read as a point, as spreadsheets in much of Europe write it) or
+-- blanks; the header's line decides. The layout it found is reported, so a file read with the
+-- wrong unit does not pass unnoticed.
 module VProf.Compress.Format.Csv
   ( renderCsv
   , parseCsv
   , readCsv
   , hasCsvHeader
+  , hasNamedHeader
   , CsvLayout (..)
+  , Separator (..)
   , describeLayout
   ) where
 
@@ -43,12 +47,45 @@ data CsvLayout = CsvLayout
   , clPosUnit    :: !(Double, String)
   , clQuat       :: !(Int, Int, Int, Int)    -- ^ w, x, y, z
   , clColumns    :: !Int
+  , clSeparator  :: !Separator
   } deriving (Show, Eq)
+
+-- | What separates the columns, as the header's line shows it: a comma if it has one, else a
+-- tab, else a semicolon, else blanks.
+data Separator = Comma | Tab | Semicolon | Blanks deriving (Show, Eq)
+
+separatorOf :: B.ByteString -> Separator
+separatorOf l
+  | B.elem ',' l = Comma
+  | B.elem '\t' l = Tab
+  | B.elem ';' l = Semicolon
+  | otherwise = Blanks
+
+separatorName :: Separator -> String
+separatorName = \case
+  Comma -> "comma"
+  Tab -> "tab"
+  Semicolon -> "semicolon"
+  Blanks -> "blank"
+
+-- | A line's fields. After semicolons a decimal comma is a point; between blanks a unit in
+-- brackets written apart ("x [mm]") stays with its name.
+splitFields :: Separator -> B.ByteString -> [B.ByteString]
+splitFields sep l = case sep of
+  Comma -> B.split ',' l
+  Tab -> B.split '\t' l
+  Semicolon -> map (B.map (\c -> if c == ',' then '.' else c)) (B.split ';' l)
+  Blanks -> glue (B.words l)
+  where
+    glue (a : b : rest) | B.isPrefixOf (B.pack "[") b = glue (B.concat [a, B.pack " ", b] : rest)
+    glue (a : rest) = a : glue rest
+    glue [] = []
 
 -- | One sentence on how the file was read: which columns, which units.
 describeLayout :: CsvLayout -> String
 describeLayout l =
-  "read as CSV with the header of line " ++ show (clHeaderLine l) ++ ": time column "
+  "read as CSV" ++ (if clSeparator l == Comma then "" else " (" ++ separatorName (clSeparator l) ++ "-separated)")
+    ++ " with the header of line " ++ show (clHeaderLine l) ++ ": time column "
     ++ show (fst (clTime l)) ++ " (" ++ show (snd (clTime l)) ++ ") in " ++ unitT
     ++ ", position columns " ++ cols3 (clPos l) ++ " in " ++ snd (clPosUnit l)
     ++ ", quaternion w x y z columns " ++ cols4 (clQuat l)
@@ -60,10 +97,9 @@ describeLayout l =
     cols4 (a, b, c, d) = intercalate ", " (map show [a, b, c, d])
 
 -- | Whether the first line that is neither blank nor a @#@ comment is a CSV header (at least
--- four comma-separated fields, not all numbers; a leading @#@ allowed, as EuRoC writes it), or
--- an attempt at one (words where numbers would be, e.g. a header separated by semicolons,
--- which 'readCsv' then explains). A file without one is the thesis's Polhemus log
--- ("VProf.Compress.Format.Log").
+-- four fields by 'separatorOf', not all numbers; a leading @#@ allowed before commas, as EuRoC
+-- writes it), or an attempt at one (words where numbers would be, which 'readCsv' then
+-- explains). A file without one is the thesis's Polhemus log ("VProf.Compress.Format.Log").
 hasCsvHeader :: B.ByteString -> Bool
 hasCsvHeader src = go (filter (not . B.all isSpace) (B.lines src))
   where
@@ -78,12 +114,25 @@ hasCsvHeader src = go (filter (not . B.all isSpace) (B.lines src))
              in isNothing (readDouble g) && B.any isAlpha g
                 && not (missingToken g) && map toLower (B.unpack (B.dropWhile (`elem` ("+-" :: String)) g)) `notElem` ["inf", "infinity"]
 
-headerFields :: B.ByteString -> Maybe [String]
+-- | Whether the first line that is neither blank nor a @#@ comment is a header naming the columns
+-- (at least four fields, not all numbers, by 'separatorOf'): a whitespace- or tab-separated
+-- file with such a header is read as a headed CSV, not as TUM.
+hasNamedHeader :: B.ByteString -> Bool
+hasNamedHeader src = case [ l | l <- B.lines src, let s = B.strip l, not (B.null s), B.head s /= '#' ] of
+  l : _ -> isJust (headerFields l)
+  [] -> False
+
+-- | A header line's separator and names. A line after @#@ is a header only with commas (as EuRoC
+-- writes it): a blank-separated comment ("# timestamp tx ty tz qx qy qz qw", TUM's) is a comment.
+headerFields :: B.ByteString -> Maybe (Separator, [String])
 headerFields l0 =
-  let l = B.dropWhile (== '#') (B.strip l0)
-      fs = map (B.unpack . unquote . B.strip) (B.split ',' l)
-  in if length fs >= 4 && any (\f -> isNothing (readDouble (B.pack f)) && not (missingToken (B.pack f))) fs
-       then Just fs else Nothing
+  let s0 = B.strip l0
+      l = B.dropWhile (== '#') s0
+      sep = separatorOf l
+      fs = map (B.unpack . unquote . B.strip) (splitFields sep l)
+      commented = B.isPrefixOf (B.pack "#") s0 && sep /= Comma
+  in if not commented && length fs >= 4 && any (\f -> isNothing (readDouble (B.pack f)) && not (missingToken (B.pack f))) fs
+       then Just (sep, fs) else Nothing
 
 -- | The samples of a headed CSV (SI units), each with its line number (from 1), and the
 -- layout found. Lines before the header, blank lines and later lines starting with @#@
@@ -91,26 +140,20 @@ headerFields l0 =
 -- body was lost) is read as NaN, for the cleaning to drop. Errors name the line and column, or the columns the header lacks.
 readCsv :: B.ByteString -> Either String (CsvLayout, [Sample])
 readCsv src = do
-  let -- a header whose names are separated by tabs or semicolons is one field to this reader
-      firstLine = take 1 [ l | (_, l) <- numbered ]
-      separatorHint = case firstLine of
-        [l] | B.elem '\t' l && not (B.elem ',' l) -> "; the first line is separated by tabs: vprof's CSV is comma-separated (a whitespace-separated file reads as TUM under another extension, e.g. .txt)"
-            | B.elem ';' l && not (B.elem ',' l) -> "; the first line is separated by semicolons: vprof's CSV is comma-separated, with a point for the decimals"
-        _ -> ""
-  (hi, names) <- case [ (i, fs) | (i, l) <- numbered, Just fs <- [headerFields l] ] of
+  (hi, (sep, names)) <- case [ (i, h) | (i, l) <- numbered, Just h <- [headerFields l] ] of
     h : _ -> Right h
-    [] -> Left ("CSV: no header line naming the columns (e.g. time,x,y,z,qw,qx,qy,qz)" ++ separatorHint)
-  lay0 <- layoutOf hi names
+    [] -> Left "CSV: no header line naming the columns (e.g. time,x,y,z,qw,qx,qy,qz; separated by commas, tabs, semicolons or blanks)"
+  lay0 <- (\l -> l {clSeparator = sep}) <$> layoutOf hi names
   let body = [ (i, s) | (i, l) <- numbered, i > hi, let s = B.strip l, not (B.null s), B.head s /= '#' ]
       (a, b, c) = clPos lay0
       (w, x, y, z) = clQuat lay0
       used = [fst (clTime lay0), a, b, c, w, x, y, z]
       need = maximum used
       row (i, l) =
-        let cols = map (unquote . B.strip) (B.split ',' l)
+        let cols = map (unquote . B.strip) (splitFields sep l)
         in if length cols < need
              then Left ("CSV line " ++ show i ++ ": expected at least " ++ show need
-                        ++ " comma-separated fields (the header's columns up to the quaternion), got "
+                        ++ " " ++ separatorName sep ++ "-separated fields (the header's columns up to the quaternion), got "
                         ++ show (length cols))
              else do
                vs <- (:) <$> field i cols (head used) <*> traverse (poseField i cols) (drop 1 used)
@@ -207,7 +250,7 @@ layoutOf hi names = do
             | u == "cm" -> Right (1e-2, "cm")
             | otherwise -> Left ("CSV header (line " ++ show hi ++ "), column " ++ show xc ++ " " ++ show xn
                                  ++ ": unknown position unit [" ++ u ++ "]; expected m, cm or mm")
-      Right (CsvLayout hi (tc, tn) tUnit (xc, yc, zc) pUnit (wq, xq, yq, zq) (length names))
+      Right (CsvLayout hi (tc, tn) tUnit (xc, yc, zc) pUnit (wq, xq, yq, zq) (length names) Comma)
 
 -- | A time column without a unit is read in seconds, unless its median step is at least
 -- 1e5 (a day between samples in seconds, 0.1 ms in nanoseconds): then in nanoseconds, as
