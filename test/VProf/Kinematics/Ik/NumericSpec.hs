@@ -98,6 +98,16 @@ genRobot = do
     zip4' (a : as) (b : bs) (c : cs) (d : ds) = (a, b, c, d) : zip4' as bs cs ds
     zip4' _ _ _ _ = []
 
+-- | The default solve finds a solution, within the limits, whose forward kinematics meets the
+-- target to the default tolerances.
+solvesByFk :: Chain -> Kinematics -> Tf -> Property
+solvesByFk ch k target = case solveIk defaultIkOptions k target Nothing of
+  Left f -> counterexample (describeFailure f) False
+  Right [] -> counterexample "no solution" False
+  Right (s : _) ->
+    let (pe, re) = residual (forward ch (solJoints s)) target
+    in counterexample (show (pe, re)) (pe <= 1.0001e-6 && re <= 1.0001e-6 && withinLimits 1e-9 ch (solJoints s))
+
 spec :: Spec
 spec = do
   describe "the Levenberg–Marquardt step against the singular-value oracle" $ do
@@ -141,13 +151,7 @@ spec = do
         k = prepareChain ch
     it "IK of FK(q) converges (random q; the answer checked by forward kinematics)" $
       property $ withMaxSuccess 5 $ forAll (U.fromList <$> vectorOf 1000 (choose (-0.3, 0.3))) $ \q ->
-        let target = forward ch q
-        in case solveIk defaultIkOptions k target Nothing of
-             Left f -> counterexample (describeFailure f) False
-             Right [] -> counterexample "no solution" False
-             Right (s : _) ->
-               let (pe, re) = residual (forward ch (solJoints s)) target
-               in counterexample (show (pe, re)) (pe <= 1.0001e-6 && re <= 1.0001e-6 && withinLimits 1e-9 ch (solJoints s))
+        solvesByFk ch k (forward ch q)
     it "a planar chain of 500 joints reaches poses in its plane (from its straight seed, a singular configuration)" $ do
       -- every start but the seed was a uniform draw, which crumples a chain of hundreds of joints,
       -- and the straight seed is singular for a target off its line: (3, 1, 0) m was "not
@@ -155,13 +159,7 @@ spec = do
       let pl = compile (planarSnake 500 3)
           kp = prepareChain pl
       property $ withMaxSuccess 30 $ forAll ((,,) <$> elements [0.5, 1, 2, 3, 3.16, 4, 4.5] <*> elements [0, 0.32, 1, -2, pi / 2, 3] <*> elements [0, 0, 0.5, -1, pi]) $ \(r, phi, yaw) ->
-        let target = trans (r * cos phi) (r * sin phi) 0 `compose` rotZ yaw
-        in case solveIk defaultIkOptions kp target Nothing of
-             Left f -> counterexample (describeFailure f) False
-             Right [] -> counterexample "no solution" False
-             Right (s : _) ->
-               let (pe, re) = residual (forward pl (solJoints s)) target
-               in counterexample (show (pe, re)) (pe <= 1.0001e-6 && re <= 1.0001e-6 && withinLimits 1e-9 pl (solJoints s))
+        solvesByFk pl kp (trans (r * cos phi) (r * sin phi) 0 `compose` rotZ yaw)
     it "a pose no solution reaches (joints held within ±0.001 rad) stops at the budget, not one descent later" $ do
       -- the old solver looked at the clock between restarts only: one restart of this chain took
       -- seconds (an n×n step a iteration); the budget is now looked at between iterations. With
