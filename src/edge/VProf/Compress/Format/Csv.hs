@@ -143,7 +143,7 @@ readCsv src = do
   (hi, (sep, names)) <- case [ (i, h) | (i, l) <- numbered, Just h <- [headerFields l] ] of
     h : _ -> Right h
     [] -> Left "CSV: no header line naming the columns (e.g. time,x,y,z,qw,qx,qy,qz; separated by commas, tabs, semicolons or blanks)"
-  lay0 <- (\l -> l {clSeparator = sep}) <$> layoutOf hi names
+  lay0 <- layoutOf hi sep names
   let body = [ (i, s) | (i, l) <- numbered, i > hi, let s = B.strip l, not (B.null s), B.head s /= '#' ]
       (a, b, c) = clPos lay0
       (w, x, y, z) = clQuat lay0
@@ -199,8 +199,8 @@ roleOf base
     lastTok = last toks
     quatTok t = take 1 t == "q" || t `elem` ["orientation", "rotation", "rot", "quaternion", "quat", "attitude"]
 
-layoutOf :: Int -> [String] -> Either String CsvLayout
-layoutOf hi names = do
+layoutOf :: Int -> Separator -> [String] -> Either String CsvLayout
+layoutOf hi sep names = do
   let named = [ (c, n, base, unit, roleOf base) | (c, n) <- zip [1 :: Int ..] names, let (base, unit) = splitName n ]
       firstOf r = [ (c, n, unit) | (c, n, _, unit, Just r') <- named, r' == r ]
       -- a sensor's stamp before a receive time (ROS exports both)
@@ -250,7 +250,7 @@ layoutOf hi names = do
             | u == "cm" -> Right (1e-2, "cm")
             | otherwise -> Left ("CSV header (line " ++ show hi ++ "), column " ++ show xc ++ " " ++ show xn
                                  ++ ": unknown position unit [" ++ u ++ "]; expected m, cm or mm")
-      Right (CsvLayout hi (tc, tn) tUnit (xc, yc, zc) pUnit (wq, xq, yq, zq) (length names) Comma)
+      Right (CsvLayout hi (tc, tn) tUnit (xc, yc, zc) pUnit (wq, xq, yq, zq) (length names) sep)
 
 -- | A time column without a unit is read in seconds, unless its median step is at least
 -- 1e5 (a day between samples in seconds, 0.1 ms in nanoseconds): then in nanoseconds, as
