@@ -168,7 +168,7 @@ staircase = defaultRequest
 -- -0.4276..0.1519 m/s³ at time_step 0.25 s (every greedy seed 54.0 s or more, thesis mode
 -- 52.25 s). The default generator now seeds variants of the problem and, for answers of up to
 -- 2048 samples, compares thesis mode's fixed point ('bestSeed', 'viaThesis').
-counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m :: IO Request
+counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m, endLevel4m :: IO Request
 counterexample16m = loadRequest "test/data/metamorphic-cluster-16m.json"
 counterexample13cm = loadRequest "test/data/metamorphic-jerk-13cm.json"
 counterexample7cm = loadRequest "test/data/metamorphic-moving-end-7cm.json"
@@ -191,6 +191,11 @@ dentedFine31m = loadRequest "test/data/dented-join-fine-31m.json"
 -- run-in by 3e-9 m/s³ and was refused (11.2 s instead of 8.9 s, NOT_CONVERGED at 120 s).
 liftedFine12m = loadRequest "test/data/lifted-cruise-fine-12m.json"
 runInFine12m = loadRequest "test/data/run-in-margins-fine-12m.json"
+-- | Found by bench/fuzz-requests --fine (seed 46), here at 2 ms: a 3.96 m route that only just
+-- reaches its end velocity of 1.67 m/s, whose profile ends in a cruise at it that arrives
+-- within the tolerance before its last sample; no join was counted, and it was seeded through
+-- rest (5.99 s).
+endLevel4m = loadRequest "test/data/end-level-crawl-4m.json"
 
 -- | Generated, converged within ten passes of the rubber band, and sound by the independent
 -- proofs, under a budget of 60 s.
@@ -280,6 +285,16 @@ spec = describe "the wide world of requests" $ do
 
   it "the 12 m route at 0.17 ms ending at 1.3 m/s: the meet's cruise is shaped as the band would leave it, and the band converges in a few passes (was NOT_CONVERGED after 24,000 passes)" $
     convergesInFewPasses =<< liftedFine12m
+
+  it "the 3.96 m route that only just reaches its end velocity (1.67 m/s, jerk -0.29..0.45 m/s³) at 2 ms: converged, sound, at most 4.40 s where none can take less than 4.369 s (reaching 1.67 m/s from rest within the jerk range; 0.028 s of cruise follow); seeded through rest it took 5.99 s" $ do
+    rq <- endLevel4m
+    r <- generate rq { rqTimeBudget = Just (60 *~ second) }
+    resOutcome r `shouldBe` Generated
+    resConverged r `shouldBe` True
+    sound rq r `shouldBe` True
+    case resProfile r of
+      Just p -> duration p `shouldSatisfy` (\t -> t >= 4.368 && t <= 4.40)
+      Nothing -> expectationFailure "no profile"
 
   it "the 12 m route at 0.17 ms ending at 1 m/s: the seed variant through rest plans its run-in inside the jerk range and is legal (it broke the jerk rule in 418 samples)" $ do
     pb <- either (error . show) id . validate <$> runInFine12m

@@ -17,7 +17,9 @@ import VProf.Profile.Generate.Seed (seed)
 import VProf.Profile.Generate.Seed.Meet (meetWith)
 import VProf.Profile.Generate.Seed.Brake (fullJerkHolds, jerkPlanMargins)
 import VProf.Profile.Generate.Seed.Join (MeetContext (..), meetContext)
-import VProf.Profile.Generate.Seed.Strategy (Strategy (..), closestJoin, limitCruise, peakCloseSteps, peakPlateau, probeLevel)
+import VProf.Profile.Generate.Seed.Strategy (Strategy (..), closestJoin, endLevelPlateau, limitCruise, peakCloseSteps, peakPlateau, probeLevel, topEndLevel)
+import VProf.Profile.Legality (Rule (..), Violation (..), check)
+import VProf.Profile.Sampled (Profile (..))
 import VProf.Profile.Problem.Transform (scaleJerk)
 import VProf.Profile.Request
 import VProf.Units
@@ -65,6 +67,27 @@ peakAt0112ms :: Problem
 peakAt0112ms = movingEnd 44.03734688675029 [(0, 27.091167), (31.821324578565523, 13.669146)]
   (-7.034337804212263, 5.747520758639441, -1.54121810377749, 0.8233518645113116) (0, 3.9981282774608173) 1.119e-4
 
+-- | bench/fuzz-requests --fine seed 46, request 50 (drawn at 0.1321 ms), at a time step: 3.96 m
+-- from rest to 1.67 m/s, the last zone 2.05 m/s from 1.39 m, jerk -0.286..0.448 m/s³. The
+-- route only just reaches the end velocity ('leastTimeToEnd'), and its profile ends in a
+-- cruise at it.
+endLevel4m :: Double -> Problem
+endLevel4m = movingEnd 3.958235324647846 [(0, 4.013166), (0.018760048354779794, 6.839272), (1.3940730741735639, 2.049364)]
+  (-2.5422451857949087, 1.6848342236030847, -0.28618482936528533, 0.44834570881533864) (0, 1.667106929672738)
+
+-- | The least time in which a profile from rest reaches a velocity with its acceleration
+-- back at zero, under a jerk range alone: the acceleration is at most j_max·t from the
+-- start and at most |j_min|·(T − t) towards the end, so the velocity gained within T is at
+-- most a_p²/2·(1/j_max + 1/|j_min|) with a_p their crossing, and T = a_p·(1/j_max + 1/|j_min|).
+leastTimeToEnd :: Problem -> Double
+leastTimeToEnd pb = let w = 1 / pbJMax pb + 1 / negate (pbJMin pb); ap = sqrt (2 * pbVEnd pb / w) in ap * w
+
+-- | The duration of velocities cut at their arrival (as the generator gives them).
+cutDuration :: Problem -> U.Vector Double -> Double
+cutDuration pb v = case [ k | Violation Crawl k _ _ <- check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb)) ] of
+  k : _ -> fromIntegral k * pbDt pb
+  [] -> fromIntegral (U.length v - 1) * pbDt pb
+
 -- | The meet's context as the seed makes it: the passes planned inside the jerk range where
 -- the full jerk cannot hold.
 contextOf :: Problem -> Either String MeetContext
@@ -96,6 +119,18 @@ spec = describe "the two-sided meet at fine time steps" $ do
                    Right v -> violations movingEnd01ms v `shouldBe` []
                    Left f -> expectationFailure (strategyName s ++ ": " ++ show f))
           [limitCruise, peakPlateau]
+
+  it "a route that only just reaches its end velocity, at 2 ms and 0.13 ms: the end-level plateau joins (a cruise at the end velocity that arrives before its last sample, legal but for that crawl), alone and as the meet's seed, within 0.7 % of the least time; refused for its crawl, no plateau joined and the seed went through rest (5.99 s at 2 ms, none within 20 s at 0.13 ms)" $
+    forM_ [2e-3, 1.321e-4] $ \dt -> do
+      let pb = endLevel4m dt
+          least = leastTimeToEnd pb
+      least `shouldSatisfy` (\t -> t > 4.36 && t < 4.37)
+      forM_ [("end-level plateau at the top", meetWith [topEndLevel] pb), ("end-level plateau", meetWith [endLevelPlateau] pb), ("the seed", seed pb)] $ \(name, r) ->
+        case r of
+          Right v -> do
+            (dt, name, violations pb v) `shouldBe` (dt, name, [])
+            (dt, name, cutDuration pb v) `shouldSatisfy` (\(_, _, t) -> t >= least && t <= 1.007 * least)
+          Left f -> expectationFailure (show dt ++ ", " ++ name ++ ": " ++ show f)
 
   it "moving-start-end at 0.5 ms: the seed is the band's fixed point at once (its cruise's dent took the band 7,075 passes and more, one velocity step a pass)" $
     case seed movingStartEnd05ms of

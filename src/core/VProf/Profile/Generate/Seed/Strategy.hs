@@ -3,13 +3,15 @@
 -- Each 'Strategy' is a name and a function from the shared 'MeetContext' to the legal
 -- profiles it finds, lazily and best first, so that it can be run, tested and timed on
 -- its own. 'strategies' is the order of the meet: the plateau at a speed limit both
--- passes already cruise at, then plateaus below the envelope's top, and, for the short
+-- passes already cruise at, the plateau at the start or end velocity where the envelope's
+-- top is hardly above it, then plateaus below the envelope's top, and, for the short
 -- routes where those are too short for their dent, the tuned, end-level, softened and
 -- valley plateaus, and last the exact join ("VProf.Profile.Generate.Exact"). The method
 -- behind each is in docs/profile-generator.md.
 --
--- Invariant: every profile a strategy returns has passed the checker
--- ('VProf.Profile.Legality.legalVelocities'); a strategy never claims infeasibility.
+-- Invariant: every profile a strategy returns has passed the checker, a crawl aside
+-- ('VProf.Profile.Legality.legalButCrawl': the generator cuts a profile at its arrival); a
+-- strategy never claims infeasibility.
 module VProf.Profile.Generate.Seed.Strategy
   ( Strategy (..)
   , strategies
@@ -17,6 +19,7 @@ module VProf.Profile.Generate.Seed.Strategy
   , limitCruise
   , peakPlateau
   , tunedPlateau
+  , topEndLevel
   , endLevelPlateau
   , softenedPlateau
   , valleyPlateau
@@ -54,7 +57,7 @@ data Strategy = Strategy
 
 -- | The meet's strategies, in the order it tries them.
 strategies :: [Strategy]
-strategies = [limitCruise, peakPlateau, tunedPlateau, endLevelPlateau, softenedPlateau, valleyPlateau, exactLp]
+strategies = [limitCruise, topEndLevel, peakPlateau, tunedPlateau, endLevelPlateau, softenedPlateau, valleyPlateau, exactLp]
 
 -- | The plateau levels below the envelope's top, as fractions of it taken off: the
 -- highest first (a lower level gives a longer plateau and a gentler dent).
@@ -219,6 +222,21 @@ tunedPlateau = Strategy "tuned plateau" $ \c ->
 endLevelPlateau :: Strategy
 endLevelPlateau = Strategy "end-level plateau" $ \c ->
   plateausAt c [ (v, alpha, beta) | v <- endLevels c, Just (alpha, beta) <- [wide c v] ]
+
+-- | The end-level plateau where the envelope's top is at most 'topEndShare' above the start
+-- or end velocity (the route only just reaches it): every level the peak plateau tries
+-- is then below that velocity, and no plateau can be much above it, so it goes before
+-- them (each of their levels costs two capped passes: on a 3.96 m route from rest to
+-- 1.67 m/s at 0.13 ms, whose top is 7e-5 above the end velocity, the peak and tuned
+-- plateaus' 80 levels took about a second before the end-level plateau joined).
+topEndLevel :: Strategy
+topEndLevel = Strategy "end-level plateau at the top" $ \c ->
+  plateausAt c [ (v, alpha, beta) | v <- endLevels c, mcTop c <= v * (1 + topEndShare), Just (alpha, beta) <- [wide c v] ]
+
+-- | How far above the start or end velocity the envelope's top may be for 'topEndLevel':
+-- the peak plateau's highest level ('peakLevelDrops') is that far below the top.
+topEndShare :: Double
+topEndShare = head peakLevelDrops
 
 -- | The plateau at v with both passes run within a fraction of the acceleration and jerk
 -- ranges (still legal for the problem): their ramps then take longer, continuously with
