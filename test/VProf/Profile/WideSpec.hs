@@ -11,6 +11,7 @@
 -- of the full search's answers: within a tight budget the search may stop early).
 module VProf.Profile.WideSpec (spec) where
 
+import Control.Monad (forM_)
 import qualified Data.ByteString.Lazy as BL
 import qualified Data.Aeson as A
 import qualified Data.Aeson.Key as K
@@ -168,7 +169,7 @@ staircase = defaultRequest
 -- -0.4276..0.1519 m/s³ at time_step 0.25 s (every greedy seed 54.0 s or more, thesis mode
 -- 52.25 s). The default generator now seeds variants of the problem and, for answers of up to
 -- 2048 samples, compares thesis mode's fixed point ('bestSeed', 'viaThesis').
-counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m, endLevel4m :: IO Request
+counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m, endLevel4m, justReachingJoin16m, justReachingRunIn3m :: IO Request
 counterexample16m = loadRequest "test/data/metamorphic-cluster-16m.json"
 counterexample13cm = loadRequest "test/data/metamorphic-jerk-13cm.json"
 counterexample7cm = loadRequest "test/data/metamorphic-moving-end-7cm.json"
@@ -196,6 +197,12 @@ runInFine12m = loadRequest "test/data/run-in-margins-fine-12m.json"
 -- within the tolerance before its last sample; no join was counted, and it was seeded through
 -- rest (5.99 s).
 endLevel4m = loadRequest "test/data/end-level-crawl-4m.json"
+-- | From the property of routes that only just reach their end velocity (seed 42): the
+-- meet's plateau at the end velocity ends 8.1 mm past the route end, or 17 mm short, with no
+-- room for a dent; through rest, 13.05 s.
+justReachingJoin16m = loadRequest "test/data/just-reaching-join-16m.json"
+-- | From the same property: the meet joins nothing; through rest, 7.43 s.
+justReachingRunIn3m = loadRequest "test/data/just-reaching-run-in-3m.json"
 
 -- | Generated, converged within ten passes of the rubber band, and sound by the independent
 -- proofs, under a budget of 60 s.
@@ -221,8 +228,68 @@ loadRequest :: FilePath -> IO Request
 loadRequest f = either (error . ((f ++ ": ") ++)) withLongBudget . requestFromJson <$> BL.readFile f
   where withLongBudget rq = rq { rqTimeBudget = Just (30 *~ second) }
 
+-- | A route from rest that only just reaches its end velocity: the least time and distance
+-- of reaching it with the acceleration back at zero (the acceleration rising at j_max, held
+-- at a_max where it gets there, and falling at |j_min|), and a request whose route is a
+-- little longer than that distance, one zone above the end velocity, a time step of
+-- 200-4,000 steps of that time. No legal profile takes less than that least time (less two
+-- steps: sampled, the acceleration of a step may be a jerk step ahead of the continuous
+-- ramp's at each end), and the S-curve followed by a cruise at the end velocity is one of
+-- its (continuous) profiles.
+data JustReaching = JustReaching Request Double Double
+
+instance Show JustReaching where
+  show (JustReaching rq t d) = show rq ++ " (the S-curve: " ++ show t ++ " s, " ++ show d ++ " m)"
+
+instance Arbitrary JustReaching where
+  arbitrary = do
+    let logu lo hi = exp <$> choose (log lo, log hi)
+    j1 <- logu 0.1 10
+    j2 <- logu 0.1 10
+    aMax <- logu 0.1 10
+    aMin <- negate <$> logu 0.1 10
+    vEnd <- logu 0.05 5
+    let w = 1 / j1 + 1 / j2
+        ap = min aMax (sqrt (2 * vEnd / w))
+        t1 = ap / j1; t2 = ap / j2
+        th = max 0 (vEnd / ap - (t1 + t2) / 2)
+        v1 = j1 * t1 * t1 / 2
+        v2 = v1 + ap * th
+        dS = j1 * t1 ^ (3 :: Int) / 6 + v1 * th + ap * th * th / 2 + v2 * t2 + ap * t2 * t2 / 2 - j2 * t2 ^ (3 :: Int) / 6
+        tS = t1 + th + t2
+    extra <- logu 1e-3 0.03
+    top <- logu 1e-4 2
+    steps <- logu 200 4000
+    let rq = defaultRequest
+          { rqRouteLength = dS * (1 + extra) *~ meter
+          , rqZones = [SpeedZone (0 *~ meter) (vEnd * (1 + top) *~ mps)]
+          , rqMinAcceleration = aMin *~ mps2, rqMaxAcceleration = aMax *~ mps2
+          , rqMinJerk = negate j2 *~ mps3, rqMaxJerk = j1 *~ mps3
+          , rqEndVelocity = vEnd *~ mps
+          , rqTimeStep = Just (tS / steps *~ second)
+          , rqTimeBudget = Just (10 *~ second) }
+    pure (JustReaching rq tS dS)
+
 spec :: Spec
 spec = describe "the wide world of requests" $ do
+  it "a route from rest that only just reaches its end velocity (0.1-3 % longer than the S-curve to it): a legal profile (the independent proofs), no shorter than the S-curve (less two steps), at most 1.5x the S-curve with a cruise at the end velocity after it, and in at least 90 % of routes at most 1 % and three steps longer than that (through rest, 79 % of 300 were; 14 % took 5-40 % longer)" $
+    withMaxSuccess (max 1 (cases `div` fineShare)) $ checkCoverage $ property $ \(JustReaching rq tS dS) -> monadicIO $ do
+      r <- run (generate rq)
+      let len = rqRouteLength rq /~ meter
+          vEnd = rqEndVelocity rq /~ mps
+          dt = maybe 0 (/~ second) (rqTimeStep rq)
+          sCruise = tS + (len - dS) / vEnd
+      monitor (tabulate "outcome" [takeWhile (/= ' ') (show (resOutcome r))])
+      case resProfile r of
+        Nothing -> do
+          monitor (counterexample ("no profile: " ++ show (resOutcome r)))
+          assert False
+        Just p -> do
+          let t = duration p
+          monitor (counterexample ("duration " ++ show t ++ " s; the S-curve " ++ show tS ++ " s, with the cruise " ++ show sCruise ++ " s; " ++ show (resOutcome r)))
+          monitor (cover 90 (t <= sCruise * 1.01 + 3 * dt) "at most 1 % and three steps longer than the S-curve with its cruise")
+          assert (sound rq r && null (resViolations r) && t >= tS - 2 * dt && t <= sCruise * 1.5 + 3 * dt)
+
   it "a 9.4 cm route at 1 cm/s lands without a staircase of slower plateaus, no slower than thesis mode" $ do
     band <- generate staircase
     thesis <- generate staircase { rqAlgorithm = Thesis }
@@ -295,6 +362,15 @@ spec = describe "the wide world of requests" $ do
     case resProfile r of
       Just p -> duration p `shouldSatisfy` (\t -> t >= 4.368 && t <= 4.40)
       Nothing -> expectationFailure "no profile"
+
+  it "routes from rest that only just reach their end velocity: the cruise at it without a dent, within the tolerance (15.9 m at 6.3 ms: 9.322 s, was 13.054 s through rest), and the end state's run-in from rest at once with a cruise (2.8 m at 15.7 ms: 5.696 s, was 7.427 s); converged and sound" $
+    forM_ [(justReachingJoin16m, 9.33), (justReachingRunIn3m, 5.70)] $ \(load, most) -> do
+      rq <- load
+      r <- generate rq { rqTimeBudget = Just (60 *~ second) }
+      resOutcome r `shouldBe` Generated
+      resConverged r `shouldBe` True
+      sound rq r `shouldBe` True
+      fmap duration (resProfile r) `shouldSatisfy` maybe False (<= most)
 
   it "the 12 m route at 0.17 ms ending at 1 m/s: the seed variant through rest plans its run-in inside the jerk range and is legal (it broke the jerk rule in 418 samples)" $ do
     pb <- either (error . show) id . validate <$> runInFine12m

@@ -22,6 +22,7 @@ module VProf.Profile.Generate.Seed
   , ladderSamples
   , seedVariants
   , throughRestBy
+  , runInCruise
   , improveSeed
   , Variant
   , SeedFailure (..)
@@ -274,7 +275,8 @@ seedPlan pb = uncurry SeedPlan $ case seed pb of
 -- of the problem and of the lowered one ('exactJoinFewer').
 seedVariants :: Problem -> [Variant]
 seedVariants pb
-  | moving = map throughRest (dedupe [] problems) ++ [ loweredSeed | lowerable, lowered /= pb ]
+  | moving = map throughRest (dedupe [] problems) ++ [ runInCruise pb | pbV0 pb == 0, pbA0 pb == 0 ]
+             ++ [ loweredSeed | lowerable, lowered /= pb ]
              ++ [ fewerSteps q | q <- pb : [ lowered | lowerable, lowered /= pb ] ]
   | otherwise = map landed (dedupe [pb] problems)
   where
@@ -338,6 +340,33 @@ throughRestBy shorterOnly q limit = firstLegal (jerkPlanLadder q)
       if shorterOnly && stopCannotWin restPb (U.length tailV) limit then Nothing else Just ()
       v <- either (const Nothing) Just (landing (limit - U.length tailV) restPb)
       pure (v U.++ tailV)
+
+-- | A start at rest: the end state's run-in from rest at once (the hardest braking from the
+-- end state, backwards in time, as in 'throughRest'), then a cruise at the end velocity
+-- over the rest of the route. Where the route only just reaches the end velocity, this is
+-- the fastest profile there is but for the rounding to whole steps, and the two-sided meet
+-- may find no plateau: its forward pass, which brakes its acceleration by the policy's
+-- margins, needs more room to settle at the end velocity than the run-in does (a 23.3 m
+-- route from rest to 4.5 m/s, 0.1 % longer than the S-curve to it at 24 ms: seeded through
+-- rest, 12.14 s; run in and cruising, 8.76 s). The cruise's steps are the nearest to the
+-- distance left, or one more or fewer; the run-in is planned inside the jerk range where the
+-- full jerk breaks the rule ('jerkPlanLadder'); the first profile legal but for a crawl wins.
+runInCruise :: Problem -> Variant
+runInCruise q limit = case [ v | tq <- jerkPlanLadder q, Right r <- [restFrom (mirror tq)], v <- cruiseAfter (U.reverse r) ] of
+  v : _ -> Just v
+  [] -> Nothing
+  where
+    dt = pbDt q
+    vEnd = pbVEnd q
+    -- (the steps counted before a profile is made: a long route at a slow end velocity
+    -- would need more than the limit, or than an Int holds)
+    cruiseAfter runIn =
+      let left = pbLength q - U.last (trapezoidDistances dt runIn)
+          room = limit + 1 - U.length runIn
+          steps = left / (vEnd * dt)
+          m0 = round steps :: Int
+      in [ v | steps <= fromIntegral room, m <- [m0, m0 + 1, m0 - 1], m >= 0, m <= room
+             , let v = runIn U.++ U.replicate m vEnd, legalButCrawl q v ]
 
 -- | A profile through rest whose landing is on this problem (it ends at rest) and whose
 -- run-in has this many samples cannot be shorter than @limit@ + 2 samples, the best seed's

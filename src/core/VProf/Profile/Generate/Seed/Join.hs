@@ -285,8 +285,15 @@ joinAt c v cp@(Capped fRun bRun _ _ _) ks =
         let bump = U.generate (max 0 (k - 1)) (\i -> let x = sin (pi * fromIntegral (i + 1) / fromIntegral k) in x * x)
         in \d -> U.concat [fV, U.map (\b -> v - d * b) bump, bV]
       legal = legalButCrawl judge
+      -- last, without a dent, an end within the tolerance but more than half of it from the
+      -- route end (the checker's rule): where the cruise is too short for its dent or bump
+      -- (a 15.9 m route from rest that only just reaches its end velocity of 3.99 m/s at
+      -- 6.3 ms: 8.1 mm past the end with a cruise of eight 25 mm steps, 17 mm short with one
+      -- step fewer, and no join at all: through rest it took 13.05 s, where the plateau at the
+      -- end velocity takes 9.33 s)
       tries = [ (k, 0) | k <- ks, k > 1, abs (over k) <= tol / undentedDivisor ]
               ++ [ (k, depth k) | k <- ks, k > 1 || abs (over k) <= tol / undentedDivisor ]
+              ++ [ (k, 0) | k <- ks, k > 1, abs (over k) > tol / undentedDivisor, abs (over k) <= tol * (1 - 1e-6) ]
   in case [ (k, d, vs) | (k, d) <- tries, let vs = profileAt k d, legal vs ] of
        -- lazily: only the profile a strategy keeps is shaped
        (k, d, vs) : _ | k > 1 -> Just (bandShaped (legalButCrawl judge) (pbDv judge) ((over k - tol / undentedDivisor * (1 - 1e-6)) / perDepth k) d (profileAt k) vs)
