@@ -345,10 +345,10 @@ throughRestBy shorterOnly q limit = firstLegal (jerkPlanLadder q)
 -- end state, backwards in time, as in 'throughRest'), then a cruise at the end velocity
 -- over the rest of the route. Where the route only just reaches the end velocity, this is
 -- the fastest profile there is but for the rounding to whole steps, and the two-sided meet
--- may find no plateau: its forward pass, which brakes its acceleration by the policy's
--- margins, needs more room to settle at the end velocity than the run-in does (a 23.3 m
--- route from rest to 4.5 m/s, 0.1 % longer than the S-curve to it at 24 ms: seeded through
--- rest, 12.14 s; run in and cruising, 8.76 s). The cruise's steps are the nearest to the
+-- may find no plateau (its forward pass, which brakes its acceleration by the policy's
+-- margins, can need more room to settle at the end velocity than the run-in does): a 2.8 m
+-- route from rest to 1.12 m/s at 15.7 ms took 7.43 s through rest, 5.70 s run in and
+-- cruising (test/data/just-reaching-run-in-3m.json). The cruise's steps are the nearest to the
 -- distance left, or one more or fewer; the run-in is planned inside the jerk range where the
 -- full jerk breaks the rule ('jerkPlanLadder'); the first profile legal but for a crawl wins.
 runInCruise :: Problem -> Variant

@@ -296,7 +296,7 @@ joinAt c v cp@(Capped fRun bRun _ _ _) ks =
               ++ [ (k, 0) | k <- ks, k > 1, abs (over k) > tol / undentedDivisor, abs (over k) <= tol * (1 - 1e-6) ]
   in case [ (k, d, vs) | (k, d) <- tries, let vs = profileAt k d, legal vs ] of
        -- lazily: only the profile a strategy keeps is shaped
-       (k, d, vs) : _ | k > 1 -> Just (bandShaped (legalButCrawl judge) (pbDv judge) ((over k - tol / undentedDivisor * (1 - 1e-6)) / perDepth k) d (profileAt k) vs)
+       (k, d, vs) : _ | k > 1 -> Just (bandShaped legal (pbDv judge) ((over k - tol / undentedDivisor * (1 - 1e-6)) / perDepth k) d (profileAt k) vs)
                       | otherwise -> Just vs
        [] -> Nothing
 

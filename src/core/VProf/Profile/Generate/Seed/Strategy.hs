@@ -220,18 +220,20 @@ tunedPlateau = Strategy "tuned plateau" $ \c ->
 -- | The plateau at the start or the end velocity: a profile that only speeds up (or only
 -- slows down) on a short route has its plateau at one of them.
 endLevelPlateau :: Strategy
-endLevelPlateau = Strategy "end-level plateau" $ \c ->
-  plateausAt c [ (v, alpha, beta) | v <- endLevels c, Just (alpha, beta) <- [wide c v] ]
+endLevelPlateau = Strategy "end-level plateau" $ \c -> endLevelJoins c (const True)
+
+-- | The plateau joins at the start or end velocity that pass a test, over the widest stretch.
+endLevelJoins :: MeetContext -> (Double -> Bool) -> [U.Vector Double]
+endLevelJoins c ok = plateausAt c [ (v, alpha, beta) | v <- endLevels c, ok v, Just (alpha, beta) <- [wide c v] ]
 
 -- | The end-level plateau where the envelope's top is at most 'topEndShare' above the start
 -- or end velocity (the route only just reaches it): every level the peak plateau tries
 -- is then below that velocity, and no plateau can be much above it, so it goes before
 -- them (each of their levels costs two capped passes: on a 3.96 m route from rest to
--- 1.67 m/s at 0.13 ms, whose top is 7e-5 above the end velocity, the peak and tuned
--- plateaus' 80 levels took about a second before the end-level plateau joined).
+-- 1.67 m/s at 0.13 ms, whose top is 7e-5 above the end velocity, the meet took 1.03 s with
+-- the end-level plateau after the peak and tuned plateaus, 0.23 s with it first).
 topEndLevel :: Strategy
-topEndLevel = Strategy "end-level plateau at the top" $ \c ->
-  plateausAt c [ (v, alpha, beta) | v <- endLevels c, mcTop c <= v * (1 + topEndShare), Just (alpha, beta) <- [wide c v] ]
+topEndLevel = Strategy "end-level plateau at the top" $ \c -> endLevelJoins c (\v -> mcTop c <= v * (1 + topEndShare))
 
 -- | How far above the start or end velocity the envelope's top may be for 'topEndLevel':
 -- the peak plateau's highest level ('peakLevelDrops') is that far below the top.
