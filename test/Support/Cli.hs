@@ -1,7 +1,9 @@
--- | Running a subcommand's parser on arguments in-process, as the executable would.
+-- | Running a subcommand's parser on arguments in-process, as the executable would, and
+-- reading the comma-separated lines it writes.
 module Support.Cli
   ( runCommand
   , parserRefused
+  , splitComma
   ) where
 
 import Options.Applicative
@@ -16,3 +18,9 @@ runCommand cmd args = case execParserPure defaultPrefs (info cmd forwardOptions)
 
 parserRefused :: ExitCode
 parserRefused = ExitFailure 99
+
+-- | A line's comma-separated fields, as written (no quoting).
+splitComma :: String -> [String]
+splitComma r = case break (== ',') r of
+  (a, _ : b) -> a : splitComma b
+  (a, []) -> [a]

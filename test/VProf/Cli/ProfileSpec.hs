@@ -12,7 +12,7 @@ import System.FilePath (takeFileName, (</>))
 import System.IO.Temp (withSystemTempDirectory)
 import Test.Hspec
 
-import Support.Cli (parserRefused, runCommand)
+import Support.Cli (parserRefused, runCommand, splitComma)
 
 import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
 import VProf.Profile.Format.File (readRequest, readRequestWithId)
@@ -28,11 +28,6 @@ run = runCommand
 
 simple :: FilePath
 simple = "examples/simple.json"
-
-splitComma :: String -> [String]
-splitComma r = case break (== ',') r of
-  (a, _ : b) -> a : splitComma b
-  (a, []) -> [a]
 
 spec :: Spec
 spec = do

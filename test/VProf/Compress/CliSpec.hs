@@ -18,6 +18,7 @@ import VProf.Cli.Compress (compressCommand)
 import VProf.Compress.Format.Rapid (parseRapid)
 import VProf.Compress.Format.Tum (parseTum)
 import Support.PathError (orientationErrorsOf, positionErrorsOf, worstPositionError)
+import Support.Cli (splitComma)
 import Support.Recordings
 import VProf.Compress.Types
 import VProf.Geometry.Vec (P3 (..), Q4 (..), norm, phead, ptoList, (^-^))
@@ -156,7 +157,7 @@ spec = describe "vprof compress" $ do
         code' `shouldBe` ExitSuccess
         err' `shouldSatisfy` ("read as CSV (tab-separated) with the header of line 1" `isInfixOf`)
         out <- readFile (dir </> "tabs-out.csv")
-        let quats = [ map read (drop 4 (splitOn ',' l)) :: [Double] | l <- drop 1 (lines out) ]
+        let quats = [ map read (drop 4 (splitComma l)) :: [Double] | l <- drop 1 (lines out) ]
         length quats `shouldSatisfy` (>= 2)
         quats `shouldSatisfy` all (\q -> maximum (zipWith (\a b -> abs (a - b)) q [0.6, 0.8, 0, 0]) < 1e-9)
   it "refuses an --outlier-factor below 1 (it rejected 995 of 997 samples at 1e-9) and --weights beyond 10^6 (the report overflowed)" $ do
@@ -410,8 +411,3 @@ spec = describe "vprof compress" $ do
         code `shouldBe` ExitSuccess
         err `shouldSatisfy` (("1 outlier rejected") `isInfixOf`)
         err `shouldSatisfy` (("at line " ++ show i ++ ")") `isInfixOf`)
-
-splitOn :: Char -> String -> [String]
-splitOn c str = case break (== c) str of
-  (a, _ : rest) -> a : splitOn c rest
-  (a, []) -> [a]

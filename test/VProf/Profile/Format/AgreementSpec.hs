@@ -15,6 +15,7 @@ import Data.ProtocolBuffers (getField)
 import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 
+import Support.Cli (splitComma)
 import VProf.Profile.Format.Json (profileToJson, requestFromJson)
 import VProf.Profile.Format.Text (csv, summary, table)
 import VProf.Profile.Generate
@@ -64,10 +65,6 @@ agree name r = describe name $ do
     length (drop 1 (lines (maybe "" table (resProfile r)))) `shouldBe` n
     length (getField (prsVelocity msg)) `shouldBe` n
     map (read . (!! 2) . splitComma) csvRows `shouldBe` maybe [] (U.toList . prVelocities) (resProfile r)
-  where
-    splitComma s = case break (== ',') s of
-      (a, _ : b) -> a : splitComma b
-      (a, []) -> [a]
 
 spec :: Spec
 spec = do
