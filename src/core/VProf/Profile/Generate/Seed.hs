@@ -331,7 +331,7 @@ throughRestBy shorterOnly q limit = firstLegal (jerkPlanLadder q)
         JerkOnly -> firstLegal rest
         Broken -> Nothing
     throughRestWith tq = do
-      tailV <- either (const Nothing) (Just . U.reverse) (restFrom (mirror tq))
+      tailV <- runInFromRest tq
       let dE = U.last (trapezoidDistances (pbDt q) tailV)
           restPb = q { pbLength = pbLength q - dE, pbVEnd = 0, pbAEnd = 0 }
       if pbLength restPb <= 0 || sinksBelowZero restPb then Nothing else Just ()
@@ -352,7 +352,7 @@ throughRestBy shorterOnly q limit = firstLegal (jerkPlanLadder q)
 -- distance left, or one more or fewer; the run-in is planned inside the jerk range where the
 -- full jerk breaks the rule ('jerkPlanLadder'); the first profile legal but for a crawl wins.
 runInCruise :: Problem -> Variant
-runInCruise q limit = case [ v | tq <- jerkPlanLadder q, Right r <- [restFrom (mirror tq)], v <- cruiseAfter (U.reverse r) ] of
+runInCruise q limit = case [ v | tq <- jerkPlanLadder q, Just r <- [runInFromRest tq], v <- cruiseAfter r ] of
   v : _ -> Just v
   [] -> Nothing
   where
@@ -367,6 +367,11 @@ runInCruise q limit = case [ v | tq <- jerkPlanLadder q, Right r <- [restFrom (m
           m0 = round steps :: Int
       in [ v | steps <= fromIntegral room, m <- [m0, m0 + 1, m0 - 1], m >= 0, m <= room
              , let v = runIn U.++ U.replicate m vEnd, legalButCrawl q v ]
+
+-- | The end state's run-in from rest, forwards in time (0 .. v_end): the hardest braking from
+-- the end state on the mirror, reversed.
+runInFromRest :: Problem -> Maybe (U.Vector Double)
+runInFromRest q = either (const Nothing) (Just . U.reverse) (restFrom (mirror q))
 
 -- | A profile through rest whose landing is on this problem (it ends at rest) and whose
 -- run-in has this many samples cannot be shorter than @limit@ + 2 samples, the best seed's
