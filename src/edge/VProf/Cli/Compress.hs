@@ -76,7 +76,7 @@ compressOptions' :: Parser CompressOptions
 compressOptions' = CompressOptions
   <$> strArgument (metavar "RECORDING" <> help "recorded motion: TUM text, CSV with a header naming its columns (vprof's own, EuRoC, ROS), an OptiTrack Motive CSV export, KITTI poses (with --times), Polhemus CSV log or RAPID .mod")
   <*> optional (option (eitherReader inFmt) (long "input-format" <> metavar "tum|csv|kitti|log|mod"
-        <> help "format of RECORDING (default: from the extension; .csv is csv if its first line is a header, else a log; .log is a log, .mod RAPID; else TUM, or KITTI when a line holds 12 numbers)"))
+        <> help "format of RECORDING (default: from the extension; .csv is csv if its first line is a header, else a log; .log is a log, .mod RAPID; else csv when its first line that is not a # comment names its columns, KITTI when a line holds 12 numbers, or TUM)"))
   <*> optional (strOption (long "times" <> metavar "FILE"
         <> help "KITTI poses only: their times, one a line in s (KITTI's times.txt); default: RECORDING's name with _times before the extension, if that file exists"))
   <*> option (eitherReader weights) (long "weights" <> metavar "P,O,V" <> value (1, 1, 1)
