@@ -33,10 +33,10 @@ import Support.Wide
 import VProf.Profile.Format.Json (requestFromJson)
 import VProf.Profile.Generate
 import qualified Data.Vector.Unboxed as U
-import VProf.Profile.Generate.Seed (SeedFailure (..), SeedPlan (..), ladderSamples, mirror, restFrom, restWithinJerk, seed, seedPlan, seedVariants, throughRestBy)
+import VProf.Profile.Generate.Seed (SeedFailure (..), SeedPlan (..), ladderSamples, mirror, restFrom, restWithinJerk, runInCruise, seed, seedPlan, seedVariants, throughRestBy)
 import VProf.Profile.Problem (endsInMotion)
 import VProf.Profile.Generate.Seed.Brake (fullJerkHolds)
-import VProf.Profile.Legality (Rule (..), Violation (..), check, renderViolation)
+import VProf.Profile.Legality (Rule (..), Violation (..), check, legalButCrawl, renderViolation)
 import VProf.Profile.Request
 import VProf.Profile.Sampled
 import VProf.Units
@@ -169,7 +169,7 @@ staircase = defaultRequest
 -- -0.4276..0.1519 m/s³ at time_step 0.25 s (every greedy seed 54.0 s or more, thesis mode
 -- 52.25 s). The default generator now seeds variants of the problem and, for answers of up to
 -- 2048 samples, compares thesis mode's fixed point ('bestSeed', 'viaThesis').
-counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m, endLevel4m, justReachingJoin16m, justReachingRunIn3m :: IO Request
+counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m, endLevel4m, justReachingJoin16m, justReachingRunIn3m, justReachingSoftened25m, justReachingRunInOnly91m :: IO Request
 counterexample16m = loadRequest "test/data/metamorphic-cluster-16m.json"
 counterexample13cm = loadRequest "test/data/metamorphic-jerk-13cm.json"
 counterexample7cm = loadRequest "test/data/metamorphic-moving-end-7cm.json"
@@ -203,6 +203,12 @@ endLevel4m = loadRequest "test/data/end-level-crawl-4m.json"
 justReachingJoin16m = loadRequest "test/data/just-reaching-join-16m.json"
 -- | From the same property: the meet joins nothing; through rest, 7.43 s.
 justReachingRunIn3m = loadRequest "test/data/just-reaching-run-in-3m.json"
+-- | From the same property: half a cruise step of route left after the run-in, beyond the
+-- tolerance either way; through rest, 24.13 s.
+justReachingSoftened25m = loadRequest "test/data/just-reaching-softened-25m.json"
+-- | From the same property (seed 1): a third of a cruise step left, which only the run-in
+-- alone, narrowed until it ends on the route end, takes up; through rest, 42.16 s.
+justReachingRunInOnly91m = loadRequest "test/data/just-reaching-run-in-only-91m.json"
 
 -- | Generated, converged within ten passes of the rubber band, and sound by the independent
 -- proofs, under a budget of 60 s.
@@ -371,6 +377,27 @@ spec = describe "the wide world of requests" $ do
       resConverged r `shouldBe` True
       sound rq r `shouldBe` True
       fmap duration (resProfile r) `shouldSatisfy` maybe False (<= most)
+
+  it "routes from rest that only just reach their end velocity where no whole number of cruise steps after the run-in ends within the tolerance (half a step left on 25 m, a third on 91 m: the nearest cruise and one step more or fewer all miss): the run-in within narrower ranges and a cruise, or the run-in alone, within three steps of the S-curve and its cruise; generated, converged and sound (through rest 24.13 s and 42.16 s)" $
+    forM_ [(justReachingSoftened25m, 22.4834), (justReachingRunInOnly91m, 41.3526)] $ \(load, sCruise) -> do
+      rq <- load
+      let pb = either (error . show) id (validate rq)
+          dt = pbDt pb
+          runIn = either (error . show) U.reverse (restFrom (mirror pb))
+          left = (pbLength pb - U.last (trapezoidDistances dt runIn)) / (pbVEnd pb * dt)
+          m0 = round left :: Int
+      -- at the full ranges no cruise after the run-in is legal
+      [ m | m <- [m0 - 1, m0, m0 + 1], m >= 0, legalButCrawl pb (runIn U.++ U.replicate m (pbVEnd pb)) ] `shouldBe` []
+      case runInCruise pb maxSamples of
+        Nothing -> expectationFailure "no run-in and cruise"
+        Just v -> do
+          map vRule (check pb (Profile dt v (pbA0 pb) (pbAEnd pb))) `shouldSatisfy` all (== Crawl)
+          fromIntegral (U.length v - 1) * dt `shouldSatisfy` (<= sCruise + 3 * dt)
+      r <- generate rq
+      resOutcome r `shouldBe` Generated
+      resConverged r `shouldBe` True
+      sound rq r `shouldBe` True
+      fmap duration (resProfile r) `shouldSatisfy` maybe False (<= sCruise + 3 * dt)
 
   it "the 12 m route at 0.17 ms ending at 1 m/s: the seed variant through rest plans its run-in inside the jerk range and is legal (it broke the jerk rule in 418 samples)" $ do
     pb <- either (error . show) id . validate <$> runInFine12m

@@ -44,7 +44,7 @@ import VProf.Profile.Generate.Seed.Meet (meet)
 import VProf.Profile.Legality (Rule (..), Violation (..), check, legalButCrawl)
 import VProf.Profile.Problem (Problem (..), endsInMotion)
 import VProf.Profile.Sampled (Profile (..), trapezoidDistances)
-import VProf.Profile.Problem.Transform (mirror, scaleJerk)
+import VProf.Profile.Problem.Transform (mirror, scaleJerk, scaleRanges)
 import VProf.Profile.Request (maxSamples, problemLeastSamples)
 
 -- | Levels of lead-in: a first step, and one more within the rest.
@@ -349,24 +349,89 @@ throughRestBy shorterOnly q limit = firstLegal (jerkPlanLadder q)
 -- margins, can need more room to settle at the end velocity than the run-in does): a 2.8 m
 -- route from rest to 1.12 m/s at 15.7 ms took 7.43 s through rest, 5.70 s run in and
 -- cruising (test/data/just-reaching-run-in-3m.json). The cruise's steps are the nearest to the
--- distance left, or one more or fewer; the run-in is planned inside the jerk range where the
--- full jerk breaks the rule ('jerkPlanLadder'); the first profile legal but for a crawl wins.
+-- distance left, or one more or fewer; where none of them ends within the tolerance, the
+-- run-in is narrowed until one does (below); the run-in is planned inside the jerk range
+-- where the full jerk breaks the rule ('jerkPlanLadder'); the first profile legal but for a
+-- crawl wins.
 runInCruise :: Problem -> Variant
-runInCruise q limit = case [ v | tq <- jerkPlanLadder q, Just r <- [runInFromRest tq], v <- cruiseAfter r ] of
+runInCruise q limit = case [ v | tq <- ladder, Just r <- [runInFromRest tq], v <- cruiseAfter r ] ++ softened of
   v : _ -> Just v
   [] -> Nothing
   where
+    ladder = jerkPlanLadder q
     dt = pbDt q
     vEnd = pbVEnd q
+    step = vEnd * dt
+    -- the distance left after a run-in, in cruise steps
+    stepsLeft runIn = (pbLength q - U.last (trapezoidDistances dt runIn)) / step
+    room runIn = limit + 1 - U.length runIn
     -- (the steps counted before a profile is made: a long route at a slow end velocity
     -- would need more than the limit, or than an Int holds)
     cruiseAfter runIn =
-      let left = pbLength q - U.last (trapezoidDistances dt runIn)
-          room = limit + 1 - U.length runIn
-          steps = left / (vEnd * dt)
+      let steps = stepsLeft runIn
           m0 = round steps :: Int
-      in [ v | steps <= fromIntegral room, m <- [m0, m0 + 1, m0 - 1], m >= 0, m <= room
+      in [ v | steps <= fromIntegral (room runIn), m <- [m0, m0 + 1, m0 - 1], m >= 0, m <= room runIn
              , let v = runIn U.++ U.replicate m vEnd, legalButCrawl q v ]
+    -- Where no whole number of cruise steps ends within the tolerance (a cruise of a few
+    -- steps, too short for a dent), the run-in within narrower ranges ('scaleRanges'): it
+    -- takes longer and covers more of the route, continuously with the scale, so the
+    -- distance left falls through a whole number of cruise steps. Its offset from the
+    -- nearest whole number falls with the scale and wraps from -1/2 to 1/2 where a step is
+    -- lost; a sign change between neighbouring scales with less than half a step between
+    -- them is a root, and so is the last scale whose run-in fits (within half a step of the
+    -- end) before one that does not, the run-in alone then ending on the route end; each
+    -- bisected until the profile is legal. The scales are spaced by a quarter of one over
+    -- the run-in's steps (an eighth to a quarter of a step of run-in time each), for
+    -- 'softRunInScales' of them.
+    softened = [ v | tq <- ladder, Just r1 <- [runInFromRest tq], stepsLeft r1 <= fromIntegral (room r1) + softRunInReach
+                   , v <- take 1 (softRoots tq (U.length r1)) ]
+    softRoots tq n =
+      let at phi = do
+            r <- runInFromRest (scaleRanges phi tq)
+            let x = stepsLeft r
+            if x > fromIntegral (room r) then Nothing else Just (x, r)
+          dphi = 1 / (4 * fromIntegral (max 1 n))
+          grid = [ (phi, at phi) | i <- [0 .. softRunInScales], let phi = 1 - dphi * fromIntegral i, phi > softRunInLeast ]
+          tries (p1, a1) (p2, a2) = case (a1, a2) of
+            (Just (x1, _), Just (x2, r2)) ->
+              [ v | abs (offset x2) * step <= pbTol q, Just v <- [profileAt r2] ]
+              ++ [ v | offset x1 * offset x2 <= 0, abs (offset x1 - offset x2) < 0.5, Just v <- [bisectScale at p1 p2 (signum (offset x1)) softRunInBisections] ]
+            (Just (x1, _), Nothing) | x1 >= 0, x1 < 0.5 -> maybe [] pure (bisectScale at p1 p2 1 softRunInBisections)
+            _ -> []
+      in concat (zipWith tries grid (drop 1 grid))
+    offset x = x - fromIntegral (round x :: Int)
+    -- a legal profile at a scale between hi (its offset of sign s) and lo (a run-in that
+    -- does not fit counts as below zero)
+    bisectScale at hi lo s n
+      | n <= 0 = Nothing
+      | otherwise =
+          let mid = (hi + lo) / 2
+              towardsLo = bisectScale at mid lo s (n - 1)
+              towardsHi = bisectScale at hi mid s (n - 1)
+          in case at mid of
+               Nothing -> if s > 0 then towardsHi else towardsLo
+               Just (x, r) -> case profileAt r of
+                 Just v -> Just v
+                 Nothing -> if signum (offset x) == s then towardsLo else towardsHi
+    -- the run-in and the nearest whole number of cruise steps, when legal
+    profileAt r =
+      let m = round (stepsLeft r) :: Int
+          v = r U.++ U.replicate (max 0 m) vEnd
+      in if legalButCrawl q v then Just v else Nothing
+
+-- | How many narrower run-ins 'runInCruise' tries, the least scale of its ranges, and the
+-- halvings of its bisection.
+softRunInScales, softRunInBisections :: Int
+softRunInScales = 40
+softRunInBisections = 40
+
+softRunInLeast :: Double
+softRunInLeast = 0.5
+
+-- | The most cruise steps a narrower run-in is looked for to take off: where more are left
+-- than the profile may have, none is run.
+softRunInReach :: Double
+softRunInReach = 16
 
 -- | The end state's run-in from rest, forwards in time (0 .. v_end): the hardest braking from
 -- the end state on the mirror, reversed.
