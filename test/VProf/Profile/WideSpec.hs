@@ -169,7 +169,7 @@ staircase = defaultRequest
 -- -0.4276..0.1519 m/s³ at time_step 0.25 s (every greedy seed 54.0 s or more, thesis mode
 -- 52.25 s). The default generator now seeds variants of the problem and, for answers of up to
 -- 2048 samples, compares thesis mode's fixed point ('bestSeed', 'viaThesis').
-counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m, endLevel4m, justReachingJoin16m, justReachingRunIn3m, justReachingSoftened25m, justReachingRunInOnly91m :: IO Request
+counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m, endLevel4m, justReachingJoin16m, justReachingRunIn3m, justReachingSoftened25m, justReachingRunInOnly91m, justReachingQuick21m :: IO Request
 counterexample16m = loadRequest "test/data/metamorphic-cluster-16m.json"
 counterexample13cm = loadRequest "test/data/metamorphic-jerk-13cm.json"
 counterexample7cm = loadRequest "test/data/metamorphic-moving-end-7cm.json"
@@ -209,6 +209,8 @@ justReachingSoftened25m = loadRequest "test/data/just-reaching-softened-25m.json
 -- | From the same property (seed 1): a third of a cruise step left, which only the run-in
 -- alone, narrowed until it ends on the route end, takes up; through rest, 42.16 s.
 justReachingRunInOnly91m = loadRequest "test/data/just-reaching-run-in-only-91m.json"
+-- | From the same property (seed 1): the meet took 5.0 s for a 10.29 s seed.
+justReachingQuick21m = loadRequest "test/data/just-reaching-quick-21m.json"
 
 -- | Generated, converged within ten passes of the rubber band, and sound by the independent
 -- proofs, under a budget of 60 s.
@@ -278,8 +280,8 @@ instance Arbitrary JustReaching where
 
 spec :: Spec
 spec = describe "the wide world of requests" $ do
-  it "a route from rest that only just reaches its end velocity (0.1-3 % longer than the S-curve to it): a legal profile (the independent proofs), no shorter than the S-curve (less two steps), at most 1.5x the S-curve with a cruise at the end velocity after it, and in at least 90 % of routes at most 1 % and three steps longer than that (through rest, 79 % of 300 were; 14 % took 5-40 % longer)" $
-    withMaxSuccess (max 1 (cases `div` fineShare)) $ checkCoverage $ property $ \(JustReaching rq tS dS) -> monadicIO $ do
+  it "a route from rest that only just reaches its end velocity (0.1-3 % longer than the S-curve to it): a legal profile (the independent proofs), no shorter than the S-curve (less two steps) and at most 1 % and three steps longer than the S-curve with a cruise at the end velocity after it (through rest, 14 % of 300 took 5-40 % longer; with the run-in and a cruise at the full ranges, 3 %)" $
+    withMaxSuccess (max 1 (cases `div` 5)) $ property $ \(JustReaching rq tS dS) -> monadicIO $ do
       r <- run (generate rq)
       let len = rqRouteLength rq /~ meter
           vEnd = rqEndVelocity rq /~ mps
@@ -293,8 +295,7 @@ spec = describe "the wide world of requests" $ do
         Just p -> do
           let t = duration p
           monitor (counterexample ("duration " ++ show t ++ " s; the S-curve " ++ show tS ++ " s, with the cruise " ++ show sCruise ++ " s; " ++ show (resOutcome r)))
-          monitor (cover 90 (t <= sCruise * 1.01 + 3 * dt) "at most 1 % and three steps longer than the S-curve with its cruise")
-          assert (sound rq r && null (resViolations r) && t >= tS - 2 * dt && t <= sCruise * 1.5 + 3 * dt)
+          assert (sound rq r && null (resViolations r) && t >= tS - 2 * dt && t <= sCruise * 1.01 + 3 * dt)
 
   it "a 9.4 cm route at 1 cm/s lands without a staircase of slower plateaus, no slower than thesis mode" $ do
     band <- generate staircase
@@ -398,6 +399,21 @@ spec = describe "the wide world of requests" $ do
       resConverged r `shouldBe` True
       sound rq r `shouldBe` True
       fmap duration (resProfile r) `shouldSatisfy` maybe False (<= sCruise + 3 * dt)
+
+  it "a 21 m route from rest that only just reaches 3.68 m/s at 2.7 ms with a weak braking jerk: the first seed is the run-in and a cruise, within 1 % and three steps of the run-in alone (no profile can be faster), and the answer comes within a 1 s budget at 8.742 s, the S-curve and its cruise (the meet took 5.0 s for a 10.29 s seed)" $ do
+    rq <- justReachingQuick21m
+    let pb = either (error . show) id (validate rq)
+        runIn = either (error . show) id (restFrom (mirror pb))
+    case spSeed (seedPlan pb) of
+      Left f -> expectationFailure ("no seed: " ++ show f)
+      Right v -> do
+        map vRule (check pb (Profile (pbDt pb) v (pbA0 pb) (pbAEnd pb))) `shouldSatisfy` all (== Crawl)
+        U.length v `shouldSatisfy` (<= floor (fromIntegral (U.length runIn) * 1.01 :: Double) + 3)
+    r <- generate rq { rqTimeBudget = Just (1 *~ second) }
+    resOutcome r `shouldBe` Generated
+    resConverged r `shouldBe` True
+    sound rq r `shouldBe` True
+    fmap duration (resProfile r) `shouldSatisfy` maybe False (<= 8.7421 + 3 * pbDt pb)
 
   it "the 12 m route at 0.17 ms ending at 1 m/s: the seed variant through rest plans its run-in inside the jerk range and is legal (it broke the jerk rule in 418 samples)" $ do
     pb <- either (error . show) id . validate <$> runInFine12m
