@@ -118,6 +118,11 @@ capRefusal r = case resOutcome r of
     capError e = feField e == "route_length"
                  || ("speed_limits[" `isPrefixOf` feField e && "].velocity" `isSuffixOf` feField e && "above the cap" `isInfixOf` feRule e)
 
+isNotConverged :: Result -> Bool
+isNotConverged r = case resOutcome r of
+  Failed (NotConverged _) -> True
+  _ -> False
+
 durationOf :: Result -> Maybe Double
 durationOf r = case (resOutcome r, resProfile r) of
   (Generated, Just p) -> Just (duration p)
@@ -169,7 +174,7 @@ staircase = defaultRequest
 -- -0.4276..0.1519 m/s³ at time_step 0.25 s (every greedy seed 54.0 s or more, thesis mode
 -- 52.25 s). The default generator now seeds variants of the problem and, for answers of up to
 -- 2048 samples, compares thesis mode's fixed point ('bestSeed', 'viaThesis').
-counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m, endLevel4m, justReachingJoin16m, justReachingRunIn3m, justReachingSoftened25m, justReachingRunInOnly91m, justReachingQuick21m :: IO Request
+counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m, endLevel4m, justReachingJoin16m, justReachingRunIn3m, justReachingSoftened25m, justReachingRunInOnly91m, justReachingQuick21m, justReachingMoving3m :: IO Request
 counterexample16m = loadRequest "test/data/metamorphic-cluster-16m.json"
 counterexample13cm = loadRequest "test/data/metamorphic-jerk-13cm.json"
 counterexample7cm = loadRequest "test/data/metamorphic-moving-end-7cm.json"
@@ -211,6 +216,9 @@ justReachingSoftened25m = loadRequest "test/data/just-reaching-softened-25m.json
 justReachingRunInOnly91m = loadRequest "test/data/just-reaching-run-in-only-91m.json"
 -- | From the same property (seed 1): the meet took 5.0 s for a 10.29 s seed.
 justReachingQuick21m = loadRequest "test/data/just-reaching-quick-21m.json"
+-- | From the same property with moving starts (seed 1): the meet found no join, and no
+-- profile through rest fits; NOT_CONVERGED without a profile.
+justReachingMoving3m = loadRequest "test/data/just-reaching-moving-start-3m.json"
 
 -- | Generated, converged within ten passes of the rubber band, and sound by the independent
 -- proofs, under a budget of 60 s.
@@ -236,10 +244,10 @@ loadRequest :: FilePath -> IO Request
 loadRequest f = either (error . ((f ++ ": ") ++)) withLongBudget . requestFromJson <$> BL.readFile f
   where withLongBudget rq = rq { rqTimeBudget = Just (30 *~ second) }
 
--- | A route from rest that only just reaches its end velocity: the least time and distance
--- of reaching it with the acceleration back at zero (the acceleration rising at j_max, held
--- at a_max where it gets there, and falling at |j_min|), and a request whose route is a
--- little longer than that distance, one zone above the end velocity, a time step of
+-- | A route from rest, or from a slower start without acceleration, that only just reaches
+-- its end velocity: the least time and distance of reaching it with the acceleration back at
+-- zero (the acceleration rising at j_max, held at a_max where it gets there, and falling at
+-- |j_min|), and a request whose route is a little longer than that distance, one zone above the end velocity, a time step of
 -- 200-4,000 steps of that time. No legal profile takes less than that least time (less two
 -- steps: sampled, the acceleration of a step may be a jerk step ahead of the continuous
 -- ramp's at each end), and the S-curve followed by a cruise at the end velocity is one of
@@ -257,13 +265,17 @@ instance Arbitrary JustReaching where
     aMax <- logu 0.1 10
     aMin <- negate <$> logu 0.1 10
     vEnd <- logu 0.05 5
-    let w = 1 / j1 + 1 / j2
-        ap = min aMax (sqrt (2 * vEnd / w))
+    -- from rest in half the cases, else from 5-95 % of the end velocity
+    f <- oneof [pure 0, choose (0.05, 0.95)]
+    let v0 = f * vEnd
+        dv = vEnd - v0
+        w = 1 / j1 + 1 / j2
+        ap = min aMax (sqrt (2 * dv / w))
         t1 = ap / j1; t2 = ap / j2
-        th = max 0 (vEnd / ap - (t1 + t2) / 2)
+        th = max 0 (dv / ap - (t1 + t2) / 2)
         v1 = j1 * t1 * t1 / 2
         v2 = v1 + ap * th
-        dS = j1 * t1 ^ (3 :: Int) / 6 + v1 * th + ap * th * th / 2 + v2 * t2 + ap * t2 * t2 / 2 - j2 * t2 ^ (3 :: Int) / 6
+        dS = v0 * (t1 + th + t2) + j1 * t1 ^ (3 :: Int) / 6 + v1 * th + ap * th * th / 2 + v2 * t2 + ap * t2 * t2 / 2 - j2 * t2 ^ (3 :: Int) / 6
         tS = t1 + th + t2
     extra <- logu 1e-3 0.03
     top <- logu 1e-4 2
@@ -273,29 +285,39 @@ instance Arbitrary JustReaching where
           , rqZones = [SpeedZone (0 *~ meter) (vEnd * (1 + top) *~ mps)]
           , rqMinAcceleration = aMin *~ mps2, rqMaxAcceleration = aMax *~ mps2
           , rqMinJerk = negate j2 *~ mps3, rqMaxJerk = j1 *~ mps3
-          , rqEndVelocity = vEnd *~ mps
+          , rqStartVelocity = v0 *~ mps, rqEndVelocity = vEnd *~ mps
           , rqTimeStep = Just (tS / steps *~ second)
           , rqTimeBudget = Just (10 *~ second) }
     pure (JustReaching rq tS dS)
 
 spec :: Spec
 spec = describe "the wide world of requests" $ do
-  it "a route from rest that only just reaches its end velocity (0.1-3 % longer than the S-curve to it): a legal profile (the independent proofs), no shorter than the S-curve (less two steps) and at most 1 % and three steps longer than the S-curve with a cruise at the end velocity after it (through rest, 14 % of 300 took 5-40 % longer; with the run-in and a cruise at the full ranges, 3 %)" $
-    withMaxSuccess (max 1 (cases `div` 5)) $ property $ \(JustReaching rq tS dS) -> monadicIO $ do
+  it "a route from rest, or from a slower start, that only just reaches its end velocity (0.1-3 % longer than the S-curve to it): a legal profile (the independent proofs), no shorter than the S-curve (less two steps) and at most 1 % and three steps longer than the S-curve with a cruise at the end velocity after it; from a moving start, where no whole number of steps fits, an infeasibility the independent proofs confirm, or in at most 3 % of all cases NOT_CONVERGED (through rest, 14 % of 300 routes from rest took 5-40 % longer; with the run-in and a cruise at the full ranges, 3 %; from a moving start the meet found no join in some)" $
+    withMaxSuccess (max 1 (cases `div` 5)) $ checkCoverage $ property $ \(JustReaching rq tS dS) -> monadicIO $ do
       r <- run (generate rq)
       let len = rqRouteLength rq /~ meter
           vEnd = rqEndVelocity rq /~ mps
+          fromRest = rqStartVelocity rq /~ mps == 0
           dt = maybe 0 (/~ second) (rqTimeStep rq)
           sCruise = tS + (len - dS) / vEnd
-      monitor (tabulate "outcome" [takeWhile (/= ' ') (show (resOutcome r))])
-      case resProfile r of
-        Nothing -> do
-          monitor (counterexample ("no profile: " ++ show (resOutcome r)))
-          assert False
-        Just p -> do
+      monitor (tabulate "outcome" [(if fromRest then "from rest: " else "moving start: ") ++ kind r])
+      monitor (cover 97 (not (isNotConverged r)) "answered: a profile, a confirmed infeasibility or a refusal")
+      case (resOutcome r, resProfile r) of
+        (Generated, Just p) -> do
           let t = duration p
-          monitor (counterexample ("duration " ++ show t ++ " s; the S-curve " ++ show tS ++ " s, with the cruise " ++ show sCruise ++ " s; " ++ show (resOutcome r)))
+          monitor (counterexample ("duration " ++ show t ++ " s; the S-curve " ++ show tS ++ " s, with the cruise " ++ show sCruise ++ " s"))
           assert (sound rq r && null (resViolations r) && t >= tS - 2 * dt && t <= sCruise * 1.01 + 3 * dt)
+        -- from a moving start close to the end velocity, a time step too fine for the drawn
+        -- jerk: refused by validation
+        (Failed (InvalidRequest _), _) | not fromRest -> pure ()
+        (Failed (InfeasibleRequest _ _), _) | not fromRest -> assert (sound rq r)
+        -- from a moving start the meet may find no join where the run-up and a cruise do
+        -- not fit either and no proof is found (about 1 case in 500): a known limit,
+        -- counted by the coverage below
+        (Failed (NotConverged _), _) | not fromRest -> pure ()
+        (o, _) -> do
+          monitor (counterexample ("answer: " ++ show o))
+          assert False
 
   it "a 9.4 cm route at 1 cm/s lands without a staircase of slower plateaus, no slower than thesis mode" $ do
     band <- generate staircase
@@ -414,6 +436,14 @@ spec = describe "the wide world of requests" $ do
     resConverged r `shouldBe` True
     sound rq r `shouldBe` True
     fmap duration (resProfile r) `shouldSatisfy` maybe False (<= 8.7421 + 3 * pbDt pb)
+
+  it "a 2.6 m route from 0.53 m/s that only just reaches 2.14 m/s at 4.35 ms: the run-up from the start velocity and a cruise, within three steps of the S-curve and its cruise (1.754 s); generated, converged and sound (the meet found no join, nothing through rest fits: it was NOT_CONVERGED without a profile)" $ do
+    rq <- justReachingMoving3m
+    r <- generate rq
+    resOutcome r `shouldBe` Generated
+    resConverged r `shouldBe` True
+    sound rq r `shouldBe` True
+    fmap duration (resProfile r) `shouldSatisfy` maybe False (<= 1.7539 + 3 * dtOf rq)
 
   it "the 12 m route at 0.17 ms ending at 1 m/s: the seed variant through rest plans its run-in inside the jerk range and is legal (it broke the jerk rule in 418 samples)" $ do
     pb <- either (error . show) id . validate <$> runInFine12m

@@ -279,7 +279,7 @@ seedPlan pb
 -- of the problem and of the lowered one ('exactJoinFewer').
 seedVariants :: Problem -> [Variant]
 seedVariants pb
-  | moving = map throughRest (dedupe [] problems) ++ [ runInCruise pb | pbV0 pb == 0, pbA0 pb == 0 ]
+  | moving = map throughRest (dedupe [] problems) ++ [ runInCruise pb | runsUp pb ]
              ++ [ loweredSeed | lowerable, lowered /= pb ]
              ++ [ fewerSteps q | q <- pb : [ lowered | lowerable, lowered /= pb ] ]
   | otherwise = map landed (dedupe [pb] problems)
@@ -345,20 +345,22 @@ throughRestBy shorterOnly q limit = firstLegal (jerkPlanLadder q)
       v <- either (const Nothing) Just (landing (limit - U.length tailV) restPb)
       pure (v U.++ tailV)
 
--- | A start at rest: the end state's run-in from rest at once (the hardest braking from the
--- end state, backwards in time, as in 'throughRest'), then a cruise at the end velocity
--- over the rest of the route. Where the route only just reaches the end velocity, this is
--- the fastest profile there is but for the rounding to whole steps, and the two-sided meet
--- may find no plateau (its forward pass, which brakes its acceleration by the policy's
--- margins, can need more room to settle at the end velocity than the run-in does): a 2.8 m
--- route from rest to 1.12 m/s at 15.7 ms took 7.43 s through rest, 5.70 s run in and
--- cruising (test/data/just-reaching-run-in-3m.json). The cruise's steps are the nearest to the
+-- | A start at rest (or in motion below the end velocity, without acceleration): the end
+-- state's run-in from rest at once (the hardest braking from the end state, backwards in
+-- time, as in 'throughRest'; from a moving start lifted by its velocity, 'runUp'), then a
+-- cruise at the end velocity over the rest of the route. Where the route only just reaches
+-- the end velocity, this is the fastest profile there is but for the rounding to whole
+-- steps, and the two-sided meet may find no plateau (its forward pass, which brakes its
+-- acceleration by the policy's margins, can need more room to settle at the end velocity
+-- than the run-in does): a 2.8 m route from rest to 1.12 m/s at 15.7 ms took 7.43 s through
+-- rest, 5.70 s run in and cruising (test/data/just-reaching-run-in-3m.json); a 2.6 m route
+-- from 0.53 to 2.14 m/s had no profile, now 1.749 s (just-reaching-moving-start-3m.json). The cruise's steps are the nearest to the
 -- distance left, or one more or fewer; where none of them ends within the tolerance, the
 -- run-in is narrowed until one does (below); the run-in is planned inside the jerk range
 -- where the full jerk breaks the rule ('jerkPlanLadder'); the first profile legal but for a
 -- crawl wins.
 runInCruise :: Problem -> Variant
-runInCruise q limit = case [ v | tq <- ladder, Just r <- [runInFromRest tq], v <- cruiseAfter r ] ++ softened of
+runInCruise q limit = case [ v | tq <- ladder, Just r <- [runUp tq], v <- cruiseAfter r ] ++ softened of
   v : _ -> Just v
   [] -> Nothing
   where
@@ -387,11 +389,11 @@ runInCruise q limit = case [ v | tq <- ladder, Just r <- [runInFromRest tq], v <
     -- bisected until the profile is legal. The scales are spaced by a quarter of one over
     -- the run-in's steps (an eighth to a quarter of a step of run-in time each), for
     -- 'softRunInScales' of them.
-    softened = [ v | tq <- ladder, Just r1 <- [runInFromRest tq], stepsLeft r1 <= fromIntegral (room r1) + softRunInReach
+    softened = [ v | tq <- ladder, Just r1 <- [runUp tq], stepsLeft r1 <= fromIntegral (room r1) + softRunInReach
                    , v <- take 1 (softRoots tq (U.length r1)) ]
     softRoots tq n =
       let at phi = do
-            r <- runInFromRest (scaleRanges phi tq)
+            r <- runUp (scaleRanges phi tq)
             let x = stepsLeft r
             if x > fromIntegral (room r) then Nothing else Just (x, r)
           dphi = 1 / (4 * fromIntegral (max 1 n))
@@ -447,7 +449,7 @@ softRunInReach = 16
 -- budget's half spent by the meet under load no variant ran and the answer was 10.29 s.
 quickRunIn :: Problem -> Maybe (U.Vector Double)
 quickRunIn pb
-  | endsInMotion pb, pbV0 pb == 0, pbA0 pb == 0, pbSeedSearch pb, Just r1 <- runInFromRest pb =
+  | runsUp pb, pbSeedSearch pb, Just r1 <- runUp pb =
       runInCruise pb (floor (fromIntegral (U.length r1) * (1 + quickShare)) + quickSteps)
   | otherwise = Nothing
 
@@ -456,6 +458,25 @@ quickShare = 0.01
 
 quickSteps :: Int
 quickSteps = 3
+
+-- | A start at rest or in motion, without acceleration, below the end velocity: 'runUp'
+-- reaches the end state from it.
+runsUp :: Problem -> Bool
+runsUp pb = endsInMotion pb && pbA0 pb == 0 && pbV0 pb < pbVEnd pb
+
+-- | The fastest run from the start velocity (acceleration zero) up to the end state,
+-- forwards in time: the end state's run-in from rest ('runInFromRest') with every velocity
+-- less the start velocity, lifted by it (the jerk and acceleration of a profile do not
+-- change with a constant added to its velocities; the speed limits are lowered by it, and
+-- the run's distance is the shifted one's and the start velocity's cruise: the caller
+-- checks the profile against the problem). None where a speed limit is at or below the
+-- start velocity: the run only speeds up.
+runUp :: Problem -> Maybe (U.Vector Double)
+runUp q
+  | v0 == 0 = runInFromRest q
+  | U.any (<= v0) (pbZoneSpeeds q) = Nothing
+  | otherwise = U.map (+ v0) <$> runInFromRest q { pbV0 = 0, pbVEnd = pbVEnd q - v0, pbZoneSpeeds = U.map (\l -> max 0 (l - v0)) (pbZoneSpeeds q) }
+  where v0 = pbV0 q
 
 -- | The end state's run-in from rest, forwards in time (0 .. v_end): the hardest braking from
 -- the end state on the mirror, reversed.
