@@ -247,8 +247,8 @@ loadRequest f = either (error . ((f ++ ": ") ++)) withLongBudget . requestFromJs
 -- | A route from rest, or from a slower start without acceleration, that only just reaches
 -- its end velocity: the least time and distance of reaching it with the acceleration back at
 -- zero (the acceleration rising at j_max, held at a_max where it gets there, and falling at
--- |j_min|), and a request whose route is a little longer than that distance, one zone above the end velocity, a time step of
--- 200-4,000 steps of that time. No legal profile takes less than that least time (less two
+-- |j_min|), and a request whose route is a little longer than that distance, one zone above
+-- the end velocity, a time step of 200-4,000 steps of that time. No legal profile takes less than that least time (less two
 -- steps: sampled, the acceleration of a step may be a jerk step ahead of the continuous
 -- ramp's at each end), and the S-curve followed by a cruise at the end velocity is one of
 -- its (continuous) profiles.
@@ -312,8 +312,8 @@ spec = describe "the wide world of requests" $ do
         (Failed (InvalidRequest _), _) | not fromRest -> pure ()
         (Failed (InfeasibleRequest _ _), _) | not fromRest -> assert (sound rq r)
         -- from a moving start the meet may find no join where the run-up and a cruise do
-        -- not fit either and no proof is found (about 1 case in 500): a known limit,
-        -- counted by the coverage below
+        -- not fit either and no proof is found (about 1 in 500 moving starts): a known
+        -- limit, bounded by the coverage
         (Failed (NotConverged _), _) | not fromRest -> pure ()
         (o, _) -> do
           monitor (counterexample ("answer: " ++ show o))

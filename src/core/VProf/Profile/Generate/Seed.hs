@@ -255,8 +255,8 @@ data SeedPlan = SeedPlan
   }
 
 -- | 'bestSeed''s order for a problem (lazy: each part is computed when it is used). A start
--- at rest whose route only just reaches its end velocity is seeded by its run-in and cruise
--- ('quickRunIn') without the meet.
+-- at rest (or slower than the end) whose route only just reaches its end velocity is seeded
+-- by its run-in and cruise ('quickRunIn') without the meet.
 seedPlan :: Problem -> SeedPlan
 seedPlan pb
   | Just v <- quickRunIn pb = SeedPlan (Right v) (seedVariants pb)
@@ -354,11 +354,11 @@ throughRestBy shorterOnly q limit = firstLegal (jerkPlanLadder q)
 -- acceleration by the policy's margins, can need more room to settle at the end velocity
 -- than the run-in does): a 2.8 m route from rest to 1.12 m/s at 15.7 ms took 7.43 s through
 -- rest, 5.70 s run in and cruising (test/data/just-reaching-run-in-3m.json); a 2.6 m route
--- from 0.53 to 2.14 m/s had no profile, now 1.749 s (just-reaching-moving-start-3m.json). The cruise's steps are the nearest to the
--- distance left, or one more or fewer; where none of them ends within the tolerance, the
--- run-in is narrowed until one does (below); the run-in is planned inside the jerk range
--- where the full jerk breaks the rule ('jerkPlanLadder'); the first profile legal but for a
--- crawl wins.
+-- from 0.53 to 2.14 m/s had no profile, now 1.749 s (just-reaching-moving-start-3m.json).
+-- The cruise's steps are the nearest to the distance left, or one more or fewer; where none
+-- of them ends within the tolerance, the run-in is narrowed until one does (below); the
+-- run-in is planned inside the jerk range where the full jerk breaks the rule
+-- ('jerkPlanLadder'); the first profile legal but for a crawl wins.
 runInCruise :: Problem -> Variant
 runInCruise q limit = case [ v | tq <- ladder, Just r <- [runUp tq], v <- cruiseAfter r ] ++ softened of
   v : _ -> Just v
@@ -390,14 +390,13 @@ runInCruise q limit = case [ v | tq <- ladder, Just r <- [runUp tq], v <- cruise
     -- the run-in's steps (an eighth to a quarter of a step of run-in time each), for
     -- 'softRunInScales' of them.
     softened = [ v | tq <- ladder, Just r1 <- [runUp tq], stepsLeft r1 <= fromIntegral (room r1) + softRunInReach
-                   , v <- take 1 (softRoots tq (U.length r1)) ]
-    softRoots tq n =
-      let at phi = do
-            r <- runUp (scaleRanges phi tq)
-            let x = stepsLeft r
-            if x > fromIntegral (room r) then Nothing else Just (x, r)
-          dphi = 1 / (4 * fromIntegral (max 1 n))
-          grid = [ (phi, at phi) | i <- [0 .. softRunInScales], let phi = 1 - dphi * fromIntegral i, phi > softRunInLeast ]
+                   , v <- take 1 (softRoots tq r1) ]
+    -- a run-in and the cruise steps left after it, where they fit
+    fitting r = let x = stepsLeft r in if x > fromIntegral (room r) then Nothing else Just (x, r)
+    softRoots tq r1 =
+      let at phi = runUp (scaleRanges phi tq) >>= fitting
+          dphi = 1 / (4 * fromIntegral (max 1 (U.length r1)))
+          grid = (1, fitting r1) : [ (phi, at phi) | i <- [1 .. softRunInScales], let phi = 1 - dphi * fromIntegral i, phi > softRunInLeast ]
           tries (p1, a1) (p2, a2) = case (a1, a2) of
             (Just (x1, _), Just (x2, r2)) ->
               [ v | abs (offset x2) * step <= pbTol q, Just v <- [profileAt r2] ]
@@ -439,10 +438,11 @@ softRunInLeast = 0.5
 softRunInReach :: Double
 softRunInReach = 16
 
--- | A start at rest whose route only just reaches its end velocity: the run-in from rest
--- and the cruise ('runInCruise') when they take at most 'quickShare' and 'quickSteps' more
--- than the run-in at the full ranges, which no legal profile can beat (it is the fastest
--- way from rest to the end state), so that the meet could not gain more. The meet can
+-- | A start at rest (or slower than the end, 'runsUp') whose route only just reaches its end
+-- velocity: the run-in and the cruise ('runInCruise') when they take at most 'quickShare'
+-- and 'quickSteps' more than the run-in at the full ranges, which no legal profile can beat
+-- (it is the fastest way from the start to the end state), so that the meet could not gain
+-- more. The meet can
 -- cost seconds where it finds no plateau: a 21 m route from rest to 3.68 m/s at 2.7 ms
 -- (jerk -0.10..6.2 m/s^3) took 5.0 s for a 3,760-sample seed, the run-in and cruise
 -- 0.3 ms for 3,195 samples (8.741 s, the S-curve and its cruise 8.742 s), and with the
@@ -475,7 +475,7 @@ runUp :: Problem -> Maybe (U.Vector Double)
 runUp q
   | v0 == 0 = runInFromRest q
   | U.any (<= v0) (pbZoneSpeeds q) = Nothing
-  | otherwise = U.map (+ v0) <$> runInFromRest q { pbV0 = 0, pbVEnd = pbVEnd q - v0, pbZoneSpeeds = U.map (\l -> max 0 (l - v0)) (pbZoneSpeeds q) }
+  | otherwise = U.map (+ v0) <$> runInFromRest q { pbV0 = 0, pbVEnd = pbVEnd q - v0, pbZoneSpeeds = U.map (subtract v0) (pbZoneSpeeds q) }
   where v0 = pbV0 q
 
 -- | The end state's run-in from rest, forwards in time (0 .. v_end): the hardest braking from
