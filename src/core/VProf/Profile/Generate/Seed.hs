@@ -376,8 +376,8 @@ runInCruise q limit = case [ v | tq <- ladder, Just r <- [runUp tq], v <- cruise
     cruiseAfter runIn =
       let steps = stepsLeft runIn
           m0 = round steps :: Int
-      in [ v | steps <= fromIntegral (room runIn), m <- [m0, m0 + 1, m0 - 1], m >= 0, m <= room runIn
-             , let v = runIn U.++ U.replicate m vEnd, legalButCrawl q v ]
+      in [ v | steps <= fromIntegral (room runIn), m <- [m0, m0 + 1, m0 - 1], m <= room runIn
+             , Just v <- [profileWith runIn m] ]
     -- Where no whole number of cruise steps ends within the tolerance (a cruise of a few
     -- steps, too short for a dent), the run-in within narrower ranges ('scaleRanges'): it
     -- takes longer and covers more of the route, continuously with the scale, so the
@@ -419,10 +419,11 @@ runInCruise q limit = case [ v | tq <- ladder, Just r <- [runUp tq], v <- cruise
                  Just v -> Just v
                  Nothing -> if signum (offset x) == s then towardsLo else towardsHi
     -- the run-in and the nearest whole number of cruise steps, when legal
-    profileAt r =
-      let m = round (stepsLeft r) :: Int
-          v = r U.++ U.replicate (max 0 m) vEnd
-      in if legalButCrawl q v then Just v else Nothing
+    profileAt r = profileWith r (max 0 (round (stepsLeft r)))
+    -- the run-in and m cruise steps, when legal
+    profileWith r m
+      | m < 0 = Nothing
+      | otherwise = let v = r U.++ U.replicate m vEnd in if legalButCrawl q v then Just v else Nothing
 
 -- | How many narrower run-ins 'runInCruise' tries, the least scale of its ranges, and the
 -- halvings of its bisection.
@@ -442,11 +443,11 @@ softRunInReach = 16
 -- velocity: the run-in and the cruise ('runInCruise') when they take at most 'quickShare'
 -- and 'quickSteps' more than the run-in at the full ranges, which no legal profile can beat
 -- (it is the fastest way from the start to the end state), so that the meet could not gain
--- more. The meet can
--- cost seconds where it finds no plateau: a 21 m route from rest to 3.68 m/s at 2.7 ms
--- (jerk -0.10..6.2 m/s^3) took 5.0 s for a 3,760-sample seed, the run-in and cruise
--- 0.3 ms for 3,195 samples (8.741 s, the S-curve and its cruise 8.742 s), and with the
--- budget's half spent by the meet under load no variant ran and the answer was 10.29 s.
+-- more. The meet can cost seconds where it finds no plateau: a 21 m route from rest to
+-- 3.68 m/s at 2.7 ms (jerk -0.10..6.2 m/s^3) took 5.0 s for a 3,760-sample seed, the run-in
+-- and cruise 0.3 ms for 3,195 samples (8.741 s, the S-curve and its cruise 8.742 s), and
+-- with the budget's half spent by the meet under load no variant ran and the answer was
+-- 10.29 s.
 quickRunIn :: Problem -> Maybe (U.Vector Double)
 quickRunIn pb
   | runsUp pb, pbSeedSearch pb, Just r1 <- runUp pb =
