@@ -16,7 +16,9 @@ import qualified Data.Vector.Unboxed as U
 
 import VProf.Cli.Compress (compressCommand)
 import VProf.Compress.Format.Rapid (parseRapid)
-import VProf.Compress.Format.Tum (parseTum)
+import VProf.Compress.Format.Tum (parseTum, renderTum)
+import qualified Data.ByteString.Lazy as BL
+import Support.Mocap (NexusFrame (..), QtmFrame (..), nexusSegmentsText, qtmText)
 import Support.PathError (orientationErrorsOf, positionErrorsOf, worstPositionError)
 import Support.Cli (splitComma)
 import Support.Recordings
@@ -228,6 +230,37 @@ spec = describe "vprof compress" $ do
       -- the cup, lost every tenth frame: those frames dropped, with a warning
       (_, ec) <- captureStderr (dir </> "ec.txt") (writtenTum dir "cup.txt" [mot, "--points", "10", "--rigid-body", "Cup"])
       ec `shouldSatisfy` (\w -> "warning" `isInfixOf` w && "dropped" `isInfixOf` w && "line 11" `isInfixOf` w)
+  it "reads a Qualisys 6D TSV export (two bodies, CRLF, trailing tabs) and a Vicon Nexus CSV export (helical axis) by --rigid-body and says so; each path is the TUM copy's; a body's untracked frames are dropped with a warning" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      Recording rec <- loadTum "V101_gt.txt"
+      let n = trackLength rec
+          uniform = Track (U.generate n (\k -> fromIntegral k / 100)) (tPos rec) (tRot rec)
+          tracked = zipWith Tracked (ptoList (tPos rec)) (ptoList (tRot rec))
+          -- the cup is untracked (a matrix of zeros) every tenth frame
+          cup = [ if i `mod` 10 == (3 :: Int) then LostZeros else Tracked (P3 0.1 0.2 0.3) (Q4 1 0 0 0) | i <- [0 .. n - 1] ]
+          qtm = dir </> "take_6D.tsv"
+          nexus = dir </> "trial.csv"
+          tumF = dir </> "copy.txt"
+      writeFile qtm (qtmText 100 True True True [("Cup", cup), ("Tool", tracked)])
+      writeFile nexus (nexusSegmentsText 100 ("deg", "mm") [("Rig:Tool", zipWith (NexusTracked False) (ptoList (tPos rec)) (ptoList (tRot rec)))])
+      BL.writeFile tumF (renderTum uniform)
+      viaTum <- writtenTum dir "fromtum.txt" [tumF, "--points", "40"]
+      let same via = do
+            trackLength via `shouldBe` 40
+            U.maximum (U.zipWith (\a b -> abs (a - b)) (tTime via) (tTime viaTum)) `shouldSatisfy` (< 1e-4)
+            maximum (zipWith (\a b -> norm (a ^-^ b)) (ptoList (tPos via)) (ptoList (tPos viaTum))) `shouldSatisfy` (< 1e-3)
+      (code, e0) <- captureStderr (dir </> "e0.txt") (runCli [qtm, "--points", "40"])
+      code `shouldBe` ExitFailure 2
+      e0 `shouldSatisfy` (\e -> "2 bodies" `isInfixOf` e && "--rigid-body" `isInfixOf` e)
+      (viaQtm, e) <- captureStderr (dir </> "e.txt") (writtenTum dir "fromqtm.txt" [qtm, "--points", "40", "--rigid-body", "Tool"])
+      e `shouldSatisfy` (\w -> "note: " `isInfixOf` w && "Qualisys 6D TSV" `isInfixOf` w && "in mm" `isInfixOf` w && not ("warning" `isInfixOf` w))
+      same viaQtm
+      (viaNexus, en) <- captureStderr (dir </> "en.txt") (writtenTum dir "fromnexus.txt" [nexus, "--points", "40"])
+      en `shouldSatisfy` (\w -> "Vicon Nexus CSV" `isInfixOf` w && "\"Rig:Tool\"" `isInfixOf` w && not ("warning" `isInfixOf` w))
+      same viaNexus
+      -- the cup's untracked frames (the first on line 15): dropped, with a warning
+      (_, ec) <- captureStderr (dir </> "ec.txt") (writtenTum dir "cup.txt" [qtm, "--points", "10", "--rigid-body", "Cup"])
+      ec `shouldSatisfy` (\w -> "warning" `isInfixOf` w && "dropped" `isInfixOf` w && "line 15" `isInfixOf` w && "not tracked" `isInfixOf` w)
   it "reads KITTI poses (12 numbers a line) with the times file beside them or given by --times, and says so" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       pf <- dataFile "KITTI_00_gt.txt"

@@ -20,10 +20,13 @@ import VProf.Compress.Format.Csv
 import VProf.Compress.Format.Kitti
 import VProf.Compress.Format.Log
 import VProf.Compress.Format.Motive
+import VProf.Compress.Format.Qualisys
+import VProf.Compress.Format.Vicon
 import VProf.Compress.Format.Rapid
 import VProf.Compress.Format.Tum
 import VProf.Geometry.Quaternion (qangle, qnormalize)
 import qualified VProf.Kinematics.Transform as T
+import Support.Mocap
 import Support.Recordings
 import VProf.Geometry.Vec
 
@@ -95,6 +98,26 @@ motiveText bodies unit rot frames = unlines $
   , ",," ++ intercalate "," (concatMap (const (replicate 4 "Rotation" ++ replicate 3 "Position" ++ ["Mean Marker Error"])) bodies)
   , "Frame,Time (Seconds)," ++ intercalate "," (concatMap (const ["X", "Y", "Z", "W", "X", "Y", "Z", ""]) bodies) ]
   ++ frames
+
+-- | Another body or two beside "Tool" and where the tool's columns go, the header, CRLF and
+-- trailing-tab choices, and the tool's lost frames with how each is written.
+qtmCase :: Track -> Gen ([String], Int, Bool, Bool, Bool, [(Int, QtmFrame)])
+qtmCase tr = do
+  others <- elements [[], ["Cup"], ["Cup", "Lid"]]
+  toolAt <- choose (0, length others)
+  losses <- sublistOf [0 .. trackLength tr - 1] >>= mapM (\i -> (,) i <$> elements [LostNaN, LostEmpty, LostZeros]) . take 3
+  (,,,,,) others toolAt <$> arbitrary <*> arbitrary <*> arbitrary <*> pure losses
+
+-- | Other subjects' segments beside "Rig:Tool" and where it goes, the units, the frames whose
+-- helical axis is a whole turn longer, and the tool's lost frames.
+nexusCase :: Track -> Gen ([String], Int, (String, String), [Int], [Int])
+nexusCase tr = do
+  others <- elements [[], ["Rig:Cup"], ["Rig:Cup", "Other:Tool"]]
+  toolAt <- choose (0, length others)
+  units <- elements [("deg", "mm"), ("rad", "m"), ("deg", "m"), ("rad", "mm")]
+  turns <- sublistOf [0 .. trackLength tr - 1]
+  lostAt <- take 3 <$> sublistOf [0 .. trackLength tr - 1]
+  pure (others, toolAt, units, turns, lostAt)
 
 spec :: Spec
 spec = do
@@ -295,6 +318,127 @@ spec = do
       isMotiveCsv (B.pack (motiveText ["Tool"] "Meters" "Quaternion" [])) `shouldBe` True
       isMotiveCsv (B.pack "time,x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n") `shouldBe` False
       hasCsvHeader (B.pack (motiveText ["Tool"] "Meters" "Quaternion" [])) `shouldBe` True
+
+  describe "Qualisys 6D TSV export" $ do
+    it "reads the named body's poses (mm, Rot[0..8] column by column) among other bodies, with or without the header, CRLF and trailing tabs; lost frames (NaN, empty, a matrix of zeros) as lost samples on their lines" $
+      property $ forAll genTrack $ \tr -> forAll (qtmCase tr) $ \(others, toolAt, hdr, crlf, tt, losses) ->
+        let Track ts ps qs = tr
+            n = U.length ts
+            tool = [ if i `elem` map fst losses then maybe LostNaN id (lookup i losses) else Tracked (pindex ps i) (pindex qs i) | i <- [0 .. n - 1] ]
+            other k = (k, [ Tracked (P3 1 2 3) (Q4 1 0 0 0) | _ <- [1 .. n] ])
+            bodies = take toolAt (map other others) ++ [("Tool", tool)] ++ drop toolAt (map other others)
+            txt = qtmText 100 hdr crlf tt bodies
+            firstRow = (if hdr then 10 else 0) + 2
+        in counterexample txt $ case readQualisys (Just "Tool") (B.pack txt) of
+             Left e -> counterexample e False
+             Right (lay, ss) ->
+               let kept = [ (i, sm) | (i, sm) <- zip [0 ..] ss, i `notElem` map fst losses ]
+                   lostOk = and [ isNaN x | (i, Sample _ _ (P3 x _ _) _) <- zip [0 :: Int ..] ss, i `elem` map fst losses ]
+               in qlBody lay === "Tool" .&&. qlOthers lay === others
+                  .&&. qlUntracked lay === length [ () | (_, LostZeros) <- losses ]
+                  .&&. map smLoc ss === [firstRow .. firstRow + n - 1]
+                  .&&. counterexample "a lost frame read as a pose" lostOk
+                  .&&. conjoin [ abs (smTime sm - fromIntegral i / 100) <= 1e-5
+                                 .&&. distance (smPos sm) (pindex ps i) <= 1e-8
+                                 .&&. qangle (smRot sm) (pindex qs i) <= 1e-7
+                               | (i, sm) <- kept ]
+    it "reads a real QTM export (an excerpt of a ship-model test, 4 frames) so that each rotation is the file's own roll, pitch and yaw as Rx·Ry·Rz, which the rows of Rot[] would not give" $ do
+      src <- B.readFile "test/data/qualisys-6d-excerpt.tsv"
+      isQualisysTsv src `shouldBe` True
+      let Right (lay, ss) = readQualisys Nothing src
+          rows = [ map (read . B.unpack) (B.split '\t' (B.strip l)) :: [Double] | l <- drop 11 (B.lines src) ]
+      qlBody lay `shouldBe` "PSVH"
+      map smLoc ss `shouldBe` [12, 13, 14, 15]
+      map smTime ss `shouldBe` [0, 0.01, 210.52, 210.53]
+      forM_ (zip ss rows) $ \(sm, r) -> do
+        let euler = eulerXyzMatrix (r !! 5) (r !! 6) (r !! 7)
+            got = rotationMatrix (smRot sm)
+            off a b = maximum (zipWith (\x y -> abs (x - y)) (concat a) (concat b))
+            P3 x y z = smPos sm
+        off got euler `shouldSatisfy` (< 1e-4)
+        maximum (zipWith (\a b -> abs (a - b / 1000)) [x, y, z] (take 3 (drop 2 r))) `shouldSatisfy` (< 1e-9)
+        -- the rows of Rot[] would be the transposed matrix: far off where the yaw is 92 degrees
+        if abs (r !! 7) > 45 then off (transpose3 got) euler `shouldSatisfy` (> 0.5) else pure ()
+    it "takes the only body without a name; with several, names them and asks for one; an unknown name lists them" $ do
+      let frames = [Tracked (P3 0.1 0.2 0.3) (Q4 1 0 0 0)]
+          two = qtmText 100 True False True [("Tool", frames), ("Cup", frames)]
+      fmap (map smPos . snd) (readQualisys Nothing (B.pack (qtmText 100 True False True [("Tool", frames)]))) `shouldBe` Right [P3 0.1 0.2 0.3]
+      either id (const "no error") (readQualisys Nothing (B.pack two))
+        `shouldSatisfy` (\e -> "2 bodies" `isInfixOf` e && "\"Tool\", \"Cup\"" `isInfixOf` e && "--rigid-body" `isInfixOf` e)
+      fmap (length . snd) (readQualisys (Just "Cup") (B.pack two)) `shouldBe` Right 1
+      either id (const "no error") (readQualisys (Just "Duck") (B.pack two))
+        `shouldSatisfy` (\e -> "\"Duck\"" `isInfixOf` e && "\"Cup\"" `isInfixOf` e)
+    it "refuses a matrix that is no rotation, a cut row, a bad number and a 3D export, naming the line and the value" $ do
+      let good = "1\t0.00\t100\t200\t300\t0\t0\t0\t0.5\t1\t0\t0\t0\t1\t0\t0\t0\t1"
+          cols = "Frame\tTime\tTool X\tY\tZ\tRoll\tPitch\tYaw\tResidual\t" ++ intercalate "\t" [ "Rot[" ++ show j ++ "]" | j <- [0 .. 8 :: Int] ]
+          file rows = B.pack (unlines (["NO_OF_FRAMES\t2", "FREQUENCY\t100", "DATA_INCLUDED\t6D", "BODY_NAMES\tTool", cols, good] ++ rows))
+      either id (const "no error") (readQualisys Nothing (file ["2\t0.01\t100\t200\t300\t0\t0\t0\t0.5\t1\t0\t0\t0\t2\t0\t0\t0\t1"]))
+        `shouldSatisfy` (\e -> "line 7, columns 10-18" `isInfixOf` e && "not a rotation" `isInfixOf` e && "\"2\"" `isInfixOf` e)
+      either id (const "no error") (readQualisys Nothing (file ["2\t0.01\t100\t200\t300\t0\t0"]))
+        `shouldSatisfy` (\e -> "line 7" `isInfixOf` e && "cut short" `isInfixOf` e)
+      either id (const "no error") (readQualisys Nothing (file ["2\t0.01\t100\tabc\t300\t0\t0\t0\t0.5\t1\t0\t0\t0\t1\t0\t0\t0\t1"]))
+        `shouldSatisfy` (\e -> "line 7, column 4" `isInfixOf` e && "abc" `isInfixOf` e)
+      either id (const "no error") (readQualisys Nothing (B.pack "NO_OF_FRAMES\t1\nDATA_INCLUDED\t3D\nFrame\tTime\tM1 X\tM1 Y\tM1 Z\n1\t0\t1\t2\t3\n"))
+        `shouldSatisfy` (\e -> "line 2" `isInfixOf` e && "DATA_INCLUDED is \"3D\"" `isInfixOf` e)
+    it "is told from other files by its header keys or its column row" $ do
+      isQualisysTsv (B.pack (qtmText 100 True False False [("Tool", [])])) `shouldBe` True
+      isQualisysTsv (B.pack (qtmText 100 False True True [("Tool", [])])) `shouldBe` True
+      isQualisysTsv (B.pack "time\tx\ty\tz\tqw\tqx\tqy\tqz\n0\t0\t0\t0\t1\t0\t0\t0\n") `shouldBe` False
+      isQualisysTsv (B.pack "1305031102.175304 1.2334 -0.0113 1.6941 0.7907 0.4393 -0.1770 -0.3879\n") `shouldBe` False
+
+  describe "Vicon Nexus CSV export" $ do
+    it "reads the named segment's poses (helical axis in deg or rad, a whole turn longer or not; translation in mm or m) among other subjects' segments; a lost frame (empty cells, or its frame number alone) as a lost sample on its line" $
+      property $ forAll genTrack $ \tr -> forAll (nexusCase tr) $ \(others, toolAt, units, turns, lostAt) ->
+        let Track ts ps qs = tr
+            n = U.length ts
+            tool = [ if i `elem` lostAt then NexusLost else NexusTracked (i `elem` turns) (pindex ps i) (pindex qs i) | i <- [0 .. n - 1] ]
+            -- the others are lost where the tool is on odd frames: the row is then the frame number alone
+            other k = (k, [ if i `elem` lostAt && odd i then NexusLost else NexusTracked False (P3 1 2 3) (Q4 1 0 0 0) | i <- [0 .. n - 1] ])
+            segs = take toolAt (map other others) ++ [("Rig:Tool", tool)] ++ drop toolAt (map other others)
+            txt = nexusSegmentsText 100 units segs
+            -- the segment's name alone where no other subject has a Tool
+            want = if "Other:Tool" `elem` others then "Rig:Tool" else "Tool"
+        in counterexample txt $ case readVicon (Just want) (B.pack txt) of
+             Left e -> counterexample e False
+             Right (lay, ss) ->
+               let kept = [ (i, sm) | (i, sm) <- zip [0 ..] ss, i `notElem` lostAt ]
+                   lostOk = and [ isNaN x | (i, Sample _ _ (P3 x _ _) _) <- zip [0 :: Int ..] ss, i `elem` lostAt ]
+               in vlSegment lay === "Rig:Tool" .&&. vlOthers lay === others .&&. vlSections lay === ["Segments", "Trajectories"]
+                  .&&. map smLoc ss === [6 .. 5 + n]
+                  .&&. counterexample "a lost frame read as a pose" lostOk
+                  .&&. conjoin [ abs (smTime sm - fromIntegral i / 100) <= 1e-12
+                                 .&&. distance (smPos sm) (pindex ps i) <= 1e-8
+                                 .&&. qangle (smRot sm) (pindex qs i) <= 1e-7
+                               | (i, sm) <- kept ]
+    it "reads real Nexus rows (a gripper in three poses, then lost) so that its five markers keep their place on the segment: the helical axis is the rotation, its transpose would move them" $ do
+      src <- B.readFile "test/data/vicon-nexus-excerpt.csv"
+      isViconCsv src `shouldBe` True
+      let Right (lay, ss) = readVicon Nothing src
+          markers = [ map (read . B.unpack) (drop 2 (B.split ',' (B.strip l))) :: [Double] | l <- take 3 (drop 15 (B.lines src)) ]
+          inSegment rot sm m = let P3 x y z = smPos sm in apply3 (rot (rotationMatrix (smRot sm))) (zipWith (-) m [x * 1000, y * 1000, z * 1000])
+          spread rot = maximum [ maximum [ maximum (map abs (zipWith (-) a b)) | a <- ls, b <- ls ]
+                               | k <- [0 .. 4], let ls = [ inSegment rot sm (take 3 (drop (3 * k) m)) | (sm, m) <- zip ss markers ] ]
+      vlSegment lay `shouldBe` "New Subject:gripper"
+      map smLoc ss `shouldBe` [6, 7, 8, 9]
+      map smTime ss `shouldBe` [0, 0.01, 0.02, 0.03]
+      (\(P3 x _ _) -> isNaN x) (smPos (ss !! 3)) `shouldBe` True
+      spread transpose3 `shouldSatisfy` (< 2)     -- mm: R^T (p - T) is the same for each pose
+      spread id `shouldSatisfy` (> 20)           -- 32 mm with the matrix transposed
+    it "takes the only segment without a name, or a segment by its name alone; with several, names them; refuses a file without a Segments section and an unknown unit" $ do
+      let frames = [NexusTracked False (P3 0.1 0.2 0.3) (Q4 1 0 0 0)]
+          two = nexusSegmentsText 100 ("deg", "mm") [("A:Tool", frames), ("A:Cup", frames)]
+      fmap (map smPos . snd) (readVicon Nothing (B.pack (nexusSegmentsText 100 ("deg", "mm") [("A:Tool", frames)]))) `shouldBe` Right [P3 0.1 0.2 0.3]
+      either id (const "no error") (readVicon Nothing (B.pack two))
+        `shouldSatisfy` (\e -> "2 segments" `isInfixOf` e && "\"A:Tool\", \"A:Cup\"" `isInfixOf` e && "--rigid-body" `isInfixOf` e)
+      fmap (length . snd) (readVicon (Just "A:Cup") (B.pack two)) `shouldBe` Right 1
+      either id (const "no error") (readVicon (Just "Duck") (B.pack two)) `shouldSatisfy` (\e -> "\"Duck\"" `isInfixOf` e && "\"A:Cup\"" `isInfixOf` e)
+      let traj = "Trajectories\n100\n,,S:M1,,\nFrame,Sub Frame,X,Y,Z\n,,mm,mm,mm\n1,0,1,2,3\n"
+      isViconCsv (B.pack traj) `shouldBe` True
+      either id (const "no error") (readVicon Nothing (B.pack traj))
+        `shouldSatisfy` (\e -> "no Segments section" `isInfixOf` e && "Trajectories" `isInfixOf` e)
+      either id (const "no error") (readVicon Nothing (B.pack (nexusSegmentsText 100 ("grad", "mm") [("A:Tool", frames)])))
+        `shouldSatisfy` (\e -> "line 5, column 3" `isInfixOf` e && "\"grad\"" `isInfixOf` e)
+      isViconCsv (B.pack "time,x,y,z,qw,qx,qy,qz\n0,0,0,0,1,0,0,0\n") `shouldBe` False
 
   describe "KITTI poses with a times file" $ do
     it "reads [R | t] rows (9 significant digits, as KITTI writes them) as the same poses, the times from the times file" $

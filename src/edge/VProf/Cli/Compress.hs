@@ -33,6 +33,8 @@ import VProf.Compress.Format.Csv
 import VProf.Compress.Format.Kitti
 import VProf.Compress.Format.Log
 import VProf.Compress.Format.Motive
+import VProf.Compress.Format.Qualisys
+import VProf.Compress.Format.Vicon
 import VProf.Compress.Format.Rapid
 import VProf.Compress.Format.Tum
 import VProf.Compress.Objective (prepareRecording, toPathA)
@@ -74,9 +76,9 @@ compressOptions = rejectFlag <$> switch (long "reject-outliers" <> help "reject 
 
 compressOptions' :: Parser CompressOptions
 compressOptions' = CompressOptions
-  <$> strArgument (metavar "RECORDING" <> help "recorded motion: TUM text, CSV with a header naming its columns (vprof's own, EuRoC, ROS), an OptiTrack Motive CSV export, KITTI poses (with --times), Polhemus CSV log or RAPID .mod")
+  <$> strArgument (metavar "RECORDING" <> help "recorded motion: TUM text, CSV with a header naming its columns (vprof's own, EuRoC, ROS), an OptiTrack Motive CSV export, a Qualisys 6D TSV export, a Vicon Nexus CSV export (Segments), KITTI poses (with --times), Polhemus CSV log or RAPID .mod")
   <*> optional (option (eitherReader inFmt) (long "input-format" <> metavar "tum|csv|kitti|log|mod"
-        <> help "format of RECORDING (default: from the extension; .csv is csv if its first line is a header, else a log; .log is a log, .mod RAPID; else csv when its first line that is not a # comment names its columns, KITTI when a line holds 12 numbers, or TUM)"))
+        <> help "format of RECORDING (default: an OptiTrack Motive, Qualisys 6D TSV or Vicon Nexus CSV export by its first lines, whatever the extension, read as csv; else from the extension; .csv is csv if its first line is a header, else a log; .log is a log, .mod RAPID; else csv when its first line that is not a # comment names its columns, KITTI when a line holds 12 numbers, or TUM)"))
   <*> optional (strOption (long "times" <> metavar "FILE"
         <> help "KITTI poses only: their times, one a line in s (KITTI's times.txt); default: RECORDING's name with _times before the extension, if that file exists"))
   <*> option (eitherReader weights) (long "weights" <> metavar "P,O,V" <> value (1, 1, 1)
@@ -98,7 +100,7 @@ compressOptions' = CompressOptions
   <*> rapidP
   <*> cleanP
   <*> optional (strOption (long "rigid-body" <> metavar "NAME"
-        <> help "OptiTrack Motive export only: the rigid body (or bone) to read, by the name in its header (default: the only one)"))
+        <> help "OptiTrack Motive, Qualisys 6D or Vicon Nexus export only: the rigid body (bone, or Nexus Subject:Segment) to read, by the name in its header (default: the only one)"))
   where
     cleanP = CleanOptions
       <$> option (eitherReader dups) (long "duplicates" <> metavar "merge|drop" <> value MergeDuplicates
@@ -211,8 +213,8 @@ runCompress o = do
             -- a times file beside a recording that has its own times would be ignored
             Just tf | fmt /= InKitti -> pure (Left ("--times " ++ tf ++ ": only KITTI poses take a times file; " ++ file
                                                    ++ " is read as " ++ formatName fmt ++ ", whose times it holds itself"))
-            _ | Just b <- coRigidBody o, not (fmt == InCsv && isMotiveCsv bytes) ->
-                  pure (Left ("--rigid-body " ++ show b ++ ": only an OptiTrack Motive export names rigid bodies; " ++ file
+            _ | Just b <- coRigidBody o, not (fmt == InCsv && isMocapExport bytes) ->
+                  pure (Left ("--rigid-body " ++ show b ++ ": only an OptiTrack Motive, Qualisys 6D or Vicon Nexus export names rigid bodies; " ++ file
                               ++ " is read as " ++ formatName fmt))
             _ -> parseWith fmt bytes
           case parsed of
@@ -231,13 +233,15 @@ runCompress o = do
     -- sign flips change no orientation (q and -q are the same): a note, not a warning
     label = \case SignFlips {} -> "note"; _ -> "warning"
     failInput = Out.failIn "compress"
+    -- a motion-capture system's export, whose header says what it is
+    isMocapExport bytes = isMotiveCsv bytes || isQualisysTsv bytes || isViconCsv bytes
     guessIn f bytes = case map toLower (takeExtension f) of
+      ".mod" -> InMod
+      _ | isMocapExport bytes -> InCsv
       ".log" -> InLog
       ".csv" | hasCsvHeader bytes -> InCsv
              | otherwise -> InLog
-      ".mod" -> InMod
-      _ | isMotiveCsv bytes -> InCsv
-        | hasNamedHeader bytes -> InCsv      -- a tab- or blank-separated file with a header of names
+      _ | hasNamedHeader bytes -> InCsv      -- a tab- or blank-separated file with a header of names
         | looksLikeKitti bytes -> InKitti
         | otherwise -> InTum
     file = coInput o
@@ -261,6 +265,8 @@ runCompress o = do
     parseWith InMod b = plain (readRapid b)
     parseWith InCsv b
       | isMotiveCsv b = answered (\(l, ss) -> ([describeMotive l], ss)) (readMotive (coRigidBody o) b)
+      | isQualisysTsv b = answered (\(l, ss) -> ([describeQualisys l], ss)) (readQualisys (coRigidBody o) b)
+      | isViconCsv b = answered (\(l, ss) -> ([describeVicon l], ss)) (readVicon (coRigidBody o) b)
       | otherwise = answered (\(l, ss) -> ([describeLayout l], ss)) (readCsv b)
     parseWith InKitti b = do
       let sibling = kittiTimesSibling file
