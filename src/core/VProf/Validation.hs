@@ -10,6 +10,7 @@ module VProf.Validation
   , renderFieldErrors
   , renderValue
   , showNumber
+  , roundSignificant
   , showBound
     -- * Checks
   , fieldError
@@ -92,6 +93,14 @@ showNumber x
   | x == 0 || (a >= 1e-12 && a < 1e15) || isNaN x || isInfinite x = showFFloat Nothing x ""
   | otherwise = showEFloat Nothing x ""
   where a = abs x
+
+-- | A number rounded to 12 significant digits, for showing a value computed from read ones
+-- (a time step of 210.52 - 0.01 s is 210.51, not 210.51000000000002; 165° read and shown
+-- again is not 165.00000000000003°).
+roundSignificant :: Double -> Double
+roundSignificant x
+  | isNaN x || isInfinite x || x == 0 = x
+  | otherwise = read (showEFloat (Just 11) x "")
 
 -- | A bound as people write it: a power of ten from 1e5 up as "1e9" (showNumber writes
 -- "1000000000.0"), any other number as 'showNumber' does.

@@ -190,7 +190,7 @@ spec = describe "VProf.Compress.Clean" $ do
                                        | (a, b) <- zip (ptoList (tRot (clTrack c))) (map smRot ss) ]
                           .&&. trackLength (clTrack c) === length ss
 
-  describe "gaps" $
+  describe "gaps" $ do
     it "are accepted and reported: how many, the largest and where" $
       property $ forAll genBase $ \ss -> forAll (choose (1, 4)) $ \k ->
         forAll (genIndices k 1 (length ss - 1) 1) $ \idx -> forAll (injectGaps idx ss) $ \(gapped, steps) ->
@@ -201,6 +201,12 @@ spec = describe "VProf.Compress.Clean" $ do
               .&&. conjoin [ abs (d - maximum steps) < 1e-9 .&&. l === smLoc (gapped !! (idx !! j))
                            | Gaps _ _ _ (d, _, l) _ <- clWarnings c
                            , let Just j = lookup (maximum steps) (zip steps [0 ..]) ]
+
+    it "shows a step as the times read give it, not as their subtraction rounds it (210.52 - 0.2 s is 210.32 s, not 210.32000000000002)" $ do
+      let ss = [ Sample (i + 1) t (P3 0 0 0) (Q4 1 0 0 0) | (i, t) <- zip [0 ..] ([ k * 0.01 | k <- [0 .. 20] ] ++ [ 210.52 + k * 0.01 | k <- [0 .. 20] ]) ]
+          Right c = clean defaultCleanOptions ss
+          msg = concatMap (renderCleanWarning fileLocator) (clWarnings c)
+      msg `shouldSatisfy` ("the largest 210.32 s before t = 210.52 s at line 22" `isInfixOf`)
 
   describe "times in another unit than seconds" $ do
     it "times in ms, us or ns read as seconds are kept as read, with a warning giving the median step, when it is at least 1e4 s" $

@@ -379,13 +379,15 @@ renderCleanWarning loc = \case
     "no outlier judged: the rejection fits a line through " ++ show outlierWindow ++ " samples around each one, and the recording has "
     ++ show n ++ " sample" ++ plural n ++ "; every one kept"
   Gaps f med n (d, t, l) xs ->
-    show n ++ " gap" ++ plural n ++ " (time step above " ++ showNumber f ++ " times the median " ++ showNumber med
-    ++ " s) accepted; the largest " ++ showNumber d ++ " s before t = " ++ showNumber t ++ " s at " ++ lcAt loc l
-    ++ (if n > 1 then " (" ++ list [ showNumber dd ++ " s before " ++ lcAt loc ll | (dd, ll) <- xs ] n ++ ")" else "")
+    show n ++ " gap" ++ plural n ++ " (time step above " ++ showNumber f ++ " times the median " ++ showStep med
+    ++ " s) accepted; the largest " ++ showStep d ++ " s before t = " ++ showNumber t ++ " s at " ++ lcAt loc l
+    ++ (if n > 1 then " (" ++ list [ showStep dd ++ " s before " ++ lcAt loc ll | (dd, ll) <- xs ] n ++ ")" else "")
   LongMedianStep m n ->
     "the median time step is " ++ showNumber m ++ " s over " ++ show n ++ " samples: the times are read in seconds; "
     ++ "if they are in ms, us or ns, convert them (or write a CSV whose header gives the unit, e.g. time [ns])"
   where
+    -- a difference of two times read, without the rounding of the subtraction
+    showStep = showNumber . roundSignificant
     plural n = if n == 1 then "" else "s"
     list items total = joinWith "; " items ++ (if total > length items then "; ..." else "")
     joinWith s = foldr1' (\a b -> a ++ s ++ b)

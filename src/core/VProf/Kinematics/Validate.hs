@@ -16,7 +16,6 @@ module VProf.Kinematics.Validate
   ) where
 
 import Data.List (nub, (\\))
-import Numeric (showEFloat)
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Kinematics.Model
@@ -56,10 +55,7 @@ showIn ShowUnits{..} u v = case u of
     ang suffix = conv suAngle (suAngleName ++ suffix)
     conv scale name
       | scale == 1 = (show v, name)
-      | otherwise = (showNumber (roundSig (v / scale)), name)
-    roundSig x
-      | isNaN x || isInfinite x || x == 0 = x
-      | otherwise = read (showEFloat (Just 11) x "")
+      | otherwise = (showNumber (roundSignificant (v / scale)), name)
 
 -- | A finite length (unit "m") beyond 'maxCoordinate' or angle (unit "rad") beyond
 -- 'maxAngleDeg': taken for a wrong unit (a link of 1e200 m made every IK residual infinite
