@@ -99,6 +99,16 @@ motiveText bodies unit rot frames = unlines $
   , "Frame,Time (Seconds)," ++ intercalate "," (concatMap (const ["X", "Y", "Z", "W", "X", "Y", "Z", ""]) bodies) ]
   ++ frames
 
+-- | Samples read from an export of a track's poses at 100 frames a second: frame i at i/100 s
+-- (within the given tolerance) with the track's pose i, but the lost frames', which have none.
+framesRead :: Double -> Track -> [Int] -> [Sample] -> Property
+framesRead et (Track _ ps qs) lost ss =
+  counterexample "a lost frame read as a pose" (and [ isNaN x | (i, Sample _ _ (P3 x _ _) _) <- zip [0 ..] ss, i `elem` lost ])
+  .&&. conjoin [ abs (smTime sm - fromIntegral i / 100) <= et
+                 .&&. distance (smPos sm) (pindex ps i) <= 1e-8
+                 .&&. qangle (smRot sm) (pindex qs i) <= 1e-7
+               | (i, sm) <- zip [0 ..] ss, i `notElem` lost ]
+
 -- | Another body or two beside "Tool" and where the tool's columns go, the header, CRLF and
 -- trailing-tab choices, and the tool's lost frames with how each is written.
 qtmCase :: Track -> Gen ([String], Int, Bool, Bool, Bool, [(Int, QtmFrame)])
@@ -332,16 +342,10 @@ spec = do
         in counterexample txt $ case readQualisys (Just "Tool") (B.pack txt) of
              Left e -> counterexample e False
              Right (lay, ss) ->
-               let kept = [ (i, sm) | (i, sm) <- zip [0 ..] ss, i `notElem` map fst losses ]
-                   lostOk = and [ isNaN x | (i, Sample _ _ (P3 x _ _) _) <- zip [0 :: Int ..] ss, i `elem` map fst losses ]
-               in qlBody lay === "Tool" .&&. qlOthers lay === others
-                  .&&. qlUntracked lay === length [ () | (_, LostZeros) <- losses ]
-                  .&&. map smLoc ss === [firstRow .. firstRow + n - 1]
-                  .&&. counterexample "a lost frame read as a pose" lostOk
-                  .&&. conjoin [ abs (smTime sm - fromIntegral i / 100) <= 1e-5
-                                 .&&. distance (smPos sm) (pindex ps i) <= 1e-8
-                                 .&&. qangle (smRot sm) (pindex qs i) <= 1e-7
-                               | (i, sm) <- kept ]
+               qlBody lay === "Tool" .&&. qlOthers lay === others
+               .&&. qlUntracked lay === length [ () | (_, LostZeros) <- losses ]
+               .&&. map smLoc ss === [firstRow .. firstRow + n - 1]
+               .&&. framesRead 1e-5 tr (map fst losses) ss
     it "reads a real QTM export (an excerpt of a ship-model test, 4 frames) so that each rotation is the file's own roll, pitch and yaw as Rx·Ry·Rz, which the rows of Rot[] would not give" $ do
       src <- B.readFile "test/data/qualisys-6d-excerpt.tsv"
       isQualisysTsv src `shouldBe` True
@@ -401,15 +405,9 @@ spec = do
         in counterexample txt $ case readVicon (Just want) (B.pack txt) of
              Left e -> counterexample e False
              Right (lay, ss) ->
-               let kept = [ (i, sm) | (i, sm) <- zip [0 ..] ss, i `notElem` lostAt ]
-                   lostOk = and [ isNaN x | (i, Sample _ _ (P3 x _ _) _) <- zip [0 :: Int ..] ss, i `elem` lostAt ]
-               in vlSegment lay === "Rig:Tool" .&&. vlOthers lay === others .&&. vlSections lay === ["Segments", "Trajectories"]
-                  .&&. map smLoc ss === [6 .. 5 + n]
-                  .&&. counterexample "a lost frame read as a pose" lostOk
-                  .&&. conjoin [ abs (smTime sm - fromIntegral i / 100) <= 1e-12
-                                 .&&. distance (smPos sm) (pindex ps i) <= 1e-8
-                                 .&&. qangle (smRot sm) (pindex qs i) <= 1e-7
-                               | (i, sm) <- kept ]
+               vlSegment lay === "Rig:Tool" .&&. vlOthers lay === others .&&. vlSections lay === ["Segments", "Trajectories"]
+               .&&. map smLoc ss === [6 .. 5 + n]
+               .&&. framesRead 1e-12 tr lostAt ss
     it "reads real Nexus rows (a gripper in three poses, then lost) so that its five markers keep their place on the segment: the helical axis is the rotation, its transpose would move them" $ do
       src <- B.readFile "test/data/vicon-nexus-excerpt.csv"
       isViconCsv src `shouldBe` True
