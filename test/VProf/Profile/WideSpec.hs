@@ -174,7 +174,7 @@ staircase = defaultRequest
 -- -0.4276..0.1519 m/s³ at time_step 0.25 s (every greedy seed 54.0 s or more, thesis mode
 -- 52.25 s). The default generator now seeds variants of the problem and, for answers of up to
 -- 2048 samples, compares thesis mode's fixed point ('bestSeed', 'viaThesis').
-counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m, endLevel4m, justReachingJoin16m, justReachingRunIn3m, justReachingSoftened25m, justReachingRunInOnly91m, justReachingQuick21m, justReachingMoving3m :: IO Request
+counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m, endLevel4m, justReachingJoin16m, justReachingRunIn3m, justReachingSoftened25m, justReachingRunInOnly91m, justReachingQuick21m, justReachingMoving3m, justReachingExact6m :: IO Request
 counterexample16m = loadRequest "test/data/metamorphic-cluster-16m.json"
 counterexample13cm = loadRequest "test/data/metamorphic-jerk-13cm.json"
 counterexample7cm = loadRequest "test/data/metamorphic-moving-end-7cm.json"
@@ -219,6 +219,9 @@ justReachingQuick21m = loadRequest "test/data/just-reaching-quick-21m.json"
 -- | From the same property with moving starts (seed 1): the meet found no join, and no
 -- profile through rest fits; NOT_CONVERGED without a profile.
 justReachingMoving3m = loadRequest "test/data/just-reaching-moving-start-3m.json"
+-- | Drawn like that property from a moving start: no join, no run-up and cruise, and the
+-- exact join's programs within half the tolerance had no profile; NOT_CONVERGED without one.
+justReachingExact6m = loadRequest "test/data/just-reaching-exact-join-6m.json"
 
 -- | Generated, converged within ten passes of the rubber band, and sound by the independent
 -- proofs, under a budget of 60 s.
@@ -444,6 +447,14 @@ spec = describe "the wide world of requests" $ do
     resConverged r `shouldBe` True
     sound rq r `shouldBe` True
     fmap duration (resProfile r) `shouldSatisfy` maybe False (<= 1.7539 + 3 * dtOf rq)
+
+  it "a 6.4 m route from 2.26 m/s that only just reaches 2.63 m/s at 11.6 ms: the exact join within the whole end tolerance (within half of it no profile of 220 steps ends), within a step of the S-curve and its cruise (2.551 s); generated, converged and sound (it was NOT_CONVERGED without a profile)" $ do
+    rq <- justReachingExact6m
+    r <- generate rq
+    resOutcome r `shouldBe` Generated
+    resConverged r `shouldBe` True
+    sound rq r `shouldBe` True
+    fmap duration (resProfile r) `shouldSatisfy` maybe False (<= 2.5511 + dtOf rq)
 
   it "the 12 m route at 0.17 ms ending at 1 m/s: the seed variant through rest plans its run-in inside the jerk range and is legal (it broke the jerk rule in 418 samples)" $ do
     pb <- either (error . show) id . validate <$> runInFine12m
