@@ -174,7 +174,7 @@ staircase = defaultRequest
 -- -0.4276..0.1519 m/s³ at time_step 0.25 s (every greedy seed 54.0 s or more, thesis mode
 -- 52.25 s). The default generator now seeds variants of the problem and, for answers of up to
 -- 2048 samples, compares thesis mode's fixed point ('bestSeed', 'viaThesis').
-counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m, endLevel4m, justReachingJoin16m, justReachingRunIn3m, justReachingSoftened25m, justReachingRunInOnly91m, justReachingQuick21m, justReachingMoving3m, justReachingExact6m :: IO Request
+counterexample16m, counterexample13cm, counterexample7cm, counterexample7m, counterexample17m, counterexample87cm, weakJerk6m, movingEnd10m, dentedFine31m, liftedFine12m, runInFine12m, endLevel4m, justReachingJoin16m, justReachingRunIn3m, justReachingSoftened25m, justReachingRunInOnly91m, justReachingQuick21m, justReachingMoving3m, justReachingExact6m, justReachingHeld13m, justReachingLong23m :: IO Request
 counterexample16m = loadRequest "test/data/metamorphic-cluster-16m.json"
 counterexample13cm = loadRequest "test/data/metamorphic-jerk-13cm.json"
 counterexample7cm = loadRequest "test/data/metamorphic-moving-end-7cm.json"
@@ -222,6 +222,12 @@ justReachingMoving3m = loadRequest "test/data/just-reaching-moving-start-3m.json
 -- | Drawn like that property from a moving start: no join, no run-up and cruise, and the
 -- exact join's programs within half the tolerance had no profile; NOT_CONVERGED without one.
 justReachingExact6m = loadRequest "test/data/just-reaching-exact-join-6m.json"
+-- | Drawn like it too: no join, no run-up and cruise, no narrowed run-in, 394 steps beyond the
+-- exact join's programs; NOT_CONVERGED without a profile.
+justReachingHeld13m = loadRequest "test/data/just-reaching-held-start-13m.json"
+-- | Drawn like it too: no join, nothing through rest, and the run-up and cruise longer than
+-- the quick seed allows; NOT_CONVERGED without a profile.
+justReachingLong23m = loadRequest "test/data/just-reaching-long-run-up-23m.json"
 
 -- | Generated, converged within ten passes of the rubber band, and sound by the independent
 -- proofs, under a budget of 60 s.
@@ -455,6 +461,22 @@ spec = describe "the wide world of requests" $ do
     resConverged r `shouldBe` True
     sound rq r `shouldBe` True
     fmap duration (resProfile r) `shouldSatisfy` maybe False (<= 2.5511 + dtOf rq)
+
+  it "a 12.5 m route from 3.17 m/s that only just reaches 3.84 m/s at 9.1 ms: steps held at the start velocity before the run-up, within a step of the S-curve and its cruise (3.583 s); generated, converged and sound (it was NOT_CONVERGED without a profile)" $ do
+    rq <- justReachingHeld13m
+    r <- generate rq
+    resOutcome r `shouldBe` Generated
+    resConverged r `shouldBe` True
+    sound rq r `shouldBe` True
+    fmap duration (resProfile r) `shouldSatisfy` maybe False (<= 3.5835 + dtOf rq)
+
+  it "a 23.4 m route from 3.20 m/s that only just reaches 3.93 m/s with 0.12 m/s² at 17.8 ms: the run-up and cruise as the seed where the meet and the ways through rest give none, within a step of the S-curve and its cruise (6.508 s); generated, converged and sound (it was NOT_CONVERGED without a profile)" $ do
+    rq <- justReachingLong23m
+    r <- generate rq
+    resOutcome r `shouldBe` Generated
+    resConverged r `shouldBe` True
+    sound rq r `shouldBe` True
+    fmap duration (resProfile r) `shouldSatisfy` maybe False (<= 6.5080 + dtOf rq)
 
   it "the 12 m route at 0.17 ms ending at 1 m/s: the seed variant through rest plans its run-in inside the jerk range and is legal (it broke the jerk rule in 418 samples)" $ do
     pb <- either (error . show) id . validate <$> runInFine12m
