@@ -321,7 +321,7 @@ spec = describe "the wide world of requests" $ do
         (Failed (InvalidRequest _), _) | not fromRest -> pure ()
         (Failed (InfeasibleRequest _ _), _) | not fromRest -> assert (sound rq r)
         -- from a moving start the meet may find no join where the run-up and a cruise do
-        -- not fit either and no proof is found (about 1 in 500 moving starts): a known
+        -- not fit either and no proof is found (2 of 2,500 moving starts): a known
         -- limit, bounded by the coverage
         (Failed (NotConverged _), _) | not fromRest -> pure ()
         (o, _) -> do

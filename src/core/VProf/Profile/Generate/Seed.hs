@@ -366,11 +366,13 @@ throughRestBy shorterOnly q limit = firstLegal (jerkPlanLadder q)
 -- run-in is planned inside the jerk range where the full jerk breaks the rule
 -- ('jerkPlanLadder'); the first profile legal but for a crawl wins.
 runInCruise :: Problem -> Variant
-runInCruise q limit = case [ v | tq <- ladder, Just r <- [runUp tq], v <- cruiseAfter r ] ++ held ++ softened of
+runInCruise q limit = case [ v | r <- runUps, v <- cruiseAfter r ] ++ held ++ softened of
   v : _ -> Just v
   [] -> Nothing
   where
     ladder = jerkPlanLadder q
+    -- the run-up of each rung of the ladder
+    runUps = [ r | tq <- ladder, Just r <- [runUp tq] ]
     dt = pbDt q
     vEnd = pbVEnd q
     step = vEnd * dt
@@ -390,7 +392,7 @@ runInCruise q limit = case [ v | tq <- ladder, Just r <- [runUp tq], v <- cruise
     -- is below twice the tolerance leaves one within it; the fewest T first (a 12.5 m route
     -- from 3.17 to 3.84 m/s at 9.1 ms, 394 steps beyond the exact join's programs, left
     -- 1.54 cruise steps after its run-up and was NOT_CONVERGED without a profile)
-    held = [ v | v0 > 0, v0 < vEnd, tq <- ladder, Just r <- [runUp tq], v <- take 1 (holdsAround r) ]
+    held = [ v | v0 > 0, v0 < vEnd, r <- runUps, v <- take 1 (holdsAround r) ]
     holdsAround runIn =
       let x = stepsLeft runIn
           ratio = (vEnd - v0) / vEnd
