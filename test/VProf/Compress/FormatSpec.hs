@@ -372,6 +372,12 @@ spec = do
       fmap (length . snd) (readQualisys (Just "Cup") (B.pack two)) `shouldBe` Right 1
       either id (const "no error") (readQualisys (Just "Duck") (B.pack two))
         `shouldSatisfy` (\e -> "\"Duck\"" `isInfixOf` e && "\"Cup\"" `isInfixOf` e)
+    it "reads a column row that names the body in every column (Tool X, Tool Y, …, Tool Rot[8])" $ do
+      let cols = "Frame\tTime\t" ++ intercalate "\t" (map ("Tool " ++) (["X", "Y", "Z", "Roll", "Pitch", "Yaw", "Residual"] ++ [ "Rot[" ++ show j ++ "]" | j <- [0 .. 8 :: Int] ]))
+          src = B.pack (unlines ["NO_OF_FRAMES\t1", "DATA_INCLUDED\t6D", cols, "1\t0.00\t100\t200\t300\t0\t0\t90\t0.5\t0\t1\t0\t-1\t0\t0\t0\t0\t1"])
+      fmap (\(l, ss) -> (qlBody l, map smPos ss)) (readQualisys Nothing src) `shouldBe` Right ("Tool", [P3 0.1 0.2 0.3])
+      -- Rot[] column by column: x to y, y to -x, a quarter turn about z
+      fmap (map (\sm -> qangle (smRot sm) (Q4 (sqrt 0.5) 0 0 (sqrt 0.5))) . snd) (readQualisys Nothing src) `shouldSatisfy` either (const False) (all (< 1e-9))
     it "refuses a matrix that is no rotation, a cut row, a bad number and a 3D export, naming the line and the value" $ do
       let good = "1\t0.00\t100\t200\t300\t0\t0\t0\t0.5\t1\t0\t0\t0\t1\t0\t0\t0\t1"
           cols = "Frame\tTime\tTool X\tY\tZ\tRoll\tPitch\tYaw\tResidual\t" ++ intercalate "\t" [ "Rot[" ++ show j ++ "]" | j <- [0 .. 8 :: Int] ]

@@ -43,11 +43,16 @@ isQualisysTsv :: B.ByteString -> Bool
 isQualisysTsv src = case filter (not . B.all isSpace) (B.lines src) of
   l : _ -> let cs = tabCells l in case cs of
     c : _ | map toUpper c `elem` qtmKeys -> True
-    c : t : _ -> map toLower c == "frame" && map toLower t == "time" && any ((== "rot[0]") . map toLower) cs
+    c : t : _ -> map toLower c == "frame" && map toLower t == "time" && any (labelled "rot[0]") cs
     _ -> False
   [] -> False
   where
     qtmKeys = ["NO_OF_FRAMES", "FILE_VERSION", "NO_OF_CAMERAS", "NO_OF_BODIES"]
+
+-- | Whether a column's label is this axis, alone or after the body's name ("Y" or "Tool Y"),
+-- in any case.
+labelled :: String -> String -> Bool
+labelled axis l = let l' = map toLower l in l' == axis || (' ' : axis) `isSuffixOf` l'
 
 tabCells :: B.ByteString -> [String]
 tabCells = map (B.unpack . B.strip) . B.split '\t'
@@ -89,7 +94,7 @@ readQualisys want src = do
       Left ("Qualisys TSV line " ++ show i ++ ": DATA_INCLUDED is " ++ show v
             ++ ": this export holds no rigid-body poses (a 3D export has marker positions only, no orientation); export the 6D data")
     _ -> Right ()
-  let rot0s = [ c | c <- [1 .. n], label c == "rot[0]" ]
+  let rot0s = [ c | c <- [1 .. n], labelled "rot[0]" (cols !! (c - 1)) ]
       names = maybe [] (filter (not . null) . snd) (key "BODY_NAMES")
   blocks <- traverse (block cols names colLine) (zip [0 ..] rot0s)
   if null blocks
@@ -146,15 +151,13 @@ readQualisys want src = do
       let at c = if c >= 1 && c <= length cols then cols !! (c - 1) else ""
           x0 = r0 - 7
           xLabel = at x0
-          rots = [ map toLower (at (r0 + j)) | j <- [0 .. 8] ]
           fromLabel = if map toLower xLabel == "x" then "" else take (length xLabel - 2) xLabel
           name
             | " x" `isSuffixOf` map toLower xLabel, not (null fromLabel) = fromLabel
             | k < length names = names !! k
             | otherwise = "body " ++ show (k + 1 :: Int)
-      if x0 >= 1 && (map toLower xLabel == "x" || " x" `isSuffixOf` map toLower xLabel)
-           && map toLower (at (x0 + 1)) == "y" && map toLower (at (x0 + 2)) == "z"
-           && rots == [ "rot[" ++ show j ++ "]" | j <- [0 .. 8 :: Int] ]
+      if x0 >= 1 && labelled "x" xLabel && labelled "y" (at (x0 + 1)) && labelled "z" (at (x0 + 2))
+           && and [ labelled ("rot[" ++ show j ++ "]") (at (r0 + j)) | j <- [0 .. 8 :: Int] ]
         then Right (name, x0, r0)
         else Left ("Qualisys TSV line " ++ show colLine ++ ", column " ++ show r0 ++ ": expected a body's columns X, Y, Z, three angles, Residual, then Rot[0] … Rot[8]; found "
                    ++ intercalate ", " (map show ([at c | c <- [max 1 x0 .. x0 + 2]] ++ [at (r0 + j) | j <- [0 .. 8]])))
