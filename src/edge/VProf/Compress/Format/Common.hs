@@ -12,6 +12,7 @@ module VProf.Compress.Format.Common
   , shownField
   , renderPoseLines
   , unquote
+  , chooseBody
   ) where
 
 import qualified Data.ByteString.Builder as BB
@@ -102,6 +103,23 @@ poseFields format i col0 = traverse field . zip [col0 ..]
     field (c, w)
       | missingToken w = Right (0 / 0)
       | otherwise = numberField format i c w
+
+-- | The body a motion-capture export's reader takes of those the file holds (each with what
+-- the reader needs of it, the list not empty): the only one when none is wanted, else the one
+-- of the wanted name, else the only one @alias@ matches (Nexus: a segment's name without its
+-- subject; @ambiguous@ says what to give where several do). Errors name the format and list
+-- the bodies by @noun@ (plural).
+chooseBody :: String -> String -> (String -> String -> Bool) -> String -> Maybe String -> [(String, a)] -> Either String (String, a)
+chooseBody format noun alias ambiguous want bodies = case want of
+  Nothing -> case bodies of
+    [b] -> Right b
+    _ -> Left (format ++ ": " ++ show (length bodies) ++ " " ++ noun ++ ": " ++ listed ++ "; choose one with --rigid-body NAME")
+  Just w -> case ([ b | b@(nm, _) <- bodies, nm == w ], [ b | b@(nm, _) <- bodies, alias w nm ]) of
+    (b : _, _) -> Right b
+    ([], [b]) -> Right b
+    ([], []) -> Left ("--rigid-body " ++ show w ++ ": not in the file; its " ++ noun ++ ": " ++ listed)
+    ([], _) -> Left ("--rigid-body " ++ show w ++ ": " ++ ambiguous ++ ", one of " ++ listed)
+  where listed = intercalate ", " [ show nm | (nm, _) <- bodies ]
 
 -- | A field without the double quotes a spreadsheet's export puts around it.
 unquote :: B.ByteString -> B.ByteString

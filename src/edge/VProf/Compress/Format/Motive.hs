@@ -21,7 +21,7 @@ import Data.Maybe (listToMaybe)
 import qualified Data.Vector as V
 
 import VProf.Compress.Clean (Sample (..))
-import VProf.Compress.Format.Common (numberField, poseFields, shownField, unquote)
+import VProf.Compress.Format.Common (chooseBody, numberField, poseFields, shownField, unquote)
 import VProf.Geometry.Vec
 
 -- | How a Motive export was read (columns counted from 1).
@@ -110,11 +110,7 @@ readMotive want src = do
                            [] -> "nothing"
                            ts -> intercalate ", " (map show ts))
                      ++ "); export it with Rigid Bodies on")
-    (Nothing, [b]) -> Right b
-    (Nothing, bs) -> Left ("Motive CSV: " ++ show (length bs) ++ " rigid bodies: " ++ intercalate ", " (map show bs) ++ "; choose one with --rigid-body NAME")
-    (Just w, bs)
-      | w `elem` bs -> Right w
-      | otherwise -> Left ("--rigid-body " ++ show w ++ ": not in the file; its rigid bodies: " ++ intercalate ", " (map show bs))
+    (_, bs) -> fst <$> chooseBody "Motive CSV" "rigid bodies" (\_ _ -> False) "" want [ (b, ()) | b <- bs ]
   let need = [ (kind ++ " " ++ map (\ch -> if ch == 'w' then 'W' else ch) ax, colOf body kind ax)
              | (kind, ax) <- [("rotation", "x"), ("rotation", "y"), ("rotation", "z"), ("rotation", "w"), ("position", "x"), ("position", "y"), ("position", "z")] ]
   found <- case [ what | (what, Nothing) <- need ] of

@@ -22,7 +22,7 @@ import Data.Maybe (listToMaybe)
 import qualified Data.Vector as V
 
 import VProf.Compress.Clean (Sample (..))
-import VProf.Compress.Format.Common (numberField, poseFields, readDouble, shownField)
+import VProf.Compress.Format.Common (chooseBody, numberField, poseFields, readDouble, shownField)
 import VProf.Geometry.Vec (P3 (..), Q4 (..))
 import VProf.Kinematics.Transform (Quat (..), fromRows, isRigid, toQuat)
 
@@ -100,12 +100,7 @@ readQualisys want src = do
   if null blocks
     then Left ("Qualisys TSV line " ++ show colLine ++ ": no Rot[0] column: the export holds no rigid-body rotation (a 3D export has marker positions only); export the 6D data")
     else Right ()
-  (body, x0, r0) <- case (want, blocks) of
-    (Nothing, [b]) -> Right b
-    (Nothing, bs) -> Left ("Qualisys TSV: " ++ show (length bs) ++ " bodies: " ++ intercalate ", " [ show b | (b, _, _) <- bs ] ++ "; choose one with --rigid-body NAME")
-    (Just w, bs) -> case [ b | b@(nm, _, _) <- bs, nm == w ] of
-      b : _ -> Right b
-      [] -> Left ("--rigid-body " ++ show w ++ ": not in the file; its bodies: " ++ intercalate ", " [ show b | (b, _, _) <- bs ])
+  (body, (x0, r0)) <- chooseBody "Qualisys TSV" "bodies" (\_ _ -> False) "" want [ (b, (x, r)) | (b, x, r) <- blocks ]
   timing <- case [ c | c <- [1 .. n], label c == "time" ] of
     c : _ -> Right (Right c)
     [] -> case key "FREQUENCY" of

@@ -21,7 +21,7 @@ import Data.List (intercalate)
 import qualified Data.Vector as V
 
 import VProf.Compress.Clean (Sample (..))
-import VProf.Compress.Format.Common (numberField, poseFields, readDouble, unquote)
+import VProf.Compress.Format.Common (chooseBody, numberField, poseFields, readDouble, unquote)
 import VProf.Geometry.Quaternion (qexp)
 import VProf.Geometry.Vec (P3 (..))
 
@@ -115,16 +115,8 @@ readVicon want src = do
                ++ show namesLine ++ ": " ++ show (B.unpack (B.take 80 (line namesLine))) ++ ")")
     else Right ()
   let segName nm = reverse (takeWhile (/= ':') (reverse nm))
-      listed = intercalate ", " [ show nm | (nm, _, _) <- segs ]
-  (seg, rc, pc) <- case want of
-    Nothing -> case segs of
-      [s] -> Right s
-      _ -> Left ("Vicon Nexus CSV: " ++ show (length segs) ++ " segments: " ++ listed ++ "; choose one with --rigid-body NAME")
-    Just w -> case ([ s | s@(nm, _, _) <- segs, nm == w ], [ s | s@(nm, _, _) <- segs, segName nm == w ]) of
-      (s : _, _) -> Right s
-      ([], [s]) -> Right s
-      ([], []) -> Left ("--rigid-body " ++ show w ++ ": not in the file; its segments: " ++ listed)
-      ([], _) -> Left ("--rigid-body " ++ show w ++ ": several subjects have a segment of that name; give Subject:Segment, one of " ++ listed)
+  (seg, (rc, pc)) <- chooseBody "Vicon Nexus CSV" "segments" (\w nm -> segName nm == w)
+                       "several subjects have a segment of that name; give Subject:Segment" want [ (nm, (r, p)) | (nm, r, p) <- segs ]
   rotUnit <- unitOf unitsLine rc [("deg", (pi / 180, "deg")), ("", (pi / 180, "deg (none written: degrees assumed)")), ("rad", (1, "rad"))] (at units rc)
   posUnit <- unitOf unitsLine pc [("mm", (1e-3, "mm")), ("", (1e-3, "mm (none written: millimetres assumed)")), ("cm", (1e-2, "cm")), ("m", (1, "m"))] (at units pc)
   let dataRows = takeWhile (not . B.all isSpace . snd) [ (i, l) | (i, l) <- numbered, i > unitsLine ]
