@@ -8,6 +8,11 @@ module VProf.Compress.Format.Common
   , numberField
   , numberFields
   , poseFields
+  , splitCells
+  , textCells
+  , filledLines
+  , cellAt
+  , poseColumns
   , missingToken
   , shownField
   , renderPoseLines
@@ -18,9 +23,11 @@ module VProf.Compress.Format.Common
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy as BL
-import Data.Char (toLower)
+import Data.Char (isSpace, toLower)
 import Data.List (intercalate)
+import Data.Maybe (fromMaybe)
 import Numeric (showFFloat)
+import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Compress.Clean (Sample (..))
@@ -98,11 +105,34 @@ missingToken w =
 -- a warning. Anything else that is not a number is an error naming the format, line and
 -- column (counted from @col0@).
 poseFields :: String -> Int -> Int -> [B.ByteString] -> Either String [Double]
-poseFields format i col0 = traverse field . zip [col0 ..]
-  where
-    field (c, w)
-      | missingToken w = Right (0 / 0)
-      | otherwise = numberField format i c w
+poseFields format i col0 = traverse (uncurry (poseField format i)) . zip [col0 ..]
+
+poseField :: String -> Int -> Int -> B.ByteString -> Either String Double
+poseField format i c w
+  | missingToken w = Right (0 / 0)
+  | otherwise = numberField format i c w
+
+-- | A data row of an export split at @sep@ into cells, each stripped and without the quotes
+-- around it ('unquote'), for 'cellAt'.
+splitCells :: Char -> B.ByteString -> V.Vector B.ByteString
+splitCells sep = V.fromList . map (unquote . B.strip) . B.split sep
+
+-- | A header row of an export split at @sep@ as 'splitCells' does, as strings.
+textCells :: Char -> B.ByteString -> [String]
+textCells sep = map B.unpack . V.toList . splitCells sep
+
+-- | The lines of a file that are not blank (where an export's first lines tell its kind).
+filledLines :: B.ByteString -> [B.ByteString]
+filledLines = filter (not . B.all isSpace) . B.lines
+
+-- | Cell c (from 1) of a split row; empty past the row's end.
+cellAt :: V.Vector B.ByteString -> Int -> B.ByteString
+cellAt cs c = fromMaybe B.empty (cs V.!? (c - 1))
+
+-- | The cells at columns @cols@ (from 1) of split data line i as pose fields ('poseFields':
+-- a missing value as NaN, anything else that is not a number an error naming the column).
+poseColumns :: String -> Int -> V.Vector B.ByteString -> [Int] -> Either String [Double]
+poseColumns format i cs = traverse (\c -> poseField format i c (cellAt cs c))
 
 -- | The body a motion-capture export's reader takes of those the file holds (each with what
 -- the reader needs of it, the list not empty): the only one when none is wanted, else the one

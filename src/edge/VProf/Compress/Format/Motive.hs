@@ -21,7 +21,7 @@ import Data.Maybe (listToMaybe)
 import qualified Data.Vector as V
 
 import VProf.Compress.Clean (Sample (..))
-import VProf.Compress.Format.Common (chooseBody, numberField, poseFields, shownField, unquote)
+import VProf.Compress.Format.Common (cellAt, chooseBody, filledLines, numberField, poseColumns, shownField, splitCells, textCells)
 import VProf.Geometry.Vec
 
 -- | How a Motive export was read (columns counted from 1).
@@ -39,7 +39,7 @@ data MotiveLayout = MotiveLayout
 
 -- | Whether the first line that is not blank is Motive's settings line.
 isMotiveCsv :: B.ByteString -> Bool
-isMotiveCsv src = case filter (not . B.all isSpace) (B.lines src) of
+isMotiveCsv src = case filledLines src of
   l : _ -> map toLower (B.unpack (B.takeWhile (/= ',') (B.strip l))) == "format version"
   [] -> False
 
@@ -64,7 +64,7 @@ describeMotive l =
 readMotive :: Maybe String -> B.ByteString -> Either String (MotiveLayout, [Sample])
 readMotive want src = do
   let numbered = zip [1 :: Int ..] (B.lines src)
-      cells l = map (B.unpack . unquote . B.strip) (B.split ',' l)
+      cells = textCells ','
   (metaLine, meta) <- case [ (i, cells l) | (i, l) <- numbered, not (B.all isSpace l) ] of
     m : _ -> Right m
     [] -> Left "Motive CSV: empty file"
@@ -122,8 +122,8 @@ readMotive want src = do
   let body' = [ (i, s) | (i, l) <- numbered, i > axisLine, let s = B.strip l, not (B.null s) ]
       sc = fst unit
       row (i, l) = do
-        let cs = V.fromList (map (unquote . B.strip) (B.split ',' l))
-            cell c = maybe B.empty id (cs V.!? (c - 1))
+        let cs = splitCells ',' l
+            cell = cellAt cs
             needed = maximum [qx, qy, qz, qw, px, py, pz]
         -- a lost frame keeps its commas (empty cells); a row that ends before the body's
         -- columns was cut (a copy or an export that stopped), not lost
@@ -132,7 +132,7 @@ readMotive want src = do
                      ++ "'s run to column " ++ show needed ++ ": is the file cut short? (a frame where the body was lost keeps its commas, with empty cells)")
           else Right ()
         t <- if B.null (cell 2) then Left ("Motive CSV line " ++ show i ++ ", column 2: no time") else numberField "Motive CSV" i 2 (cell 2)
-        vs <- traverse (\c -> head <$> poseFields "Motive CSV" i c [cell c]) [qx, qy, qz, qw, px, py, pz]
+        vs <- poseColumns "Motive CSV" i cs [qx, qy, qz, qw, px, py, pz]
         case vs of
           [a, b, c, d, x, y, z] -> Right (Sample i t (P3 (x * sc) (y * sc) (z * sc)) (Q4 d a b c))
           _ -> Left ("Motive CSV line " ++ show i ++ ": " ++ shownField l)

@@ -22,7 +22,7 @@ import Data.Maybe (listToMaybe)
 import qualified Data.Vector as V
 
 import VProf.Compress.Clean (Sample (..))
-import VProf.Compress.Format.Common (chooseBody, numberField, poseFields, readDouble, shownField)
+import VProf.Compress.Format.Common (cellAt, chooseBody, filledLines, numberField, poseColumns, readDouble, shownField, splitCells, textCells)
 import VProf.Geometry.Vec (P3 (..), Q4 (..))
 import VProf.Kinematics.Transform (Quat (..), fromRows, isRigid, toQuat)
 
@@ -40,7 +40,7 @@ data QualisysLayout = QualisysLayout
 -- | The header keys QTM writes first (any of them on the first line that is not blank), or a
 -- header-less export's column row.
 isQualisysTsv :: B.ByteString -> Bool
-isQualisysTsv src = case filter (not . B.all isSpace) (B.lines src) of
+isQualisysTsv src = case filledLines src of
   l : _ -> let cs = tabCells l in case cs of
     c : _ | map toUpper c `elem` qtmKeys -> True
     c : t : _ -> map toLower c == "frame" && map toLower t == "time" && any (labelled "rot[0]") cs
@@ -55,7 +55,7 @@ labelled :: String -> String -> Bool
 labelled axis l = let l' = map toLower l in l' == axis || (' ' : axis) `isSuffixOf` l'
 
 tabCells :: B.ByteString -> [String]
-tabCells = map (B.unpack . B.strip) . B.split '\t'
+tabCells = textCells '\t'
 
 -- | One sentence on what was read.
 describeQualisys :: QualisysLayout -> String
@@ -111,8 +111,8 @@ readQualisys want src = do
   let needed = r0 + 8
       rows = [ (i, l) | (i, l) <- numbered, i > colLine, not (B.all isSpace l) ]
       row (i, l) = do
-        let cs = V.fromList (map B.strip (B.split '\t' l))
-            cell c = maybe B.empty id (cs V.!? (c - 1))
+        let cs = splitCells '\t' l
+            cell = cellAt cs
         if V.length cs < needed
           then Left ("Qualisys TSV line " ++ show i ++ ": the row ends after " ++ show (V.length cs) ++ " columns, but " ++ body
                      ++ "'s run to column " ++ show needed ++ ": is the file cut short?")
@@ -120,7 +120,7 @@ readQualisys want src = do
         t <- case timing of
           Right c -> numberField "Qualisys TSV" i c (cell c)
           Left f -> (\k -> (k - 1) / f) <$> numberField "Qualisys TSV" i 1 (cell 1)
-        vs <- traverse (\c -> head <$> poseFields "Qualisys TSV" i c [cell c]) ([x0 .. x0 + 2] ++ [r0 .. r0 + 8])
+        vs <- poseColumns "Qualisys TSV" i cs ([x0 .. x0 + 2] ++ [r0 .. r0 + 8])
         case vs of
           [x, y, z, a0, a1, a2, a3, a4, a5, a6, a7, a8]
             | any isNaN vs -> Right (lost i t, False)

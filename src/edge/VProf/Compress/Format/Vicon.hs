@@ -18,10 +18,9 @@ module VProf.Compress.Format.Vicon
 import qualified Data.ByteString.Char8 as B
 import Data.Char (isSpace, toLower)
 import Data.List (intercalate)
-import qualified Data.Vector as V
 
 import VProf.Compress.Clean (Sample (..))
-import VProf.Compress.Format.Common (chooseBody, numberField, poseFields, readDouble, unquote)
+import VProf.Compress.Format.Common (cellAt, chooseBody, filledLines, numberField, poseColumns, readDouble, splitCells, textCells)
 import VProf.Geometry.Quaternion (qexp)
 import VProf.Geometry.Vec (P3 (..))
 
@@ -42,7 +41,7 @@ sectionNames :: [String]
 sectionNames = ["segments", "trajectories", "model outputs", "joints", "devices"]
 
 cells :: B.ByteString -> [String]
-cells = map (B.unpack . unquote . B.strip) . B.split ','
+cells = textCells ','
 
 -- | A section line: a section's name in the first cell, the others empty.
 sectionOf :: B.ByteString -> Maybe String
@@ -53,7 +52,7 @@ sectionOf l = case cells l of
 -- | Whether the first line that is not blank names a Nexus section and the next holds a number
 -- (the frame rate).
 isViconCsv :: B.ByteString -> Bool
-isViconCsv src = case filter (not . B.all isSpace) (B.lines src) of
+isViconCsv src = case filledLines src of
   l : r : _ | Just _ <- sectionOf l -> case cells r of
     c : _ -> maybe False (> 0) (readDouble (B.pack c))
     [] -> False
@@ -123,11 +122,10 @@ readVicon want src = do
       (ru, _) = rotUnit
       (pu, _) = posUnit
       row (i, l) = do
-        let cs = V.fromList (map (unquote . B.strip) (B.split ',' l))
-            cell c = maybe B.empty id (cs V.!? (c - 1))
-        frame <- numberField "Vicon Nexus CSV" i 1 (cell 1)
+        let cs = splitCells ',' l
+        frame <- numberField "Vicon Nexus CSV" i 1 (cellAt cs 1)
         -- a frame without the segment: empty cells, or (Nexus) its frame number alone
-        vs <- traverse (\c -> head <$> poseFields "Vicon Nexus CSV" i c [cell c]) ([rc .. rc + 2] ++ [pc .. pc + 2])
+        vs <- poseColumns "Vicon Nexus CSV" i cs ([rc .. rc + 2] ++ [pc .. pc + 2])
         case vs of
           [rx, ry, rz, tx, ty, tz] ->
             Right (Sample i ((frame - 1) / rate) (P3 (tx * pu) (ty * pu) (tz * pu)) (qexp (P3 (rx * ru) (ry * ru) (rz * ru))))
