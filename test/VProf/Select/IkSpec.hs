@@ -70,6 +70,12 @@ spec = do
         other -> expectationFailure ("expected all in collision, got " ++ either (describeSelectIkFailure opts) (show . length) other)
 
   describe "the best of solutions that all collide" $ do
+    it "says of a self-collision by how much the two parts overlap, or how far apart they are against the margin asked" $ do
+      let Right (sol : _) = solveIk defaultIkOptions kin (down 0.5 0.2 0.3) Nothing
+          said d margin = describeSelectIkFailure opts {siSelfMargin = margin}
+                            (AllInCollision 6 (Candidate sol Nothing (Just (SelfContact d (0, 3) (1, 4) ("link1", "link4")))))
+      said (-0.24) 0 `shouldSatisfy` ("self-collision: link1 and link4 overlap by 240.0 mm" `isInfixOf`)
+      said 0.004 0.01 `shouldSatisfy` ("self-collision: link1 and link4 are 4.0 mm apart (at least 10.0 mm asked)" `isInfixOf`)
     -- the oracle: every solution's worse margin (scene clearance − d, nearest checked pair − the
     -- self margin), each computed in full; the answer's best must have the largest
     let marginOf m d selfM q =

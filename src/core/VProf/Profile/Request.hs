@@ -210,13 +210,13 @@ autoVelocityStep dt aMin aMax jMin jMax =
   let bound = minimum [abs jMin * dt * dt, jMax * dt * dt, abs aMin * dt, aMax * dt] / 4
   in 2 ^^ (floor (logBase 2 bound) :: Int)
 
--- | The largest velocity step with which a single sample can rise on a flat stretch:
--- raising it alone changes one jerk by 2·dv/dt² and one acceleration by dv/dt.
 -- | Thesis mode's velocity step when none is given: the largest power of two that works
 -- (its band grows from rest one step a pass, and its pace sets how gently it brakes).
 thesisVelocityStep :: Double -> Double -> Double -> Double -> Double -> Double
 thesisVelocityStep dt aMin aMax jMin jMax = 2 ^^ (floor (logBase 2 (largestVelocityStep dt aMin aMax jMin jMax)) :: Int)
 
+-- | The largest velocity step with which a single sample can rise on a flat stretch:
+-- raising it alone changes one jerk by 2·dv/dt² and one acceleration by dv/dt.
 largestVelocityStep :: Double -> Double -> Double -> Double -> Double -> Double
 largestVelocityStep dt aMin aMax jMin jMax =
   minimum [abs jMin * dt * dt / 2, jMax * dt * dt / 2, abs aMin * dt, aMax * dt]

@@ -64,7 +64,10 @@ describeSelectIkFailure SelectIkOptions{..} = \case
             ++ clrBodyName cl ++ " and scene triangle " ++ show (clrTriangle cl) ++ " near " ++ showP (clrOnScene cl)
         (_, Just sc) ->
           let (a, b) = scNames sc
-          in "self-collision: " ++ a ++ " and " ++ b ++ " at " ++ mm (scDistance sc)
+              d = scDistance sc
+          in "self-collision: " ++ a ++ " and " ++ b
+               ++ (if d < 0 then " overlap by " ++ mm (negate d)
+                   else " are " ++ mm d ++ " apart (at least " ++ mm siSelfMargin ++ " asked)")
         _ -> "in collision"
   where
     mm = showMm
@@ -112,7 +115,7 @@ collisionFreeCandidates
   :: SelectIkOptions -> Kinematics -> CollisionModel -> Bvh -> Tf -> Maybe (U.Vector Double)
   -> Either SelectIkFailure [Candidate]
 collisionFreeCandidates opts kin cm bvh target seed =
-  candidatesOf opts cm bvh (solveIk (siIk opts) {ikAllSolutions = True} kin target seed)
+  candidatesOf opts cm bvh (solveIk (everySolution opts) kin target seed)
 
 -- | 'solveCollisionFree' with a wall-time budget (seconds) for the IK's search: the numerical
 -- solver restarts until the budget is spent (or its restart count), as 'solveIkIO'; the
@@ -121,8 +124,13 @@ solveCollisionFreeIO
   :: Double -> SelectIkOptions -> Kinematics -> CollisionModel -> Bvh -> Tf -> Maybe (U.Vector Double)
   -> IO (Either SelectIkFailure [Candidate])
 solveCollisionFreeIO budget opts kin cm bvh target seed = do
-  sols <- solveIkIO budget (siIk opts) {ikAllSolutions = True} kin target seed
+  sols <- solveIkIO budget (everySolution opts) kin target seed
   pure (sortOn candidateOrder <$> candidatesOf opts cm bvh sols)
+
+-- | The IK's options for a collision check: every solution, as the nearest may collide
+-- where another is clear.
+everySolution :: SelectIkOptions -> IkOptions
+everySolution opts = (siIk opts) {ikAllSolutions = True}
 
 -- | The candidates among the IK's answer (every solution, nearest the seed first).
 candidatesOf

@@ -143,12 +143,12 @@ runCheck reqPath profPath = do
   er <- readRequest reqPath
   ep <- readProfile profPath
   case (er, ep) of
-    (Left e, _) -> hPutStrLn stderr ("vprof check: " ++ e) >> pure (ExitFailure 2)
-    (_, Left e) -> hPutStrLn stderr ("vprof check: " ++ e) >> pure (ExitFailure 2)
+    (Left e, _) -> Out.failIn "check" e
+    (_, Left e) -> Out.failIn "check" e
     -- the time step is the profile's (from its first two samples); a profile of one sample
     -- has none, and is checked at the request's
     (Right rq, Right (dt0, vs)) -> case validate (if U.length vs < 2 then rq else rq { rqTimeStep = Just (dt0 *~ second) }) of
-      Left es -> mapM_ (hPutStrLn stderr . ("vprof check: " ++) . renderFieldError) es >> pure (ExitFailure 2)
+      Left es -> mapM_ (Out.failIn "check" . renderFieldError) es >> pure (ExitFailure 2)
       Right pb -> do
         let dt = pbDt pb
             p = Profile dt vs (pbA0 pb) (pbAEnd pb)
@@ -176,7 +176,7 @@ encodeCommand = run
       clash <- Out.overwritesInput [("the request", inp)] [("OUT.pb", out)]
       er <- maybe (readRequestWithId inp) (pure . Left) clash
       case er of
-        Left e -> hPutStrLn stderr ("vprof encode: " ++ e) >> pure (ExitFailure 2)
+        Left e -> Out.failIn "encode" e
         Right (own, rq) -> do
           ok <- Out.writing "vprof encode" out (B.writeFile out (encodeBare (requestToMsg (maybe own id rid) rq)))
           pure (if ok then ExitSuccess else ExitFailure 2)

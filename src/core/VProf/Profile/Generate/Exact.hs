@@ -377,12 +377,15 @@ joinPrograms pb = (candidates, attempts)
           wholeTolerance = (w, refineIn fullRoom cautious 0)
                            : [ (w * fromIntegral (capRereads + 1), refineIn fullRoom highest capRereads) | not single ]
       in if single then (w, refine cautious 0) : wholeTolerance
+         -- each screening program solved below counts as one solve of work, an entry
+         -- without a profile
          else case solveWith halfRoom n highest of
                 Just _ -> (w, Nothing) : (w, refine cautious 0) : (w * fromIntegral (capRereads + 1), refine highest capRereads)
                           : [ (w, assigned ms) | ms <- assignments ] ++ wholeTolerance
                 -- no profile of n steps within half the tolerance even under the highest
                 -- limit everywhere; within all of it?
                 Nothing -> case solveWith fullRoom n highest of
+                  -- the two screening solves, within half and within all of the tolerance
                   Nothing -> [(w, Nothing), (w, Nothing)]
                   Just _ -> (w, Nothing) : (w, Nothing) : wholeTolerance
 

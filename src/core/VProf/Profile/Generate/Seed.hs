@@ -399,7 +399,7 @@ runInCruise q limit = case [ v | r <- runUps, v <- cruiseAfter r ] ++ held ++ so
           t0 = max 0 (ceiling (x - pbTol q / step)) :: Int
       in [ v | x <= fromIntegral (room runIn), t <- [t0, t0 + 1, t0 + 2], t <= room runIn
              , let k = max 0 (min t (round ((fromIntegral t - x) / ratio))), k > 0
-             , let v = U.replicate k v0 U.++ runIn U.++ U.replicate (t - k) vEnd, legalButCrawl q v ]
+             , Just v <- [heldWith k runIn (t - k)] ]
     v0 = pbV0 q
     -- Where no whole number of cruise steps ends within the tolerance (a cruise of a few
     -- steps, too short for a dent), the run-in within narrower ranges ('scaleRanges'): it
@@ -444,9 +444,11 @@ runInCruise q limit = case [ v | r <- runUps, v <- cruiseAfter r ] ++ held ++ so
     -- the run-in and the nearest whole number of cruise steps, when legal
     profileAt r = profileWith r (max 0 (round (stepsLeft r)))
     -- the run-in and m cruise steps, when legal
-    profileWith r m
+    profileWith = heldWith 0
+    -- k steps at the start velocity, the run-in and m cruise steps, when legal
+    heldWith k r m
       | m < 0 = Nothing
-      | otherwise = let v = r U.++ U.replicate m vEnd in if legalButCrawl q v then Just v else Nothing
+      | otherwise = let v = U.replicate k v0 U.++ r U.++ U.replicate m vEnd in if legalButCrawl q v then Just v else Nothing
 
 -- | How many narrower run-ins 'runInCruise' tries, the least scale of its ranges, and the
 -- halvings of its bisection.
