@@ -11,6 +11,7 @@ module VProf.Validation
   , renderValue
   , showNumber
   , roundSignificant
+  , roundSignificantTo
   , showBound
     -- * Checks
   , fieldError
@@ -98,9 +99,13 @@ showNumber x
 -- (a time step of 210.52 - 0.01 s is 210.51, not 210.51000000000002; 165° read and shown
 -- again is not 165.00000000000003°).
 roundSignificant :: Double -> Double
-roundSignificant x
+roundSignificant = roundSignificantTo 12
+
+-- | A number rounded to n significant digits (1 to 17).
+roundSignificantTo :: Int -> Double -> Double
+roundSignificantTo n x
   | isNaN x || isInfinite x || x == 0 = x
-  | otherwise = read (showEFloat (Just 11) x "")
+  | otherwise = read (showEFloat (Just (max 0 (min 16 (n - 1)))) x "")
 
 -- | A bound as people write it: a power of ten from 1e5 up as "1e9" (showNumber writes
 -- "1000000000.0"), any other number as 'showNumber' does.

@@ -7,6 +7,7 @@ import Data.Either (isLeft, isRight)
 import Control.Monad (forM_)
 import Data.List (isInfixOf, nub, sort, zip4)
 import qualified Data.Vector.Unboxed as U
+import Numeric (showFFloat)
 import Test.Hspec
 import Test.Hspec.QuickCheck (modifyMaxSuccess)
 import Test.QuickCheck
@@ -207,6 +208,30 @@ spec = describe "VProf.Compress.Clean" $ do
           Right c = clean defaultCleanOptions ss
           msg = concatMap (renderCleanWarning fileLocator) (clWarnings c)
       msg `shouldSatisfy` ("the largest 210.32 s before t = 210.52 s at line 22" `isInfixOf`)
+
+    it "shows a step between large times to the digits the times hold (TUM's 1305031108.9458 - 1305031108.8357 s is 0.1101 s, not 0.110100030899 s)" $ do
+      -- as a TUM file writes them: 1305031108.7357, .7457, ..., .8357, then .9458, .9558, ...
+      let ts = [ read ("1305031108." ++ show k) | k <- [7357, 7457 .. 8357 :: Int] ++ [9458, 9558 .. 9958] ] :: [Double]
+          ss = [ Sample (i + 1) t (P3 0 0 0) (Q4 1 0 0 0) | (i, t) <- zip [0 ..] ts ]
+          Right c = clean defaultCleanOptions ss
+          msg = concatMap (renderCleanWarning fileLocator) (clWarnings c)
+      msg `shouldSatisfy` ("times the median 0.01 s) accepted; the largest 0.1101 s before t = 1305031108.9458 s" `isInfixOf`)
+
+    it "shows the largest gap as its times' decimals give it, at any time up to 1e9 s (times of 4 decimals)" $
+      property $ forAll (elements [0, 1, 1e3, 1e6, 3e8, 1e9 :: Double]) $ \base -> forAll (choose (0, 99999 :: Int)) $ \off ->
+        forAll (choose (1, 1000 :: Int)) $ \h -> forAll (choose (30, 99999 :: Int)) $ \g ->
+          let t0 = base + fromIntegral off * 1e-4
+              -- times as a file gives them: decimals with 4 places, read
+              at :: Int -> Double
+              at k = read (showFFloat (Just 4) (t0 + fromIntegral k * 1e-4) "")
+              ticks = [ k * h | k <- [0 .. 20] ] ++ [ 20 * h + max (20 * h) g + k * h | k <- [0 .. 20] ]
+              ss = [ Sample (i + 1) (at k) (P3 0 0 0) (Q4 1 0 0 0) | (i, k) <- zip [0 ..] ticks ]
+              gap = fromIntegral (max (20 * h) g) * 1e-4 :: Double
+              shown = "the largest " ++ showNumber (read (showFFloat (Just 4) gap "") :: Double) ++ " s before"
+          in case clean defaultCleanOptions ss of
+               Left e -> counterexample (show e) False
+               Right c -> let msg = concatMap (renderCleanWarning fileLocator) (clWarnings c)
+                          in counterexample msg (shown `isInfixOf` msg)
 
   describe "times in another unit than seconds" $ do
     it "times in ms, us or ns read as seconds are kept as read, with a warning giving the median step, when it is at least 1e4 s" $

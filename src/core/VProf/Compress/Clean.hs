@@ -379,15 +379,21 @@ renderCleanWarning loc = \case
     "no outlier judged: the rejection fits a line through " ++ show outlierWindow ++ " samples around each one, and the recording has "
     ++ show n ++ " sample" ++ plural n ++ "; every one kept"
   Gaps f med n (d, t, l) xs ->
-    show n ++ " gap" ++ plural n ++ " (time step above " ++ showNumber f ++ " times the median " ++ showStep med
-    ++ " s) accepted; the largest " ++ showStep d ++ " s before t = " ++ showNumber t ++ " s at " ++ lcAt loc l
-    ++ (if n > 1 then " (" ++ list [ showStep dd ++ " s before " ++ lcAt loc ll | (dd, ll) <- xs ] n ++ ")" else "")
+    show n ++ " gap" ++ plural n ++ " (time step above " ++ showNumber f ++ " times the median " ++ showStep t med
+    ++ " s) accepted; the largest " ++ showStep t d ++ " s before t = " ++ showNumber t ++ " s at " ++ lcAt loc l
+    ++ (if n > 1 then " (" ++ list [ showStep t dd ++ " s before " ++ lcAt loc ll | (dd, ll) <- xs ] n ++ ")" else "")
   LongMedianStep m n ->
     "the median time step is " ++ showNumber m ++ " s over " ++ show n ++ " samples: the times are read in seconds; "
     ++ "if they are in ms, us or ns, convert them (or write a CSV whose header gives the unit, e.g. time [ns])"
   where
-    -- a difference of two times read, without the rounding of the subtraction
-    showStep = showNumber . roundSignificant
+    -- a difference of two times read near tRef, to the digits the subtraction keeps (about
+    -- 15 less the decades between them, 3 to 12): 0.01 s between times near 1.3e9 s, not
+    -- 0.00999999046326 s; 210.32 s between 0.2 and 210.52 s, not 210.32000000000002 s
+    showStep tRef d
+      | d == 0 || tRef == 0 = showNumber (roundSignificant d)
+      | otherwise =
+          let decades = max 0 (ceiling (logBase 10 (abs tRef / abs d))) :: Int
+          in showNumber (roundSignificantTo (max 3 (min 12 (15 - decades))) d)
     plural n = if n == 1 then "" else "s"
     list items total = joinWith "; " items ++ (if total > length items then "; ..." else "")
     joinWith s = foldr1' (\a b -> a ++ s ++ b)
