@@ -19,6 +19,7 @@ module VProf.Select.Ik
   ) where
 
 import Data.List (sortOn)
+import Numeric (showFFloat)
 import qualified Data.Map.Strict as M
 import qualified Data.Vector.Unboxed as U
 
@@ -83,10 +84,10 @@ describeFixedCollision d cl =
     ++ " (ignore_bodies leaves a body out of the cell check)"
 
 showMm :: Double -> String
-showMm x = show (fromIntegral (round (x * 10000) :: Integer) / 10 :: Double) ++ " mm"
+showMm x = showFFloat Nothing (fromIntegral (round (x * 10000) :: Integer) / 10 :: Double) " mm"
 
 showPoint :: V3 -> String
-showPoint (V3 x y z) = "(" ++ concatMap (\(k, v) -> k ++ show (fromIntegral (round (v * 1000) :: Integer) / 1000 :: Double)) [("", x), (", ", y), (", ", z)] ++ ") m"
+showPoint (V3 x y z) = "(" ++ concatMap (\(k, v) -> k ++ showFFloat Nothing (fromIntegral (round (v * 1000) :: Integer) / 1000 :: Double) "") [("", x), (", ", y), (", ", z)] ++ ") m"
 
 -- | Solutions clear of the scene and of themselves, best first, or why there are none.
 solveCollisionFree

@@ -89,13 +89,18 @@ describeFailure = \f -> case f of
   OutsideLimits sols -> limitMisses " (rad, m for a prismatic joint; negative below the minimum)" [[j ++ " by " ++ showFFloat (Just 6) v "" | (j, v) <- s] | s <- sols]
   OrientationUnreachable t -> "the tool stays level: the target is tilted by " ++ showFFloat (Just 4) (t * 180 / pi) " deg"
   Singular why -> "singular: " ++ why
-  NotConverged p r -> "not converged: best residual " ++ mm p ++ ", " ++ showFFloat (Just 4) (r * 180 / pi) "°"
+  NotConverged p r
+    | isInfinite p || isNaN p || isInfinite r || isNaN r -> "not converged: no pose was reached (no attempt of the search finished)"
+    | otherwise -> "not converged: best residual " ++ mm p ++ ", " ++ showFFloat (Just 4) (r * 180 / pi) "°"
+                   ++ (if p >= 1e-3 || r >= pi / 180
+                         then " (the nearest pose the search reached; the target may be out of reach at this orientation)"
+                         else " (the nearest pose the search reached, just outside the tolerance)")
   Unreachable what d
     | d >= 0 -> "beyond reach: " ++ what ++ " (" ++ mm d ++ " too far)"
     | otherwise -> "too close: " ++ what ++ " (" ++ mm (negate d) ++ " too close)"
   InvalidRequest es -> "invalid request: " ++ intercalate "; " es
   where
-    mm x = show (fromIntegral (round (x * 1e6) :: Integer) / 1000 :: Double) ++ " mm"
+    mm x = showFFloat Nothing (fromIntegral (round (x * 1e6) :: Integer) / 1000 :: Double) " mm"
 
 -- | Position (m) and rotation (rad) error between a reached and a target transform.
 residual :: Tf -> Tf -> (Double, Double)
