@@ -301,7 +301,7 @@ spec = describe "vprof compress" $ do
       (c, e) <- captureStderr (dir </> "e.txt") (runCli [rec, "--method", "thesis", "--tolerance", "0.001", "-o", out])
       c `shouldBe` ExitFailure 1
       -- what was reached and what to do instead
-      e `shouldSatisfy` (\m -> all (`isInfixOf` m) ["tolerance not met", "mm with 450 points", "--points N"])
+      e `shouldSatisfy` (\m -> all (`isInfixOf` m) ["tolerance not met: largest position error 0.8244 mm with 450 points", "--points N"])
       Right tr <- parseTum <$> B.readFile out
       trackLength tr `shouldSatisfy` (> 2)
   it "exits 2 on a file that is not a recording" $

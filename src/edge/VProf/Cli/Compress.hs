@@ -21,6 +21,7 @@ import System.Exit (ExitCode (..))
 import System.Directory (doesFileExist)
 import System.FilePath (dropExtension, takeExtension, takeFileName)
 import System.IO (hPutStrLn, stderr)
+import Numeric (showFFloat)
 import Numeric.Units.Dimensional.Prelude (metre, milli, (*~))
 import Prelude
 
@@ -366,7 +367,7 @@ runCompress o = do
             then pure ExitSuccess
             else do
               hPutStrLn stderr ("vprof compress: tolerance not met: largest position error "
-                                ++ show (mPositionMax (oMetrics out) * 1e3) ++ " mm with " ++ show k ++ " points, the most"
+                                ++ showFFloat (Just 4) (mPositionMax (oMetrics out) * 1e3) " mm with " ++ show k ++ " points, the most"
                                 ++ " the thesis method reaches (it grows to about 15 % of the samples); that path is the output."
                                 ++ " For a finer one ask for more points (--points N; --report shows the largest error)"
                                 ++ " or allow a larger tolerance")

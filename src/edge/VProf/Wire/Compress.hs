@@ -21,6 +21,7 @@ import Data.ProtocolBuffers (getField, putField)
 import qualified Data.Text as T
 import qualified Data.Vector.Unboxed as U
 import Data.Word (Word64)
+import Numeric (showFFloat)
 import Numeric.Units.Dimensional.Prelude (metre, (*~))
 import Prelude
 
@@ -147,7 +148,7 @@ outcomeToMsg rid secs warns o = CompressedPathMsg
     errTol | oToleranceMet o = Nothing
            | otherwise = Just (mkError ErrInfeasible "tolerance"
                                 ("tolerance not met: largest position error "
-                                 ++ show (mPositionMax (oMetrics o)) ++ " m with " ++ show (mPoints (oMetrics o))
+                                 ++ showFFloat (Just 7) (mPositionMax (oMetrics o)) " m with " ++ show (mPoints (oMetrics o))
                                  ++ " points, the most the thesis method reaches (about 15 % of the samples);"
                                  ++ " the path is that one. For a finer one ask for more points (the points field) or a larger tolerance"))
 
