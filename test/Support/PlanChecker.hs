@@ -45,14 +45,14 @@ import VProf.Profile (Request (..), SpeedZone (..), check, defaultRequest, rende
 import VProf.Profile.Sampled (Columns (..), columns)
 import VProf.Units
 
--- | The TCP stream's acceleration and jerk against the plan's ranges: 2 %. Each part of the
--- route ends within its end tolerance (1 µm, at most 1e-5 of its length: the planner's request,
--- also the tolerance each part is checked against) of its end and is stretched onto it, so two parts
--- that meet at speed may differ by up to about 2 µm over the part's length in that speed: for
--- one sample, a little jerk (1.3 % of 20 m/s³ seen on 1 cm parts). Twice the jerk, as parts
--- joined on one sample can give, is far outside it.
+-- | The TCP stream's acceleration and jerk against the plan's ranges: 1e-6 relative. Two parts
+-- that meet at speed ask for the same speed there and are scaled together, so the stream keeps
+-- the ranges across their joins as each part's profile keeps them inside (each part was
+-- stretched onto its own length before, which made the speeds step where parts met: 4 % above
+-- the jerk limit at a 2 ms step). Twice the jerk, as parts joined on one sample can give, is far
+-- outside it.
 streamTolerance :: Double
-streamTolerance = 2e-2
+streamTolerance = 1e-6
 
 speedTolerance, tcpTolerance, accelerationTolerance :: Double
 speedTolerance = 1e-3

@@ -221,6 +221,20 @@ spec = describe "VProf.Plan" $ do
       Left f -> expectationFailure (describePlanFailure f)
       Right plan -> checkTrajectory r (positions wps) 0.01 defaultAcceleration defaultJerk defaultTimeStep plan `shouldBe` []
 
+  it "plans the same recording at 1 m/s on a 2 ms step: the streamed speeds keep the jerk limit across every join of parts (each part stretched onto its own length made them step: 4 % above it on the README's workflow at v1000, 2 ms)" $ do
+    wps <- placedFreiburg
+    let r = robot "ur5"
+        rq = (planRequest r wps) { prSpeed = 1 *~ mps, prTimeStep = 0.002 *~ second }
+    case planPath rq of
+      Left f -> expectationFailure (describePlanFailure f)
+      Right plan -> do
+        checkTrajectory r (positions wps) 0.01 defaultAcceleration defaultJerk 0.002 plan `shouldBe` []
+        length (planStretches plan) `shouldSatisfy` (> 1)
+        -- the parts are scaled together between rests: each one's samples lie where the ones
+        -- before it ended, micrometres from its own profile's
+        let drift = maximum [ abs (a' - a) | (a, a', _) <- planPartMaps plan ]
+        drift `shouldSatisfy` (< 1e-4)
+
   it "plans the same recording at 3 m/s, where the joints bind and the route is timed in parts: legal by the independent checker" $ do
     wps <- placedFreiburg
     let r = robot "ur5"

@@ -33,7 +33,7 @@ module VProf.Plan.Trajectory
   , limitOptionsFor
   ) where
 
-import Data.List (group, sort, zip4)
+import Data.List (group, sort)
 import GHC.Conc (par)
 import Numeric (showGFloat)
 import qualified Data.Vector as V
@@ -116,6 +116,11 @@ data Plan = Plan
   , planStretches  :: ![(Double, Double)]   -- ^ the parts [a, b] timed one by one (m): the
                                              --   stretches between stops, some cut at slow corners
   , planZones      :: ![[LimitZone]]         -- ^ per part, in route coordinates
+  , planPartMaps   :: ![(Double, Double, Double)]
+                                             -- ^ per part (a, a', k): a route distance x of the
+                                             --   part [a, b] is at a' + k·(x − a) in the
+                                             --   trajectory's distances (the parts joined and
+                                             --   scaled between rests: 'assemble')
   , planAccelerations :: ![(Double, Double)] -- ^ per part, the TCP acceleration range used: the
                                              --   braking and the speeding-up magnitude (m/s²)
   , planProfiles   :: ![Result]              -- ^ per part
@@ -131,8 +136,10 @@ planDuration p = let t = trTime (planTrajectory p) in if U.null t then 0 else U.
 -- part; the motion crosses it at the join's speed v, which the zones either side both allow,
 -- and the lower of them is stretched over it.
 planZoneList :: Plan -> [LimitZone]
-planZoneList = go . planZones
+planZoneList p = go (zipWith mapped (planPartMaps p) (planZones p))
   where
+    -- the part's zones where its samples are ('planPartMaps')
+    mapped (a, a', k) zs = [ z { lzStart = a' + k * (lzStart z - a), lzEnd = a' + k * (lzEnd z - a) } | z <- zs ]
     go (zs0@(_ : _) : zs1@(z1 : more) : rest)
       | lzStart z1 - lzEnd z0 > 1e-9 =
           if lzSpeed z0 <= lzSpeed z1
@@ -177,6 +184,12 @@ boostBetas = [0, 0.5]
 
 startFraction :: Int
 startFraction = 4
+
+-- | What a part's request keeps below the plan's speeds, acceleration and jerk: the scale of
+-- the joined parts ('assemble') is at most 1 / (1 − 1e-5), each part ending within 1e-5 of
+-- its length.
+partMargin :: Double
+partMargin = 1 - 1e-5
 
 -- | The factor that stretches a profile's columns (distance, speed, acceleration, jerk) for a
 -- part of length l to end exactly on l (the generator ends within its end tolerance of it).
@@ -501,16 +514,19 @@ planPath rq@PlanRequest{..} = do
                     Nothing -> ([], [])
                   parts = [ maybe p (\(g, _, _) -> g) (let (sh, e) = choice moved i in geometryOf i sh e) | (i, p) <- zip [0 :: Int ..] parts0 ]
               in (all (\(_, _, zs) -> not (null zs)) parts, results)
-            -- two parts joined on one sample (the second's first dropped) keep the jerk limit in
-            -- the streamed speeds: the second difference across the join, (v⁺ − 2v + v⁻)/dt², at
-            -- most the TCP jerk (speeds as streamed, each part stretched to its length)
+            -- two parts joined on one sample (the first's last dropped, the second's first kept:
+            -- both at the cut's speed) keep the jerk limit in the streamed speeds: the second
+            -- differences (v⁺ − 2v + v⁻)/dt² at the samples either side of the join within the
+            -- parts' jerk range (the TCP jerk less 'partMargin', which the scale of 'assemble'
+            -- takes at most)
             joinKeepsJerk r1 r2 = case (streamedSpeeds r1, streamedSpeeds r2) of
               (v1, v2) | U.length v1 >= 2, U.length v2 >= 2 ->
-                abs (v2 U.! 1 - 2 * U.last v1 + v1 U.! (U.length v1 - 2)) <= si prJerk * dt * dt * (1 + 1e-9)
+                let n1 = U.length v1
+                    within x = abs x <= partMargin * si prJerk * dt * dt * (1 + 1e-9)
+                in within (v2 U.! 1 - 2 * U.head v2 + v1 U.! (n1 - 2))
+                   && (n1 < 3 || within (U.head v2 - 2 * v1 U.! (n1 - 2) + v1 U.! (n1 - 3)))
               _ -> True
-            streamedSpeeds ((a, b), _, _, _, r) = case resProfile r of
-              Nothing -> U.empty
-              Just p -> let c = columns p in U.map (* stretchFactor (b - a) c) (colVelocity c)
+            streamedSpeeds (_, _, _, _, r) = maybe U.empty (colVelocity . columns) (resProfile r)
             splitAt' bounds = snd (timeParts bounds 0 0 (const (1 / 0)))
             -- a part's acceleration: the fastest rung of the ladder whose joint motion keeps the
             -- limits, then refined ('refine')
@@ -662,8 +678,8 @@ planPath rq@PlanRequest{..} = do
                                   w = if s1 > s0 then (u - s0) / (s1 - s0) else 1
                               in (1 - w) * vs U.! (k - 1) + w * vs U.! k
                   bounds = boundsIn x y cutsAt
-                  (zoned, timedSubs) = timeParts bounds (U.head vs / margin (si prEndTolerance) x y)
-                                                        (U.last vs / margin (si prEndTolerance) x y) (\u -> speed u (speedAt u))
+                  (zoned, timedSubs) = timeParts bounds (U.head vs / partMargin)
+                                                        (U.last vs / partMargin) (\u -> speed u (speedAt u))
               in if length bounds <= 2 || not zoned || total timedSubs >= score False c
                    then [c] else timedSubs
             -- the runs (first, last) of consecutive samples 1 .. m−2 of a profile of m samples
@@ -673,13 +689,29 @@ planPath rq@PlanRequest{..} = do
                 go k | k >= m - 1 = []
                      | p k = let e = until (\j -> j >= m - 1 || not (p j)) (+ 1) k in (k, e - 1) : go e
                      | otherwise = go (k + 1)
-            keepIfFaster before after =
-              if length after > length before && total after < total before
+            -- the parts with each one's pieces by @cut@ (a part re-cut on its own), when faster
+            -- and the joints' limits kept; where a part's first or last piece meets its
+            -- neighbour on one sample and the join breaks the jerk limit ('joinKeepsJerk', as
+            -- 'timeParts' checks its own), the two parts stay whole (again until every join
+            -- keeps it: whole parts met well before)
+            keepIfFaster before cut =
+              let -- (whether the part is whole, its pieces)
+                  recut0 = [ (False, cut b) | b <- before ]
+                  settleCuts cs =
+                    let bad = [ i | (i, ((w1, x), (w2, y))) <- zip [0 :: Int ..] (zip cs (drop 1 cs))
+                                  , not (w1 && w2)
+                                  , let p = last x; q = head y
+                                  , snd (spanOf p) == fst (spanOf q), not (joinKeepsJerk p q) ]
+                    in case bad of
+                         [] -> cs
+                         i : _ -> settleCuts [ if j == i || j == i + 1 then (True, [b]) else c | (j, b, c) <- zip3 [0 ..] before cs ]
+                  after = concatMap snd (settleCuts recut0)
+              in if length after > length before && total after < total before
                    && jointsKeepLimits lo jp dt True (joined after)
                 then after else before
-            chosen1 = keepIfFaster chosen0 (concatMap pieces chosen0)
+            chosen1 = keepIfFaster chosen0 pieces
             exitRounds k ps = if k <= (0 :: Int) then ps
-                              else let ps' = keepIfFaster ps (concatMap exits ps)
+                              else let ps' = keepIfFaster ps exits
                                    in if length ps' == length ps then ps else exitRounds (k - 1) ps'
             chosen2 = exitRounds exitRoundsMax chosen1
             -- a long speed-up (20 samples or more) whose first half has a ceiling 'riseRatio'
@@ -717,7 +749,7 @@ planPath rq@PlanRequest{..} = do
                       [] -> v
                     tries = [ recut (speed f) c prof (map fst cands) | f <- speedUpShares ]
                 in if null cands then [c] else foldr1 (\p q -> if total p <= total q then p else q) tries
-        in keepIfFaster chosen2 (concatMap speedUps chosen2)
+        in keepIfFaster chosen2 speedUps
       -- A part's acceleration range beyond its rung: the speeding-up magnitude, then the braking
       -- one, each raised on its own by bisection between its rung and 1.6 times it (at most hi)
       -- while the sampled joint motion keeps the limits (@ok@), keeping the fastest profile. The
@@ -763,29 +795,24 @@ planPath rq@PlanRequest{..} = do
                                                    Failed f -> renderFailure f
                                                    Generated -> "the profile is not legal"))
     [] -> Right ()
-  let traj = assemble jp (zip stretches results)
-  pure (Plan route tracked steps stretches zoness accs results traj True)
+  let (traj, maps) = assemble jp (zip stretches results)
+  pure (Plan route tracked steps stretches zoness maps accs results traj True)
   where
     -- the stretches' grids joined (each begins where the previous one ends)
     joinSteps sts = StepLimits (U.concat (take 1 (map slS sts) ++ map (U.drop 1 . slS) (drop 1 sts)))
                                (U.concat (map slLimit sts)) (V.concat (map slBinding sts))
-    -- The generator ends within the end tolerance of the stretch's end, not on it; the
-    -- trajectory stretches each profile's s by f = (b − a) / s_end so that it stops exactly there
-    -- (a jump to the end would be a joint acceleration spike). f ≤ 1 + tolerance / (b − a), so
-    -- the request asks for speeds, acceleration and jerk lowered by that factor: once stretched,
-    -- the profile keeps the zones, acceleration and jerk of the plan.
-    -- (A part shorter than ten tolerances gets a tenth of its length: the generator refuses a
-    -- tolerance that the part's length does not exceed.)
-    margin tol a b = 1 / (1 + tol / (b - a))
+    -- Each part's request: its speeds, acceleration and jerk lowered by 'partMargin', its end
+    -- tolerance 1e-5 of its length at most (so that the scale of 'assemble' keeps the plan's
+    -- limits); the two parts at a cut ask for the same speed there.
     profileRequest tol a b (brake, speedUp) zs va vb = defaultRequest
       { rqRouteLength = (b - a) *~ meter
-      , rqStartVelocity = (margin tol a b * va) *~ mps
-      , rqEndVelocity = (margin tol a b * vb) *~ mps
-      , rqZones = [ SpeedZone ((lzStart z - a) *~ meter) ((margin tol a b * lzSpeed z) *~ mps) | z <- zs ]
-      , rqMinAcceleration = negate (margin tol a b * brake) *~ mps2
-      , rqMaxAcceleration = (margin tol a b * speedUp) *~ mps2
-      , rqMinJerk = negate (margin tol a b * si prJerk) *~ mps3
-      , rqMaxJerk = (margin tol a b * si prJerk) *~ mps3
+      , rqStartVelocity = (partMargin * va) *~ mps
+      , rqEndVelocity = (partMargin * vb) *~ mps
+      , rqZones = [ SpeedZone ((lzStart z - a) *~ meter) ((partMargin * lzSpeed z) *~ mps) | z <- zs ]
+      , rqMinAcceleration = negate (partMargin * brake) *~ mps2
+      , rqMaxAcceleration = (partMargin * speedUp) *~ mps2
+      , rqMinJerk = negate (partMargin * si prJerk) *~ mps3
+      , rqMaxJerk = (partMargin * si prJerk) *~ mps3
       , rqTimeStep = Just prTimeStep
       , rqEndTolerance = Just (tol *~ meter)
         -- the planner searches over its parts' accelerations itself and keeps the fastest
@@ -793,37 +820,64 @@ planPath rq@PlanRequest{..} = do
       , rqSeedSearch = False
       }
     dt = si prTimeStep
+    -- The generator ends each part within its end tolerance of the part's end, not on it. The
+    -- parts are joined as they are and scaled together between the places where the motion
+    -- rests (the route's ends and its stops): their distances, speeds, accelerations and jerks
+    -- by F = (the length between the rests) / (the distance the joined speeds cover), so that
+    -- the motion ends exactly on each rest and its distances are the trapezoid sums of its
+    -- speeds. Two parts at a cut at speed ask for the same speed there, so the streamed speeds
+    -- meet without a step (each part scaled to its own length met with a step of up to 1e-5
+    -- of the speed, which at 2 ms broke the jerk limit by 4 %: v1000 on the README's
+    -- workflow). Each part ends within 1e-5 of its length, so F ≤ 1 / (1 − 1e-5), which the
+    -- requests' 'partMargin' takes: the joined motion keeps the zones, acceleration and jerk.
+    -- A part's samples then lie up to the parts' summed end errors (micrometres) from where its
+    -- own profile put them; the zones listed to the user follow them ('planPartMaps').
+    -- A part that ends at speed ends on the next one's first row (the same sample and speed),
+    -- which is dropped once; a part that ends at a stop keeps its last row, so the motion rests
+    -- one sample there (acceleration 0) and the jerk into the stop and out of it stays within
+    -- range (joined without it, the step from braking to speeding up doubled the jerk); a part
+    -- after a cut at speed that starts one time step past it keeps its first row too (see
+    -- 'timeParts').
     assemble jp parts =
-      let cols = [ (a, stretchTo (b - a) (columns p)) | ((a, b), r) <- parts, Just p <- [resProfile r] ]
-          stretchTo l c =
-            let f = stretchFactor l c
-            in c { colDistance = U.map (* f) (colDistance c), colVelocity = U.map (* f) (colVelocity c)
-                 , colAcceleration = U.map (* f) (colAcceleration c), colJerk = U.map (* f) (colJerk c) }
+      let cols = [ ((a, b), columns p) | ((a, b), r) <- parts, Just p <- [resProfile r] ]
           nParts = length cols
-          -- a part that ends at speed ends on the next one's first row (the same sample: same s,
-          -- same speed), which is dropped once; a part that ends at a stop keeps its last row, so
-          -- the motion rests one sample there (acceleration 0) and the jerk into the stop and out of
-          -- it stays within range (joined without it, the step from braking to speeding up
-          -- doubled the jerk)
-          -- (a part after a cut at speed that starts one time step past it keeps its first row too:
-          -- see 'timeParts')
-          spans = [ (a, b) | ((a, b), r) <- parts, Just _ <- [resProfile r] ]
-          nextStarts = map fst (drop 1 spans) ++ [1 / 0]
-          trimmed = [ (a, if i < nParts - 1 && not (atRest c) && a' == b then dropLast c else c)
-                    | (i, (a, c), (_, b), a') <- zip4 [0 :: Int ..] cols spans nextStarts ]
+          nextStarts = map (fst . fst) (drop 1 cols) ++ [1 / 0]
           -- at rest: the generator ends a part asked to stop within the legality slack of 0
           -- (1e-9 m/s; a 0.66 mm turn in place ended at 2.9e-10 m/s)
           atRest c = not (U.null (colVelocity c)) && abs (U.last (colVelocity c)) <= slack 0
           dropLast c = Columns (U.init (colTime c)) (U.init (colDistance c)) (U.init (colVelocity c))
                                (U.init (colAcceleration c)) (U.init (colJerk c))
-          offsets = scanl (+) 0 [ fromIntegral (U.length (colTime c)) * dt | (_, c) <- trimmed ]
-          ts = U.concat [ U.map (+ o) (colTime c) | ((_, c), o) <- zip trimmed offsets ]
-          ss = U.concat [ U.map (+ a) (colDistance c) | (a, c) <- trimmed ]
-          vs = U.concat [ colVelocity c | (_, c) <- trimmed ]
-          as = U.concat [ colAcceleration c | (_, c) <- trimmed ]
-          js = U.concat [ colJerk c | (_, c) <- trimmed ]
+          -- (each with its profile's own stretch onto its length, for its map)
+          trimmed = [ ((ab, stretchFactor (b - a) c), if i < nParts - 1 && not (atRest c) && a' == b then dropLast c else c, atRest c || i == nParts - 1)
+                    | (i, (ab@(a, b), c), a') <- zip3 [0 :: Int ..] cols nextStarts ]
+          -- the parts between rests: runs that end with a part at rest (or the last)
+          groups [] = []
+          groups ps = let (run, rest) = break (\(_, _, r) -> r) ps
+                      in case rest of
+                           p : more -> (run ++ [p]) : groups more
+                           [] -> [run]
+          -- a group's samples: its distances (from its start), speeds, accelerations and
+          -- jerks scaled by F, and each part's map from its route distance to the samples'
+          scaled grp =
+            let vs0 = U.concat [ colVelocity c | (_, c, _) <- grp ]
+                cum = U.scanl' (+) 0 (U.zipWith (\x y -> 0.5 * (x + y) * dt) vs0 (U.drop 1 vs0))
+                x0 = fst (fst (fst3 (head grp)))
+                x1 = snd (fst (fst3 (last grp)))
+                total = U.last cum
+                f = if total > 0 then (x1 - x0) / total else 1
+                starts = scanl (+) 0 [ U.length (colVelocity c) | (_, c, _) <- grp ]
+                maps = [ (a, x0 + f * (cum U.! k), f / fi) | ((((a, _), fi), _, _), k) <- zip grp starts ]
+                cat g = U.map (* f) (U.concat [ g c | (_, c, _) <- grp ])
+            in (U.map (\d -> x0 + f * d) cum, cat colVelocity, cat colAcceleration, cat colJerk, maps)
+          fst3 (x, _, _) = x
+          gs = map scaled (groups trimmed)
+          m = sum [ U.length (colTime c) | (_, c, _) <- trimmed ]
+          ts = U.generate m (\k -> fromIntegral k * dt)
+          ss = U.concat [ x | (x, _, _, _, _) <- gs ]
+          vs = U.concat [ x | (_, x, _, _, _) <- gs ]
+          as = U.concat [ x | (_, _, x, _, _) <- gs ]
+          js = U.concat [ x | (_, _, _, x, _) <- gs ]
           n = tkDof (jpTracked jp)
-          m = U.length ts
           qs = U.concat [ jointPathAt jp (ss U.! k) | k <- [0 .. m - 1] ]
           qAt k i = qs U.! (k * n + i)
           qd k i
@@ -832,5 +886,5 @@ planPath rq@PlanRequest{..} = do
             | k == m - 1 = (qAt k i - qAt (k - 1) i) / dt
             | otherwise = (qAt (k + 1) i - qAt (k - 1) i) / (2 * dt)
           qds = U.generate (m * n) (\x -> let (k, i) = x `divMod` n in qd k i)
-      in Trajectory ts ss vs as js qs qds n
+      in (Trajectory ts ss vs as js qs qds n, concat [ x | (_, _, _, _, x) <- gs ])
 
