@@ -76,6 +76,13 @@ spec = do
                             (AllInCollision 6 (Candidate sol Nothing (Just (SelfContact d (0, 3) (1, 4) ("link1", "link4")))))
       said (-0.24) 0 `shouldSatisfy` ("self-collision: link1 and link4 overlap by 240.0 mm" `isInfixOf`)
       said 0.004 0.01 `shouldSatisfy` ("self-collision: link1 and link4 are 4.0 mm apart (at least 10.0 mm asked)" `isInfixOf`)
+    it "says of a scene collision by how much the link and the triangle overlap, or its clearance against the one asked" $ do
+      let Right (sol : _) = solveIk defaultIkOptions kin (down 0.5 0.2 0.3) Nothing
+          cl d = Clearance d 2 3 "link3" 63 (V3 0.3 0.1 0.1) (V3 0.359 0.08 0.119)
+          said d = describeSelectIkFailure opts (AllInCollision 512 (Candidate sol (Just (cl d)) Nothing))
+      said (-0.06) `shouldSatisfy` ("the best one: overlapping by 60.0 mm (a clearance of at least 10.0 mm asked) between link3 and scene triangle 63 near (0.359, 0.08, 0.119) m" `isInfixOf`)
+      said 0.0081 `shouldSatisfy` ("the best one: clearance 8.1 mm (at least 10.0 mm asked) between link3 and scene triangle 63" `isInfixOf`)
+      describeFixedCollision 0.01 (cl (-0.15)) `shouldSatisfy` ("whatever the joints are, overlapping by 150.0 mm (a clearance of at least 10.0 mm asked) with scene triangle 63" `isInfixOf`)
     -- the oracle: every solution's worse margin (scene clearance − d, nearest checked pair − the
     -- self margin), each computed in full; the answer's best must have the largest
     let marginOf m d selfM q =

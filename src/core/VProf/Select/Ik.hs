@@ -61,7 +61,7 @@ describeSelectIkFailure SelectIkOptions{..} = \case
     "all " ++ show n ++ " IK solutions collide; the best one: "
       ++ case (c, s) of
         (Just cl, _) | clrDistance cl < siClearance ->
-          "clearance " ++ mm (clrDistance cl) ++ " (at least " ++ mm siClearance ++ " asked) between "
+          clearanceWords (clrDistance cl) siClearance ++ " between "
             ++ clrBodyName cl ++ " and scene triangle " ++ show (clrTriangle cl) ++ " near " ++ showP (clrOnScene cl)
         (_, Just sc) ->
           let (a, b) = scNames sc
@@ -79,9 +79,17 @@ describeSelectIkFailure SelectIkOptions{..} = \case
 describeFixedCollision :: Double -> Clearance -> String
 describeFixedCollision d cl =
   "every configuration collides: " ++ clrBodyName cl ++ " keeps the point " ++ showPoint (clrOnRobot cl)
-    ++ " whatever the joints are, at clearance " ++ showMm (clrDistance cl) ++ " (at least " ++ showMm d
-    ++ " asked) from scene triangle " ++ show (clrTriangle cl) ++ " near " ++ showPoint (clrOnScene cl)
+    ++ " whatever the joints are, " ++ clearanceWords (clrDistance cl) d ++ (if clrDistance cl < 0 then " with" else " from")
+    ++ " scene triangle " ++ show (clrTriangle cl)
+    ++ " near " ++ showPoint (clrOnScene cl)
     ++ " (ignore_bodies leaves a body out of the cell check)"
+
+-- | A clearance d below the one asked for: "clearance 8.1 mm (at least 10.0 mm asked)", or
+-- where the two overlap, "overlapping by 60.0 mm (a clearance of at least 10.0 mm asked)".
+clearanceWords :: Double -> Double -> String
+clearanceWords d asked
+  | d < 0 = "overlapping by " ++ showMm (negate d) ++ " (a clearance of at least " ++ showMm asked ++ " asked)"
+  | otherwise = "clearance " ++ showMm d ++ " (at least " ++ showMm asked ++ " asked)"
 
 showMm :: Double -> String
 showMm x = showFFloat Nothing (fromIntegral (round (x * 10000) :: Integer) / 10 :: Double) " mm"
