@@ -46,7 +46,7 @@ import VProf.Plan.Route
 import VProf.Plan.Track
 import VProf.Profile (Request (..), Result (..), SpeedZone (..), Outcome (..), defaultRequest, generatePure, resultLegal, renderFailure)
 import VProf.Profile.Request (leastStepLimit, maxSamples)
-import VProf.Profile.Sampled (Columns (..), columns, duration)
+import VProf.Profile.Sampled (Columns (..), columns, duration, trapezoidDistances)
 import VProf.Profile.Legality (slack)
 import VProf.Units
 import VProf.Validation
@@ -860,7 +860,7 @@ planPath rq@PlanRequest{..} = do
           -- jerks scaled by F, and each part's map from its route distance to the samples'
           scaled grp =
             let vs0 = U.concat [ colVelocity c | (_, c, _) <- grp ]
-                cum = U.scanl' (+) 0 (U.zipWith (\x y -> 0.5 * (x + y) * dt) vs0 (U.drop 1 vs0))
+                cum = trapezoidDistances dt vs0
                 x0 = fst (fst (fst3 (head grp)))
                 x1 = snd (fst (fst3 (last grp)))
                 total = U.last cum
