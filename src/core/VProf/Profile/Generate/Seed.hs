@@ -371,8 +371,9 @@ runInCruise q limit = case [ v | r <- runUps, v <- cruiseAfter r ] ++ held ++ so
   [] -> Nothing
   where
     ladder = jerkPlanLadder q
-    -- the run-up of each rung of the ladder
-    runUps = [ r | tq <- ladder, Just r <- [runUp tq] ]
+    -- each rung of the ladder with its run-up (where it has one)
+    rungs = [ (tq, r) | tq <- ladder, Just r <- [runUp tq] ]
+    runUps = map snd rungs
     dt = pbDt q
     vEnd = pbVEnd q
     step = vEnd * dt
@@ -412,7 +413,7 @@ runInCruise q limit = case [ v | r <- runUps, v <- cruiseAfter r ] ++ held ++ so
     -- bisected until the profile is legal. The scales are spaced by a quarter of one over
     -- the run-in's steps (an eighth to a quarter of a step of run-in time each), for
     -- 'softRunInScales' of them.
-    softened = [ v | tq <- ladder, Just r1 <- [runUp tq], stepsLeft r1 <= fromIntegral (room r1) + softRunInReach
+    softened = [ v | (tq, r1) <- rungs, stepsLeft r1 <= fromIntegral (room r1) + softRunInReach
                    , v <- take 1 (softRoots tq r1) ]
     -- a run-in and the cruise steps left after it, where they fit
     fitting r = let x = stepsLeft r in if x > fromIntegral (room r) then Nothing else Just (x, r)
