@@ -9,6 +9,7 @@ module VProf.Compress
   , compress
   , knotConfigFor
   , validateSettings
+  , maxSearchRounds
   , module VProf.Validation
   , module VProf.Compress.Types
   , module VProf.Compress.Metrics

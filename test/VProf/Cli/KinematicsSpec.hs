@@ -6,12 +6,10 @@ import Options.Applicative
 import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
 import System.IO.Temp (withSystemTempDirectory)
-import Control.Exception (finally)
-import GHC.IO.Handle (hDuplicate, hDuplicateTo)
-import System.IO (IOMode (..), hClose, hFlush, openFile, stdout)
+import System.IO (stdout)
 import Test.Hspec
 
-import Support.Cli (runCommand)
+import Support.Cli (captureHandle, captureStderr, parserMessage, runCommand)
 
 import Support.Arbitrary (shared)
 import VProf.Cli.Kinematics (fkCommand, ikCommand, loadRobot, outsideLimits, robotsCommand)
@@ -31,14 +29,12 @@ run = runCommand
 
 -- | A command's exit code and what it wrote to standard output.
 captured :: Parser (IO ExitCode) -> [String] -> IO (ExitCode, B.ByteString)
-captured cmd args = withSystemTempDirectory "vprof-cli" $ \dir -> do
-  let out = dir </> "stdout"
-  old <- hDuplicate stdout
-  h <- openFile out WriteMode
-  hDuplicateTo h stdout
-  code <- run cmd args `finally` (hFlush stdout >> hDuplicateTo old stdout >> hClose h)
-  txt <- B.readFile out
-  B.length txt `seq` pure (code, txt)
+captured cmd args = withSystemTempDirectory "vprof-cli" $ \dir ->
+  fmap BC.pack <$> captureHandle stdout (dir </> "stdout") (run cmd args)
+
+-- | A command's exit code and what it wrote to standard error.
+complaint :: Parser (IO ExitCode) -> [String] -> IO (ExitCode, String)
+complaint cmd args = withSystemTempDirectory "vprof-cli" $ \dir -> captureStderr (dir </> "stderr") (run cmd args)
 
 spec :: Spec
 spec = describe "vprof robots / fk / ik" $ do
@@ -94,6 +90,26 @@ spec = describe "vprof robots / fk / ik" $ do
     let cell = dir </> "data" </> "cell" </> "cell.obj"
     mapM_ (\b -> run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--environment", cell, "--ignore-body", b] `shouldReturn` ExitFailure 2) ["7", "99"]
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--ignore-body", "99"] `shouldReturn` ExitFailure 2
+  it "with --deg, a joint value beyond a million degrees is named in degrees as typed (1e308 was named 'Infinity rad'), in fk, ik's --seed and robots' --q" $ do
+    let wide = "1.0e308 deg: is more than 1e6 degrees (is the unit right?)"
+    (c1, e1) <- complaint fkCommand ["ur5", "0", "0", "0", "0", "0", "1e308", "--deg"]
+    c1 `shouldBe` ExitFailure 2
+    e1 `shouldSatisfy` isInfixOf ("q[5] = " ++ wide)
+    (c2, e2) <- complaint ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--seed", "0 0 0 1e308 0 0", "--deg"]
+    c2 `shouldBe` ExitFailure 2
+    e2 `shouldSatisfy` isInfixOf ("--seed[3] = " ++ wide)
+    (c3, e3) <- withSystemTempDirectory "vprof-cli" $ \dir ->
+      complaint robotsCommand ["ur5", "--plot", dir </> "a.png", "--q", "1e308 0 0 0 0 0", "--deg"]
+    c3 `shouldBe` ExitFailure 2
+    e3 `shouldSatisfy` isInfixOf ("--q[0] = " ++ wide)
+    -- without --deg the value is in radians
+    (c4, e4) <- complaint fkCommand ["ur5", "0", "0", "0", "0", "0", "1e308"]
+    c4 `shouldBe` ExitFailure 2
+    e4 `shouldSatisfy` isInfixOf "q[5] = 1.0e308 rad: is more than 1e6 degrees"
+  it "--scale without --environment is exit 2 (it went unused); a --clearance beyond 1e9 m is refused naming its unit (1e308 was taken and printed as Infinity mm)" $ do
+    run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--scale", "0"] `shouldReturn` ExitFailure 2
+    parserMessage ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--environment", "cell.obj", "--clearance", "1e308"]
+      `shouldSatisfy` maybe False (isInfixOf "--clearance 1e308 m: is more than 1e9 m (is the unit right?)")
   it "--clearance or --ignore-body without --environment is exit 2 (each went unused); with it, exit 0" $ do
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--clearance", "0.05"] `shouldReturn` ExitFailure 2
     run ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--ignore-body", "1"] `shouldReturn` ExitFailure 2

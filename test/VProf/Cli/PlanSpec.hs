@@ -9,7 +9,7 @@ import qualified Data.Aeson.KeyMap as KM
 import qualified Data.ByteString.Lazy as BL
 import Data.Scientific (toRealFloat)
 import qualified Data.Vector as V
-import Data.List (isPrefixOf)
+import Data.List (isInfixOf, isPrefixOf)
 import qualified Data.Vector.Unboxed as U
 import System.Directory (doesFileExist)
 import System.Exit (ExitCode (..))
@@ -19,7 +19,7 @@ import Test.Hspec
 import Test.QuickCheck
 
 import Support.Arbitrary (shared)
-import Support.Cli (parserRefused, runCommand)
+import Support.Cli (captureStderr, parserMessage, parserRefused, runCommand)
 import VProf.Cli.Plan (parseSpeedData, parseZoneData, planCommand)
 import VProf.Compress.Format.Csv (parseCsv, renderCsv)
 import VProf.Compress.Types (Track (..), recordingFromArrays, Recording (..))
@@ -78,6 +78,14 @@ spec = do
     it "--base and --tool beyond 1e9 m or a million degrees are refused (1e300 degrees was taken)" $
       mapM_ (\(o, v) -> run ["examples/plan-square.csv", "--robot", "ur5", o, v] `shouldReturn` parserRefused)
             [("--base", "0 0 0 1e300 0 0"), ("--tool", "0 0 2e9"), ("--base", "0 0 0 0 -1e7 0")]
+    it "--scale without --environment is exit 2 (it went unused); a --start beyond a million degrees with --deg is named in degrees as typed (1e308 was named 'Infinity rad'); a --clearance beyond 1e9 m is refused naming its unit" $
+      withSystemTempDirectory "vprof-plan" $ \tmp -> do
+        run ["examples/plan-square.csv", "--robot", "ur5", "--scale", "0.001"] `shouldReturn` ExitFailure 2
+        (c, e) <- captureStderr (tmp </> "e.txt") (run ["examples/plan-square.csv", "--robot", "ur5", "--deg", "--start", "0 0 0 0 0 1e308"])
+        c `shouldBe` ExitFailure 2
+        e `shouldSatisfy` isInfixOf "--start[5] = 1.0e308 deg: is more than 1e6 degrees (is the unit right?)"
+        parserMessage planCommand ["examples/plan-square.csv", "--robot", "ur5", "--environment", cell, "--clearance", "1e308"]
+          `shouldSatisfy` maybe False (isInfixOf "--clearance 1e308 m: is more than 1e9 m (is the unit right?)")
     it "--start outside a joint's limits is exit 2 (degrees typed without --deg were taken as radians, silently another branch); inside them exit 0" $ do
       run ["examples/plan-square.csv", "--robot", "ur5", "--start", "0 -90 90 -90 -90 0"] `shouldReturn` ExitFailure 2
       run ["examples/plan-square.csv", "--robot", "ur5", "--start", "100 0 0 0 0 0"] `shouldReturn` ExitFailure 2

@@ -158,10 +158,9 @@ compressOptions' = CompressOptions
       "free" -> Right EndsFree
       _ -> Left ("--ends " ++ s ++ ": expected pinned or free")
     -- read as an Integer, so that a number beyond Int is refused, not wrapped around
-    -- (above 1000 the run's own check names the limit)
     searchRounds s = case reads s of
-      [(r, "")] | r >= (0 :: Integer) -> Right (fromInteger (min r 1001))
-      _ -> Left ("--search " ++ s ++ ": expected a whole number >= 0")
+      [(r, "")] | r >= (0 :: Integer) && r <= toInteger maxSearchRounds -> Right (fromInteger r)
+      _ -> Left ("--search " ++ s ++ ": expected a whole number from 0 to " ++ show maxSearchRounds)
     posInt s = case reads s of
       [(k, "")] | k >= (2 :: Integer) && k <= 1000000000 -> Right (fromInteger k)
       _ -> Left ("--points " ++ s ++ ": expected a whole number from 2 to 10^9")

@@ -14,6 +14,7 @@ module VProf.Cli.Kinematics
   , fkCommand
   , ikCommand
   , loadRobot
+  , degreesTooWide
   , outsideLimits
   ) where
 
@@ -43,7 +44,7 @@ import VProf.Geometry.Bvh (buildBvh)
 import VProf.Geometry.Format.Scene (SceneFile (..), loadScene)
 import VProf.Kinematics.Collision (Clearance (..), CollisionOptions (..), collisionModel, defaultCollisionOptions, unknownBody)
 import VProf.Select.Ik
-import VProf.Validation (maxCoordinate, showBound, showNumber)
+import VProf.Validation (maxAngleDeg, maxCoordinate, showBound, showNumber, tooLongRule, tooWideRule)
 import VProf.Plot.Robot (plotRobot)
 
 data Format = Table | Json deriving (Eq)
@@ -97,6 +98,7 @@ robotsCommand = runPlot <$> optional (strArgument (metavar "NAME" <> help "show 
       er <- maybe (loadRobot tip name) (pure . Left) clash
       case er of
         Left e -> failIn "robots" e
+        Right r | es@(_ : _) <- degreesTooWide "--q" deg r (concat qs) -> failIn "robots" (intercalate "; " es)
         Right r -> do
           let ch = compile r
               q = maybe (midLimits ch) (jointsFrom deg r) qs
@@ -200,6 +202,14 @@ jointValue w
       [] -> Left ("Q: " ++ show w ++ " is not a number")
       xs -> Left ("Q: " ++ show w ++ " holds " ++ show (length xs) ++ " numbers; give each joint value as its own argument")
 
+-- | Joint values typed in degrees (with --deg) beyond any joint's travel, each named as typed
+-- (@field[i]@, in degrees): converted to radians, 1e308 degrees would be named as an infinite
+-- number of radians.
+degreesTooWide :: String -> Bool -> Robot -> [Double] -> [String]
+degreesTooWide field deg r qs =
+  [ field ++ "[" ++ show i ++ "] = " ++ showNumber x ++ " deg: " ++ tooWideRule
+  | deg, (i, j, x) <- zip3 [0 :: Int ..] (robotJoints r) qs, jointKind j == Revolute, abs x > maxAngleDeg ]
+
 -- | Joint values as typed, to the controller's SI values.
 jointsFrom :: Bool -> Robot -> [Double] -> U.Vector Double
 jointsFrom deg r qs = U.fromList [ if deg && jointKind j == Revolute then q * pi / 180 else q
@@ -213,6 +223,7 @@ runFk o = do
   er <- loadRobot (fkTip o) (fkRobot o)
   case er of
     Left e -> failIn "fk" e
+    Right r | es@(_ : _) <- degreesTooWide "q" (fkDeg o) r (fkQ o) -> failIn "fk" (intercalate "; " es)
     Right r -> do
       let q = jointsFrom (fkDeg o) r (fkQ o)
       case checkJointVector False r q of
@@ -261,7 +272,7 @@ outsideLimits deg r q =
 data IkOpts = IkOpts
   { ikRobotName :: String, ikPose :: [Double], ikSeedQ :: Maybe [Double], ikAll :: Bool
   , ikDeg :: Bool, ikTip :: Maybe String, ikFormat :: Format, ikBudget :: Double, ikBranchWanted :: Maybe String
-  , ikEnvironment :: Maybe FilePath, ikEnvScale :: Double, ikClearanceGiven :: Maybe Double, ikIgnoreBodies :: [Int] }
+  , ikEnvironment :: Maybe FilePath, ikEnvScale :: Maybe Double, ikClearanceGiven :: Maybe Double, ikIgnoreBodies :: [Int] }
 
 ikCommand :: Parser (IO ExitCode)
 ikCommand = runIk <$> (IkOpts
@@ -277,8 +288,8 @@ ikCommand = runIk <$> (IkOpts
         <> help "six-axis closed forms: only this branch (shoulder R/L, elbow U/D, wrist N/F)"))
   <*> optional (strOption (long "environment" <> metavar "FILE.obj"
         <> help "keep the robot clear of this Wavefront OBJ scene (in the robot's base frame)"))
-  <*> option auto (long "scale" <> metavar "S" <> value 1 <> showDefault
-        <> help "the scene's coordinates times S are metres (0.001 for millimetres)")
+  <*> optional (option auto (long "scale" <> metavar "S"
+        <> help "with --environment: the scene's coordinates times S are metres (0.001 for millimetres; default 1)"))
   <*> optional (option (eitherReader nonNegClearance) (long "clearance" <> metavar "M"
         <> help "with --environment: the least distance between the robot's capsules and the scene, m (default: 0.01)"))
   <*> many (option (eitherReader bodyNumber) (long "ignore-body" <> metavar "N"
@@ -288,7 +299,7 @@ ikCommand = runIk <$> (IkOpts
       Just x | not (isNaN x || isInfinite x) && x > 0 && x <= 3600 -> Right x
       _ -> Left ("--time-budget " ++ show str ++ " s: expected a number > 0 and at most 3600")
     nonNegClearance str = case readD str of
-      Just x | not (isNaN x || isInfinite x) && x >= 0 -> Right x
+      Just x | not (isNaN x || isInfinite x) && x >= 0 -> if x <= maxCoordinate then Right x else Left ("--clearance " ++ str ++ " m: " ++ tooLongRule)
       _ -> Left ("--clearance " ++ show str ++ " m: expected a finite number >= 0")
     bodyNumber str = case reads str :: [(Int, String)] of
       [(k, "")] | k >= 1 -> Right k
@@ -317,11 +328,14 @@ runIk o = do
     Right r -> case ikPose o of
       _ | e : _ <- [ e | b <- ikIgnoreBodies o, Just e <- [unknownBody r False b] ] ->
             failIn "ik" ("--ignore-body: " ++ e)
+      _ | es@(_ : _) <- degreesTooWide "--seed" (ikDeg o) r (concat (ikSeedQ o)) -> failIn "ik" (intercalate "; " es)
       -- options that act on a scene, given without one, would go unused
       _ | Nothing <- ikEnvironment o, Just c <- ikClearanceGiven o ->
             failIn "ik" ("--clearance " ++ showNumber c ++ " m: needs --environment FILE.obj, the scene to keep clear of")
       _ | Nothing <- ikEnvironment o, b : _ <- ikIgnoreBodies o ->
             failIn "ik" ("--ignore-body " ++ show b ++ ": needs --environment FILE.obj, the scene to leave the body out of")
+      _ | Nothing <- ikEnvironment o, Just sc <- ikEnvScale o ->
+            failIn "ik" ("--scale " ++ showNumber sc ++ ": needs --environment FILE.obj, the scene it scales")
       [x, y, z, w, qx', qy', qz']
         | any ((> maxCoordinate) . abs) [x, y, z] ->
             failIn "ik" ("--pose: the position (" ++ unwords (map show [x, y, z]) ++ ") m is more than "
@@ -345,7 +359,7 @@ runIk o = do
       Just path
         | isNaN (ikClearance o) || isInfinite (ikClearance o) || ikClearance o < 0 ->
             pure (Left ("--clearance = " ++ show (ikClearance o) ++ " m: must be a finite number >= 0"))
-        | otherwise -> fmap (Just . buildBvh) <$> loadScene [SceneFile path (ikEnvScale o) identity]
+        | otherwise -> fmap (Just . buildBvh) <$> loadScene [SceneFile path (fromMaybe 1 (ikEnvScale o)) identity]
     -- every solution with its clearance to the scene (m), or why there is none: Left a usage
     -- error (exit 2), Right a reason (exit 1)
     solveWithin env r target seed opts = case env of

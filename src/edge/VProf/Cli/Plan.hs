@@ -24,7 +24,7 @@ import qualified Data.ByteString.Char8 as B
 import qualified Data.ByteString.Lazy.Char8 as BL
 import Data.Char (toLower)
 import Data.List (intercalate, isPrefixOf)
-import Data.Maybe (isJust, isNothing)
+import Data.Maybe (fromMaybe, isJust, isNothing)
 import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
 import GHC.Clock (getMonotonicTime)
@@ -36,7 +36,7 @@ import System.FilePath (takeExtension)
 import System.IO
 import System.Timeout (timeout)
 
-import VProf.Cli.Kinematics (loadRobot)
+import VProf.Cli.Kinematics (degreesTooWide, loadRobot)
 import qualified VProf.Cli.Output as Out
 import VProf.Format.IOError (ioReason)
 import VProf.Compress.Clean (fileLocator, nonUnitWarning, renderCleanWarning)
@@ -62,7 +62,7 @@ data PlanOpts = PlanOpts
   { poPath :: FilePath, poRobot :: String, poTip :: Maybe String, poBase :: Maybe [Double], poTool :: Maybe [Double]
   , poSpeed :: Double, poZone :: Zone, poAcc :: Double, poJerk :: Double, poDt :: Double
   , poStart :: Maybe [Double], poDeg :: Bool
-  , poEnv :: Maybe FilePath, poEnvScale :: Double, poClearance :: Maybe Double, poIgnore :: [Int]
+  , poEnv :: Maybe FilePath, poEnvScale :: Maybe Double, poClearance :: Maybe Double, poIgnore :: [Int]
   , poBudget :: Double
   , poFormat :: Maybe OutFormat, poOutput :: Maybe FilePath, poPlot :: Maybe FilePath }
 
@@ -117,8 +117,8 @@ planCommand = runPlan <$> (PlanOpts
   <*> switch (long "deg" <> help "--start in degrees")
   <*> optional (strOption (long "environment" <> metavar "FILE.obj"
         <> help "keep the robot clear of this Wavefront OBJ scene (in the path's frame)"))
-  <*> option auto (long "scale" <> metavar "S" <> value 1 <> showDefault
-        <> help "the scene's coordinates times S are metres (0.001 for millimetres)")
+  <*> optional (option auto (long "scale" <> metavar "S"
+        <> help "with --environment: its coordinates times S are metres (0.001 for millimetres; default 1; a task file's meshes have their own)"))
   <*> optional (option (eitherReader nonNeg) (long "clearance" <> metavar "M"
         <> help "with --environment: the least distance between the robot's capsules and the scene, m (default: the task's, else 0.01)"))
   <*> many (option (eitherReader bodyNumber) (long "ignore-body" <> metavar "N"
@@ -148,7 +148,7 @@ planCommand = runPlan <$> (PlanOpts
       [(k, "")] | k >= 1 -> Right k
       _ -> Left ("--ignore-body " ++ show str ++ ": expected a body number >= 1 (1 = the first link)")
     nonNeg s = case readD s of
-      Just x | finite x && x >= 0 -> Right x
+      Just x | finite x && x >= 0 -> if x <= maxCoordinate then Right x else Left ("--clearance " ++ s ++ " m: " ++ tooLongRule)
       _ -> Left ("--clearance " ++ show s ++ " m: expected a finite number >= 0")
     budgetR s = case readD s of
       Just x | finite x && x > 0 && x <= 3600 -> Right x
@@ -265,6 +265,9 @@ runPlan o = do
                    | Just c <- [poClearance o], noScene ]
                 ++ [ "--ignore-body " ++ show b ++ ": needs an environment to leave the body out of (--environment FILE.obj, or a task file's)"
                    | b <- take 1 (poIgnore o), noScene ]
+                ++ degreesTooWide "--start" (poDeg o) r (concat (poStart o))
+                ++ [ "--scale " ++ showNumber sc ++ ": needs --environment FILE.obj, the scene it scales (a task file's meshes have their own scale)"
+                   | Just sc <- [poEnvScale o], isNothing (poEnv o) ]
                 -- (a start of the wrong length, named as typed: in degrees with --deg)
                 ++ [ "--start \"" ++ unwords (map showNumber qs) ++ "\"" ++ (if poDeg o then " (deg)" else "") ++ ": expected "
                      ++ show (dof r) ++ " joint values for " ++ robotName r ++ ", got " ++ show (length qs)
@@ -314,7 +317,7 @@ runPlan o = do
     -- --environment replaces the task's cell; the ignored bodies of both are left out
     loadEnv mtask = case (poEnv o, maybe [] taskEnvironment mtask) of
       (Nothing, []) -> pure (Right (const Nothing))
-      (Just path, _) -> scene [SceneFile path (poEnvScale o) identity] "--environment: "
+      (Just path, _) -> scene [SceneFile path (fromMaybe 1 (poEnvScale o)) identity] "--environment: "
       (Nothing, meshes) -> scene [SceneFile (mpFile m) (mpScale m) (mpPose m) | m <- meshes] (poPath o ++ ": environment: ")
       where
         ignore = poIgnore o ++ maybe [] taskIgnoreBodies mtask

@@ -46,10 +46,16 @@ defaultRapidOptions = RapidOptions "VprofPath" "v500" "z10" "tool0" "wobj0"
 -- start time of a @vprof start time:@ comment, and the text after the last statement's end (a
 -- keyword line such as ENDMODULE, which needs no ';', or a statement the file was cut short in).
 statements :: String -> ([(Int, String)], Maybe Double, Maybe (Int, String))
-statements src = go (zip [1 ..] (lines src)) Nothing "" Nothing []
+statements src = go (zip [1 ..] (lines src)) Nothing none Nothing []
   where
+    -- the statement being read: its pieces, last first (appended to at every line, so kept
+    -- in pieces: a long text without ';' would otherwise be copied once a line), and whether
+    -- all of them are blank
+    none = ([], True)
+    add piece (ps, blank) = (piece : ps, blank && all isSpace piece)
+    text (ps, _) = trim (concat (reverse ps))
     -- the text after the last ';' (an ENDMODULE, or a statement the file was cut short in)
-    go [] start cur st acc = (reverse acc, st, if all isSpace cur then Nothing else Just (maybe 0 id start, trim cur))
+    go [] start cur st acc = (reverse acc, st, if snd cur then Nothing else Just (maybe 0 id start, text cur))
     go ((i, l) : rest) start cur st acc =
       let (code, comment) = break (== '!') l
           st' = case parseStart comment of
@@ -61,9 +67,9 @@ statements src = go (zip [1 ..] (lines src)) Nothing "" Nothing []
             (w : _) -> w `elem` keywords
             [] -> False
           (start', cur', acc')
-            | startsNew && not (all isSpace cur) = (Nothing, "", (maybe i id start, trim cur) : acc)
+            | startsNew && not (snd cur) = (Nothing, none, (maybe i id start, text cur) : acc)
             | otherwise = (start, cur, acc)
-      in split i rest start' (cur' ++ " ") code st' acc'
+      in split i rest start' (add " " cur') code st' acc'
     keywords = [ "module", "endmodule", "proc", "endproc", "func", "endfunc", "trap", "endtrap"
                , "local", "const", "pers", "var", "movel", "movej", "paintl", "moveabsj", "movec" ]
                ++ controlWords ++ [ "end" ++ w | w <- ["for", "while", "if", "test"] ]
@@ -71,11 +77,11 @@ statements src = go (zip [1 ..] (lines src)) Nothing "" Nothing []
       case break (== ';') code of
         (a, ';' : b) ->
           let s0 = maybe i id start
-              stmt = trim (cur ++ a)
-          in split i rest Nothing "" b st (if null stmt then acc else (s0, stmt) : acc)
+              stmt = text (add a cur)
+          in split i rest Nothing none b st (if null stmt then acc else (s0, stmt) : acc)
         (a, _) ->
-          let cur' = cur ++ a
-              start' = if all isSpace cur' then Nothing else Just (maybe i id start)
+          let cur' = add a cur
+              start' = if snd cur' then Nothing else Just (maybe i id start)
           in go rest start' cur' st acc
     parseStart c =
       let c' = dropWhile (\x -> x == '!' || isSpace x) c
