@@ -38,6 +38,15 @@ spec :: Spec
 spec = do
   it "a double written as a string reads as the number" $ property $ \x ->
     routeLength (withField "route_length" (show (show (x :: Double)))) === Right x
+  it "refuses a key a letter or two from a field's name, naming the field meant (time_stpe and end_velocty were passed over: the run took the default time step and end velocity); other unknown keys (an example's name and note) are passed over" $ do
+    requestFromJson (withField "time_stpe" "0.01") `shouldBe` Left "time_stpe: unknown field; did you mean time_step?"
+    requestFromJson (withField "EndVelocity" "1") `shouldBe` Left "EndVelocity: unknown field; did you mean end_velocity?"
+    requestFromJson (withField "end-tolerance" "0.001") `shouldBe` Left "end-tolerance: unknown field; did you mean end_tolerance?"
+    requestFromJson (BLC.pack "{\"route_length\": 10, \"speed_limits\": [{\"start_distance\": 0, \"velocty\": 2}]}")
+      `shouldBe` Left "speed_limits[0].velocty: unknown field; did you mean velocity?"
+    fmap (si . rqRouteLength) (requestFromJson (withField "name" "\"a case\"")) `shouldBe` Right 10
+    fmap (si . rqRouteLength) (requestFromJson (withField "note" "\"a note\"")) `shouldBe` Right 10
+    fmap (fmap si . rqTimeStep) (requestFromJson (withField "timeStep" "0.01")) `shouldBe` Right (Just 0.01)
   it "accepts the lowerCamelCase name and an integer as a string" $ do
     fmap rqMaxIterations (requestFromJson (withField "maxIterations" "\"50\"")) `shouldBe` Right (Just 50)
   it "\"NaN\", \"Infinity\" and \"-Infinity\" parse; validation names the field and the value" $ do

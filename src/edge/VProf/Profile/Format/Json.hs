@@ -3,7 +3,8 @@
 -- @proto/vprof/v1/vprof.proto@ (snake_case as in the schema; the lowerCamelCase form that
 -- proto3 JSON printers emit is accepted too). Absent fields take their proto3 default,
 -- exactly as on the wire. Unknown keys (a case's @name@, @note@, reference figures) are
--- ignored.
+-- ignored, but for one a letter or two from a field's name ('misspelt'): its value would be
+-- lost and the field's default taken, so it is refused, naming the field meant.
 module VProf.Profile.Format.Json
   ( requestFromJson
   , requestFromValue
@@ -28,6 +29,7 @@ import qualified Data.Text as T
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Format.DuplicateKeys (duplicateJsonKeyErrors)
+import VProf.Format.Misspelt (misspelt)
 import VProf.Format.Chunked (chunkRanges, renderChunked)
 import VProf.Format.Number (doubleBuilder)
 import VProf.Format.Text (dropBomLazy)
@@ -154,12 +156,34 @@ fieldWith parse o name def = case KM.lookup (K.fromString name) o of
     named Null = pure def
     named v = parse v `orFail` name
     orFail p n = either (\e -> fail (n ++ ": " ++ plainMessage e)) pure (parseEither (const p) ())
-    camel s = case break (== '_') s of
-      (a, '_' : c : rest) -> a ++ camel (toUpper c : rest)
-      (a, _) -> a
+    camel = camelCase
+
+-- | The fields of a request and of a speed limit, in the schema's spelling.
+requestFields, zoneFields :: [String]
+requestFields =
+  [ "request_id", "route_length", "speed_limits", "min_acceleration", "max_acceleration", "min_jerk", "max_jerk"
+  , "start_velocity", "start_acceleration", "end_velocity", "end_acceleration", "time_step", "velocity_step"
+  , "max_iterations", "time_budget", "end_tolerance", "algorithm" ]
+zoneFields = ["start_distance", "velocity"]
+
+-- | Refuse a key a letter or two from a field's name (in either spelling, snake_case or
+-- lowerCamelCase), naming it and the field.
+noMisspelt :: [String] -> Object -> Parser ()
+noMisspelt fields o =
+  case [ (k, f) | k <- map K.toString (KM.keys o), k `notElem` spellings, Just f <- [misspelt fields k] ] of
+    [] -> pure ()
+    bad -> fail (intercalate "; " [ k ++ ": unknown field; did you mean " ++ f ++ "?" | (k, f) <- bad ])
+  where spellings = fields ++ map camelCase fields
+
+-- | A field's lowerCamelCase spelling, as proto3 JSON printers write it.
+camelCase :: String -> String
+camelCase s = case break (== '_') s of
+  (a, '_' : c : rest) -> a ++ camelCase (toUpper c : rest)
+  (a, _) -> a
 
 parseRequest :: Value -> Parser Request
 parseRequest = withObject "ProfileRequest" $ \o -> do
+  noMisspelt requestFields o
   _ <- requestId o  -- checked here; 'requestIdFromJson' reads it for the response
   len <- dbl o "route_length"
   zonesV <- field o "speed_limits" []
@@ -199,6 +223,7 @@ parseRequest = withObject "ProfileRequest" $ \o -> do
 
 parseZone :: Value -> Parser SpeedZone
 parseZone = withObject "SpeedLimit" $ \o -> do
+  noMisspelt zoneFields o
   st <- dbl o "start_distance"
   v <- dbl o "velocity"
   pure (SpeedZone (st *~ meter) (v *~ mps))
