@@ -561,6 +561,16 @@ spec = do
       case resOutcome (generatePure rq2) of
         Failed (InvalidRequest es) -> map feField es `shouldBe` ["route_length"]
         other -> expectationFailure (show other)
+      -- a route beyond any robot's (1e9 m) is named, not its one zone's speed (4 m/s was
+      -- "too slow" for 1e20 m), a speed no route can be driven at is (1e-300 m/s on 10 m)
+      let lone len v = defaultRequest { rqRouteLength = len *~ meter, rqZones = [SpeedZone (0 *~ meter) (v *~ mps)]
+                                      , rqTimeStep = Just (0.125 *~ second) }
+      forM_ [(1e20, 4, "route_length"), (1e308, 4, "route_length"), (10, 1e-300, "speed_limits[0].velocity")] $ \(len, v, f) ->
+        case resOutcome (generatePure (lone len v)) of
+          Failed (InvalidRequest es) -> do
+            map feField es `shouldBe` [f]
+            concatMap feRule es `shouldSatisfy` (\r -> "above the cap of 1048576 samples" `isInfixOf` r && not ("Infinity" `isInfixOf` r))
+          other -> expectationFailure (show other)
     it "a start that cannot stop by the route end but can within its end tolerance gets a legal profile (was claimed infeasible)" $ do
       Right rq <- requestFromJson <$> BL.readFile "test/data/overrun-within-tolerance-7cm.json"
       r <- generate rq

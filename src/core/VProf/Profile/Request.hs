@@ -363,9 +363,10 @@ validate rq =
       , all (\(st, v) -> finite st && finite v && v > 0) zones =
           let lower = leastSamples driven dt sorted
               -- one zone of several that alone needs more than the cap is named: its speed is the
-              -- cause (so is a speed so low that no route could be driven at it, even the only zone's)
+              -- cause (so is a speed so low that no route could be driven at it, even the only
+              -- zone's); not on a route beyond any robot's (1e9 m), whose length is the cause
               ends = drop 1 (map fst sorted) ++ [driven]
-              alone = [ (i, v, n) | (i, ((st, v), e)) <- zip [0 :: Int ..] (zip sorted ends)
+              alone = [ (i, v, n) | len <= maxCoordinate, (i, ((st, v), e)) <- zip [0 :: Int ..] (zip sorted ends)
                                   , let n = max 0 (min driven e - max 0 st) / v / dt
                                   , n > fromIntegral maxSamples, length zones > 1 || n > 1e15 ]
           in case alone of
@@ -374,7 +375,7 @@ validate rq =
                   ++ " samples at time_step " ++ num dt ++ " s, above the cap of " ++ show maxSamples
                   ++ " samples; raise it, split the route or raise time_step")
                [] | lower > fromIntegral maxSamples -> err "route_length" len "m"
-                       ("needs at least " ++ (if lower < 1e15 then show (ceiling lower :: Integer) else showNumber lower) ++ " samples at time_step " ++ num dt
+                       ("needs at least " ++ (if lower < 1e15 then show (ceiling lower :: Integer) else if isInfinite lower then "1.8e308" else showNumber lower) ++ " samples at time_step " ++ num dt
                         ++ " s (each zone at its speed limit), above the cap of " ++ show maxSamples
                         ++ " samples; split the route or raise time_step")
                   | otherwise -> dynamicErrors
