@@ -12,7 +12,7 @@ import System.FilePath (takeFileName, (</>))
 import System.IO.Temp (withSystemTempDirectory)
 import Test.Hspec
 
-import Support.Cli (parserRefused, runCommand, splitComma)
+import Support.Cli (captureStderr, parserRefused, runCommand, splitComma)
 
 import VProf.Cli.Profile (checkCommand, encodeCommand, generateOptions)
 import VProf.Profile.Format.File (readRequest, readRequestWithId)
@@ -111,6 +111,19 @@ spec = do
         run checkCommand [simple, f] `shouldReturn` ExitFailure 2
         writeFile f (unlines ("t,s,speed,a,j" : drop 1 rows))
         run checkCommand [simple, f] `shouldReturn` ExitFailure 2
+    it "reads a profile CSV or JSON after a UTF-8 byte-order mark (a spreadsheet's CSV was refused, its header read as \"\\239\\187\\191t\"); a second time not after the first names both" $
+      withSystemTempDirectory "vprof-check" $ \dir -> do
+        let good = dir </> "good.csv"; f = dir </> "bom.csv"; js = dir </> "good.json"; fj = dir </> "bom.json"; back = dir </> "back.csv"
+        run generateOptions [simple, "-o", good, "--time-budget", "30"] `shouldReturn` ExitSuccess
+        run generateOptions [simple, "-o", js, "--time-budget", "30"] `shouldReturn` ExitSuccess
+        B.writeFile f . (B.pack [0xEF, 0xBB, 0xBF] <>) =<< B.readFile good
+        B.writeFile fj . (B.pack [0xEF, 0xBB, 0xBF] <>) =<< B.readFile js
+        run checkCommand [simple, f] `shouldReturn` ExitSuccess
+        run checkCommand [simple, fj] `shouldReturn` ExitSuccess
+        writeFile back "t,s,v,a,j\n0,0,0,0,0\n0,0,0,0,0\n0.125,0,0,0,0\n"
+        (c, e) <- captureStderr (dir </> "e.txt") (run checkCommand [simple, back])
+        c `shouldBe` ExitFailure 2
+        e `shouldSatisfy` isInfixOf "sample 1 is at t = 0.0 s, not after sample 0 at 0 s"
     it "a profile whose velocities are NaN is illegal (exit 1), in CSV, JSON and as a NaN time" $
       withSystemTempDirectory "vprof-check" $ \dir -> do
         let csv = dir </> "nan.csv"; js = dir </> "nan.json"; good = dir </> "good.csv"; badT = dir </> "badt.csv"

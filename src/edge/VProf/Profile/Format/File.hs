@@ -22,6 +22,7 @@ import qualified Data.Vector.Unboxed as U
 import System.FilePath (takeExtension)
 
 import VProf.Format.IOError (ioReason)
+import VProf.Format.Text (dropBom)
 import VProf.Format.DuplicateKeys (duplicateJsonKeyErrors)
 import VProf.Profile.Format.Json
 import VProf.Profile.Request
@@ -54,7 +55,7 @@ readProfile path = do
   r <- try (B.readFile path)
   pure $ case r of
     Left (e :: IOException) -> Left (path ++ ": " ++ ioReason e)
-    Right bytes -> case map toLower (takeExtension path) of
+    Right bytes0 -> let bytes = dropBom bytes0 in case map toLower (takeExtension path) of
       ".csv" -> fromColumns =<< parseCsv (BLC.unpack (BL.fromStrict bytes))
       ".json" -> case A.eitherDecodeStrict bytes of
         Left e -> Left (path ++ ": " ++ e)
@@ -102,7 +103,7 @@ readProfile path = do
       ((t0, _) : (t1, _) : _) ->
         let dt = t1 - t0
             uneven = [ (k, t) | (k, (t, _)) <- zip [0 :: Int ..] rows, abs (t - (t0 + fromIntegral k * dt)) > 1e-9 * max 1 (abs t) ]
-        in if dt <= 0 then Left (path ++ ": times must increase")
+        in if dt <= 0 then Left (path ++ ": sample 1 is at t = " ++ show t1 ++ " s, not after sample 0 at 0 s: times must increase by the time step")
            else case uneven of
              ((k, t) : _) -> Left (path ++ ": sample " ++ show k ++ " at t = " ++ show t ++ " is off the uniform time step " ++ show dt)
              [] -> Right (dt, U.fromList (map snd rows))
