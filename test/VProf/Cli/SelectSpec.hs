@@ -5,7 +5,7 @@
 module VProf.Cli.SelectSpec (spec) where
 
 import Data.List (isInfixOf)
-import System.Directory (doesFileExist, makeAbsolute)
+import System.Directory (createDirectory, doesFileExist, makeAbsolute)
 import System.Exit (ExitCode (..))
 import System.FilePath ((</>))
 import System.IO.Temp (withSystemTempDirectory)
@@ -83,6 +83,12 @@ spec = do
       f <- writeTask tmp (tmp </> "no-cell.obj") "payload: 1\nclearance: 0.01\ntargets:\n  - {position: [0.5, 0, 0.3]}\n"
       es <- errorsOf f
       es `shouldSatisfy` any (\e -> "environment[0].file" `isInfixOf` e && "no-cell.obj" `isInfixOf` e)
+      run [f, "--robots", "ur5"] `shouldReturn` ExitFailure 2
+    it "a mesh or path file that is a directory is said to be one (it was said not to exist)" $ withSystemTempDirectory "vprof-select" $ \tmp -> do
+      createDirectory (tmp </> "adir.obj")
+      f <- writeTask tmp (tmp </> "adir.obj") "payload: 1\nclearance: 0.01\ntargets:\n  - {position: [0.5, 0, 0.3]}\n"
+      es <- errorsOf f
+      es `shouldSatisfy` any (\e -> "environment[0].file" `isInfixOf` e && "is a directory, not a file" `isInfixOf` e)
       run [f, "--robots", "ur5"] `shouldReturn` ExitFailure 2
     it "a malformed path file, or one with a missing pose value, names its line" $
       mapM_ (\bad -> withSystemTempDirectory "vprof-select" $ \tmp -> do

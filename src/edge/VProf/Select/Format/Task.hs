@@ -29,7 +29,7 @@ import Data.Scientific (toRealFloat)
 import qualified Data.Text as T
 import qualified Data.Vector as V
 import qualified Data.Yaml as Y
-import System.Directory (doesFileExist)
+import System.Directory (doesDirectoryExist, doesFileExist)
 import System.Environment (lookupEnv)
 import System.FilePath (takeDirectory, (</>), isAbsolute)
 
@@ -62,20 +62,25 @@ readTaskFileWarned path = do
         Left es -> pure (Left (map ((path ++ ": ") ++) es))
         Right (task, pathSpec) -> do
           let dir = takeDirectory path
+          -- a named file that is missing, or a directory
+          let missing field given f = do
+                ok <- doesFileExist f
+                isDir <- doesDirectoryExist f
+                pure $ if ok then Nothing
+                       else Just [path ++ ": " ++ field ++ ": " ++ show given
+                                  ++ (if isDir then " is a directory, not a file" else " does not exist") ++ " (looked for " ++ f ++ ")"]
           env <- mapM (\(i, m) -> do
                          f <- resolvePath dir (mpFile m)
-                         ok <- doesFileExist f
-                         pure (if ok then Right m {mpFile = f}
-                               else Left [path ++ ": environment[" ++ show i ++ "].file: " ++ show (mpFile m) ++ " does not exist (looked for " ++ f ++ ")"]))
+                         maybe (Right m {mpFile = f}) Left <$> missing ("environment[" ++ show i ++ "].file") (mpFile m) f)
                       (zip [0 :: Int ..] (taskEnvironment task))
           pathTargets <- case pathSpec of
             Nothing -> pure (Right ([], []))
             Just (file, frame) -> do
               f <- resolvePath dir file
-              ok <- doesFileExist f
-              if not ok
-                then pure (Left [path ++ ": path.file: " ++ show file ++ " does not exist (looked for " ++ f ++ ")"])
-                else either (\e -> Left [e]) Right <$> readPathTargets frame f
+              gone <- missing "path.file" file f
+              case gone of
+                Just e -> pure (Left e)
+                Nothing -> either (\e -> Left [e]) Right <$> readPathTargets frame f
           pure $ case (collect env, pathTargets) of
             (Right env', Right (pts, warns)) ->
               let task' = task {taskEnvironment = env', taskTargets = taskTargets task ++ pts}
