@@ -245,6 +245,15 @@ spec = describe "vprof compress" $ do
       -- the cup's untracked frames (the first on line 15): dropped, with a warning
       (_, ec) <- captureStderr (dir </> "ec.txt") (writtenTum dir "cup.txt" [qtm, "--points", "10", "--rigid-body", "Cup"])
       ec `shouldSatisfy` (\w -> "warning" `isInfixOf` w && "dropped" `isInfixOf` w && "line 15" `isInfixOf` w && "not tracked" `isInfixOf` w)
+  it "a Vicon Nexus export whose frame rate is not a rate is refused naming its line and value (0, -5 and abc were read as a plain CSV without a time column; 1e308 Hz put every frame at 0 s)" $
+    withSystemTempDirectory "vprof-cli" $ \dir -> do
+      src <- lines <$> readFile "test/data/vicon-nexus-excerpt.csv"
+      forM_ ["0", "-5", "abc", "1e-308", "1e308"] $ \rate -> do
+        let f = dir </> "trial.csv"
+        writeFile f (unlines (take 1 src ++ [rate] ++ drop 2 src))
+        (code, e) <- captureStderr (dir </> "e.txt") (runCli [f, "--points", "2"])
+        code `shouldBe` ExitFailure 2
+        e `shouldSatisfy` (\w -> "Vicon Nexus CSV line 2" `isInfixOf` w && ("frame rate " ++ (if rate == "abc" then show rate else rate)) `isInfixOf` w)
   it "reads KITTI poses (12 numbers a line) with the times file beside them or given by --times, and says so" $
     withSystemTempDirectory "vprof-cli" $ \dir -> do
       pf <- dataFile "KITTI_00_gt.txt"

@@ -23,6 +23,7 @@ import VProf.Compress.Clean (Sample (..))
 import VProf.Compress.Format.Common (cellAt, chooseBody, filledLines, numberField, poseColumns, readDouble, splitCells, textCells)
 import VProf.Geometry.Quaternion (qexp)
 import VProf.Geometry.Vec (P3 (..))
+import VProf.Validation (showBound)
 
 -- | How a Nexus export was read (columns counted from 1).
 data ViconLayout = ViconLayout
@@ -49,14 +50,19 @@ sectionOf l = case cells l of
   c : rest | map toLower c `elem` sectionNames, all null rest -> Just c
   _ -> Nothing
 
--- | Whether the first line that is not blank names a Nexus section and the next holds a number
--- (the frame rate).
+-- | Whether the first line that is not blank names a Nexus section and a line follows it (the
+-- frame rate: one that is not a rate is the reader's error, naming it).
 isViconCsv :: B.ByteString -> Bool
 isViconCsv src = case filledLines src of
-  l : r : _ | Just _ <- sectionOf l -> case cells r of
-    c : _ -> maybe False (> 0) (readDouble (B.pack c))
-    [] -> False
+  l : _ : _ | Just _ <- sectionOf l -> True
   _ -> False
+
+-- | The frame rates taken (Hz): a rate outside them is a wrong number or unit (below a frame in
+-- 1000 s the times of a long take run out of digits; above a million frames a second no
+-- motion capture records, and 1e308 Hz put every frame at 0 s).
+minFrameRate, maxFrameRate :: Double
+minFrameRate = 1e-3
+maxFrameRate = 1e6
 
 -- | One sentence on what was read.
 describeVicon :: ViconLayout -> String
@@ -90,8 +96,13 @@ readVicon want src = do
       axisLine = segLine + 3
       unitsLine = segLine + 4
   rate <- case cells (line rateLine) of
-    c : _ | Just f <- readDouble (B.pack c), f > 0 -> Right f
-    c : _ -> Left ("Vicon Nexus CSV line " ++ show rateLine ++ ": the Segments section's frame rate " ++ show c ++ " is not a number > 0 (Hz)")
+    c : _ | Just f <- readDouble (B.pack c), f >= minFrameRate, f <= maxFrameRate -> Right f
+          | Just f <- readDouble (B.pack c), f > 0 ->
+              Left ("Vicon Nexus CSV line " ++ show rateLine ++ ": the Segments section's frame rate " ++ c ++ " Hz is outside "
+                    ++ showBound minFrameRate ++ " to " ++ showBound maxFrameRate ++ " Hz (is the number right?)")
+          | Just _ <- readDouble (B.pack c) ->
+              Left ("Vicon Nexus CSV line " ++ show rateLine ++ ": the Segments section's frame rate " ++ c ++ " Hz is not above 0")
+    c : _ -> Left ("Vicon Nexus CSV line " ++ show rateLine ++ ": the Segments section's frame rate " ++ show c ++ " is not a number (Hz)")
     [] -> Left ("Vicon Nexus CSV line " ++ show rateLine ++ ": no frame rate after the Segments line")
   let names = cells (line namesLine)
       axes = map (map toLower) (cells (line axisLine))
