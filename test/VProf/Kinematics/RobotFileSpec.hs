@@ -125,6 +125,16 @@ spec = do
     it "a negative speed" $
       errsOf (B.pack (unlines ["name: x", "convention: standard-dh", "joints:", "  - {name: J1, limits: [-1, 1], max_velocity: -5}", "links:", "  - {dh: {a: 1}}"]))
         `shouldSatisfy` any ("joints[0].max_velocity = -5.0 deg/s" `isInfixOf`)
+    it "a joint speed or acceleration no robot has is refused as a wrong unit, in the file's units (1e308 deg/s showed 'speed Infinity' and a cycle of 0 s; 1e-300 gave the planner a TCP acceleration of 1e-303 m/s^2)" $ do
+      let file u v a = B.pack (unlines ["name: x", "convention: standard-dh", "units: {length: m, angle: " ++ u ++ "}", "joints:"
+                                       , "  - {name: J1, limits: [-1, 1], max_velocity: " ++ v ++ ", max_acceleration: " ++ a ++ "}", "links:", "  - {dh: {a: 1}}"])
+          wrong = "(is the unit right?)"
+      errsOf (file "deg" "1e308" "100") `shouldSatisfy` any (\e -> "joints[0].max_velocity = 1.0e308 deg/s: must be from 0.001 to 1e6 degrees a second" `isInfixOf` e && wrong `isInfixOf` e)
+      errsOf (file "deg" "1e-300" "100") `shouldSatisfy` any ("joints[0].max_velocity = 1.0e-300 deg/s" `isInfixOf`)
+      errsOf (file "deg" "180" "1e9") `shouldSatisfy` any ("joints[0].max_acceleration = 1000000000.0 deg/s^2: must be from 0.001 to 1e8 degrees a second squared" `isInfixOf`)
+      errsOf (file "rad" "20000" "10") `shouldSatisfy` any ("joints[0].max_velocity = 20000.0 rad/s" `isInfixOf`)
+      -- at the bounds and between them: taken
+      mapM_ (\(u, v, a) -> errsOf (file u v a) `shouldBe` []) [("deg", "0.001", "1e8"), ("deg", "1e6", "0.001"), ("rad", "3.14", "10"), ("deg", "180", "500")]
     it "a drive naming no joint" $
       errsOf (B.pack (unlines ["name: x", "convention: standard-dh", "joints:", "  - {name: J1, limits: [-1, 1]}", "links:", "  - {dh: {a: 1}, drive: {J9: 1}}"]))
         `shouldSatisfy` any ("links[0].drive.J9" `isInfixOf`)

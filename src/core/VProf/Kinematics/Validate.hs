@@ -76,6 +76,22 @@ feIn su f v u = let (t, u') = showIn su u v in fe f t u'
 maxCoupling :: Double
 maxCoupling = 1e6
 
+-- | The joint speeds and accelerations taken (SI, with the words for them): a value outside is
+-- a wrong number or unit. A speed of 1e308 made every cycle time 0 s, one of 1e-300 left the
+-- planner a TCP acceleration of 1e-303 m/s², too weak for any time step.
+data Range = Range !Double !Double String
+
+speedRange, accelerationRange :: JointKind -> Range
+speedRange Revolute = Range (1e-3 * pi / 180) (1e6 * pi / 180) "0.001 to 1e6 degrees a second"
+speedRange Prismatic = Range 1e-6 1e3 "1e-6 to 1000 m/s"
+accelerationRange Revolute = Range (1e-3 * pi / 180) (1e8 * pi / 180) "0.001 to 1e8 degrees a second squared"
+accelerationRange Prismatic = Range 1e-6 1e6 "1e-6 to 1e6 m/s²"
+
+outsideRange :: Range -> Double -> Maybe String
+outsideRange (Range lo hi words') x
+  | x < lo * (1 - 1e-12) || x > hi * (1 + 1e-12) = Just ("must be from " ++ words' ++ " (is the unit right?)")
+  | otherwise = Nothing
+
 unitOf :: JointKind -> (String, String, String)
 unitOf Revolute = ("rad", "rad/s", "rad/s^2")
 unitOf Prismatic = ("m", "m/s", "m/s^2")
@@ -114,6 +130,8 @@ validateRobotIn su Robot{..} =
            ++ [fe (p ++ ".limits") (shown lo ++ ".." ++ shown hi) (snd (showIn su u lo)) "a prismatic joint needs finite limits" | jointKind == Prismatic, isInfinite lo || isInfinite hi]
            ++ [feIn su (p ++ ".max_velocity") v uv "must be a finite number > 0 (or absent)" | Just v <- [jointMaxVelocity], not (finite v && v > 0)]
            ++ [feIn su (p ++ ".max_acceleration") a ua "must be a finite number > 0 (or absent)" | Just a <- [jointMaxAcceleration], not (finite a && a > 0)]
+           ++ [feIn su (p ++ ".max_velocity") v uv rule | Just v <- [jointMaxVelocity], finite v, v > 0, Just rule <- [outsideRange (speedRange jointKind) v]]
+           ++ [feIn su (p ++ ".max_acceleration") a ua rule | Just a <- [jointMaxAcceleration], finite a, a > 0, Just rule <- [outsideRange (accelerationRange jointKind) a]]
     linkErrs :: Int -> Link -> [FieldError]
     linkErrs i Link{..} =
       let p = "links[" ++ show i ++ "]"
