@@ -21,6 +21,8 @@ module VProf.Validation
   , ensureFinite
   , validated
   , maxCoordinate
+  , maxTime
+  , tooLateRule
   , tooFarRule
   , tooLongRule
   , maxAngleDeg
@@ -44,6 +46,17 @@ import Numeric (showEFloat, showFFloat)
 -- or a corrupt file.
 maxCoordinate :: Double
 maxCoordinate = 1e9
+
+-- | The latest time a recorded sample may have, either side of 0 (s): 10^19 holds any clock's
+-- count since 1970 even in nanoseconds (1.8e18) read as seconds, which a recording keeps with a
+-- warning; beyond it no clock counts, in any unit (1e300 s was written back as a 300-digit time
+-- no reader took, and a span of -1e308 to 1.7e308 s is infinite).
+maxTime :: Double
+maxTime = 1e19
+
+-- | The rule a time beyond 'maxTime' breaks.
+tooLateRule :: String
+tooLateRule = "is more than " ++ showBound maxTime ++ " s from 0, more than any clock counts in any unit (is the number right?)"
 
 -- | The rule a position beyond 'maxCoordinate' breaks, in the words every reader uses.
 tooFarRule :: String

@@ -33,6 +33,7 @@ import Linear (Quaternion (..), V3 (..))
 import VProf.Geometry.Vec
 import Numeric.Units.Dimensional.Prelude (Length, Time, (*~), (/~), metre, second)
 import Prelude
+import VProf.Validation (maxTime, showNumber, tooLateRule)
 
 -- | One sample of a recording or one waypoint of a path.
 data Pose = Pose
@@ -93,13 +94,6 @@ recordingFromArraysT what ts xs qs
   | U.length ts < 2 = Left ("need at least 2 " ++ what ++ "s, got " ++ show (U.length ts))
   | otherwise = do
       mapM_ checkT [0 .. U.length ts - 1]
-      -- every time finite, and the times between them too (-1e308 to 1.7e308 s spans
-      -- infinity, and a fit's times became NaN)
-      let span = U.last ts - U.head ts
-      if bad span
-        then Left (what ++ "s 0 to " ++ show (U.length ts - 1) ++ ": the times " ++ show (U.head ts) ++ " to "
-                   ++ show (U.last ts) ++ " s span more than a double holds (about 1.8e308 s)")
-        else Right ()
       mapM_ checkP [0 .. U.length ts - 1]
       qs' <- traverse checkQ [0 .. U.length ts - 1]
       pure (Track ts xs (pfromList qs'))
@@ -107,6 +101,9 @@ recordingFromArraysT what ts xs qs
     bad x = isNaN x || isInfinite x
     checkT i
       | bad t = Left (what ++ " " ++ show i ++ ": time is not a finite number: " ++ show t)
+      -- (so every span between times is finite too: -1e308 to 1.7e308 s is not, and a fit's
+      -- times became NaN)
+      | abs t > maxTime = Left (what ++ " " ++ show i ++ ": time " ++ showNumber t ++ " s " ++ tooLateRule)
       | i > 0 && t <= ts U.! (i - 1) =
           Left (what ++ " " ++ show i ++ ": time " ++ show t ++ " s is not after the previous time "
                 ++ show (ts U.! (i - 1)) ++ " s (times must be strictly increasing)")
