@@ -6,7 +6,9 @@
 module VProf.Select.SelectionSpec (spec) where
 
 import Control.Monad (forM_)
-import Data.List (isInfixOf, sort)
+import Control.Exception (evaluate)
+import Data.List (isInfixOf, isPrefixOf, sort)
+import System.Timeout (timeout)
 import Data.Maybe (isJust, isNothing)
 import qualified Data.Vector.Unboxed as U
 import System.FilePath ((</>))
@@ -167,6 +169,19 @@ spec = do
                       robotClearanceAtLeast cm bvh q 0.01 `shouldBe` True
                     Nothing -> expectationFailure (trLabel t)
                 | (t, p) <- zip (rrTargets res) poses ]
+    it "a segment to a target 10^8 m away fails at its first sample out of reach (its 2e10 samples were all made first: the daemon's guard answered INTERNAL after 75 s)" $ do
+      let poses = [down 0.5 0.2 0.35, down 1e8 0.2 0.35]
+          res = evaluateRobot defaultSelectOptions (pathTask poses) bvh "ur5" ur5
+      segmentSampleCount defaultPathStep (head poses) (poses !! 1) `shouldSatisfy` (> 10 ^ (10 :: Int))
+      done <- timeout (120 * 1000000) (evaluate (length (show (rrSegments res, rrTargets res))))
+      done `shouldSatisfy` isJust
+      case rrSegments res of
+        [sg] -> do
+          sgFailure sg `shouldSatisfy` maybe False ("segment 0 -> 1 at sample " `isPrefixOf`)
+          -- the UR5 reaches some 0.85 m: the walk stops within the first metre
+          sgSamples sg `shouldSatisfy` (< 300)
+        other -> expectationFailure (show other)
+      rrReached res `shouldBe` 1
     it "a coarse path step reaches what the 5 mm step reaches (at 0.2 m and 0.5 m every move was a 'change of branch')" $ do
       Right task <- readTaskFile "examples/freiburg-task.yaml"
       let robots = [ (k, either error id (lookupRobot k)) | k <- ["ur10", "franka-panda", "abb-irb140"] ]

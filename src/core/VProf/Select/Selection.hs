@@ -260,7 +260,7 @@ evaluateRobot opts task bvh key robot0
     walk q0 p0 p1 = go' (0 :: Int) q0 p0 samples
       where
         samples = segmentSamples (taskPathStep task) p0 p1
-        n = length samples
+        n = segmentSampleCount (taskPathStep task) p0 p1
         segLen = v3Norm (v3Sub (translation p1) (translation p0))
         turn = rotationAngle (inverse p0 `compose` p1)
         go' k q _ [] = Right (k, q)

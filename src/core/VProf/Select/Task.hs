@@ -15,6 +15,7 @@ module VProf.Select.Task
   , checkTask
   , placeRobot
   , segmentSamples
+  , segmentSampleCount
   ) where
 
 import VProf.Geometry.Quaternion (slerpShort)
@@ -94,11 +95,18 @@ segmentSamples :: Double -> Tf -> Tf -> [Tf]
 segmentSamples step a b =
   let pa = translation a; pb = translation b
       qa = toQ (toQuat a); qb = toQ (toQuat b)
-      len = max (v3Norm (v3Sub pb pa)) (rotationAngle (inverse a `compose` b))
-      n = max 1 (ceiling (len / step)) :: Int
+      n = segmentSampleCount step a b
       at k = let s = fromIntegral k / fromIntegral n
                  Q4 w x y z = slerpShort qa qb s
              in fromQuat (v3Add pa (v3Scale s (v3Sub pb pa))) (Quat w x y z)
   in map at [1 .. n]
   where
     toQ (Quat w x y z) = Q4 w x y z
+
+-- | How many poses 'segmentSamples' gives, without making them (a segment to a target 10^8 m
+-- away has 2·10^10: counting the list's length made them all, and a path task ran until its
+-- time was up where its walk stops at the first sample out of reach).
+segmentSampleCount :: Double -> Tf -> Tf -> Int
+segmentSampleCount step a b =
+  let len = max (v3Norm (v3Sub (translation b) (translation a))) (rotationAngle (inverse a `compose` b))
+  in max 1 (ceiling (len / step))
