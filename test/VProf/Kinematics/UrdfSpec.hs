@@ -106,6 +106,19 @@ spec = do
             , "<joint name=\"j3\" type=\"revolute\"><parent link=\"l2\"/><child link=\"l3\"/><origin xyz=\"0.3 0 0\"/><axis xyz=\"0 1 0\"/><limit lower=\"-0.1\" upper=\"0.1\"/><mimic joint=\"j2\"/></joint></robot>" ]
           Right r = readUrdf defaultUrdfOptions doc
       map jointLimits (robotJoints r) `shouldBe` [Limits (-3) 3, Limits (-0.1) 0.1]
+    it "a chain of 10,000 joints (a daemon's request of 1.4 MB) is read, its tool turned by the sum of the angles; and a mimic chain through it resolves (the reader's lookups were by lists: 15 s and the daemon's guard)" $ do
+      let n = 10000 :: Int
+          joint i extra = "<joint name=\"j" ++ show i ++ "\" type=\"continuous\"><parent link=\"l" ++ show i ++ "\"/><child link=\"l" ++ show (i + 1)
+                          ++ "\"/><axis xyz=\"0 0 1\"/>" ++ extra ++ "</joint>"
+          doc = BL.pack ("<robot name=\"s\">" ++ concat [ "<link name=\"l" ++ show i ++ "\"/>" | i <- [0 .. n] ]
+                         ++ concatMap (\i -> joint i (if i == n - 1 then "<mimic joint=\"j0\" multiplier=\"2\"/>" else "")) [0 .. n - 1] ++ "</robot>")
+          Right r = readUrdf defaultUrdfOptions doc
+          qs = U.generate (n - 1) (\i -> 1e-4 * fromIntegral (i `mod` 7))
+          Pose _ (Quat w _ _ z) = forwardPose (compile r) qs
+          -- the last joint mimics the first at twice its angle
+          total = U.sum qs + 2 * U.head qs
+      length (robotJoints r) `shouldBe` n - 1
+      abs (2 * atan2 z w - total) `shouldSatisfy` (< 1e-9)
     it "a continuous joint has no limits" $ do
       let Right r = readUrdf defaultUrdfOptions {urdfBase = Just "a", urdfTip = Just "b"} (wrap "<joint name=\"c\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/></joint>")
       map jointLimits (robotJoints r) `shouldBe` [Limits (-1 / 0) (1 / 0)]

@@ -15,7 +15,7 @@ module VProf.Kinematics.Validate
   , jointsOutsideLimits
   ) where
 
-import Data.List (nub, (\\))
+import qualified Data.Set as Set
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Kinematics.Model
@@ -106,11 +106,12 @@ validateRobotIn su Robot{..} =
   [fe "name" (show robotName) "" "must not be empty" | null robotName]
     ++ [fe "joints" "[]" "" "a robot needs at least one actuated joint" | null robotJoints]
     ++ [ fe ("joints[" ++ show i ++ "].name") (show (jointName j)) "" "duplicate joint name"
-       | (i, j) <- zip [0 :: Int ..] robotJoints, jointName j `elem` map jointName (take i robotJoints) ]
+       | (i, j, seen) <- zip3 [0 :: Int ..] robotJoints (scanl (flip Set.insert) Set.empty (map jointName robotJoints))
+       , jointName j `Set.member` seen ]
     ++ concat (zipWith jointErrs [0 ..] robotJoints)
     ++ concat (zipWith linkErrs [0 ..] robotLinks)
     ++ [ fe ("joints[" ++ show k ++ "]") (show (jointName (robotJoints !! k))) "" "drives no link"
-       | k <- [0 .. n - 1] \\ nub driven ]
+       | k <- [0 .. n - 1], not (k `Set.member` drivenSet) ]
     ++ tfErrs "base" robotBase
     ++ tfErrs "tool" robotTool
     ++ [fe "payload" (show p) "kg" "must be a finite number ≥ 0" | Just p <- [robotPayload], not (finite p && p >= 0)]
@@ -118,6 +119,7 @@ validateRobotIn su Robot{..} =
   where
     n = length robotJoints
     driven = [k | l <- robotLinks, linkJointKind l /= Nothing, (k, _) <- driveTerms (linkDrive l)]
+    drivenSet = Set.fromList driven
     jointErrs :: Int -> Joint -> [FieldError]
     jointErrs i Joint{..} =
       let p = "joints[" ++ show i ++ "]"

@@ -18,8 +18,9 @@ import Control.Exception (IOException, try)
 import VProf.Format.IOError (ioReason)
 import qualified Data.ByteString.Lazy as BL
 import Data.Either (lefts, rights)
-import Data.List (find, isPrefixOf, isSuffixOf, nub, stripPrefix)
+import Data.List (isPrefixOf, isSuffixOf, stripPrefix)
 import qualified Data.Map.Strict as Map
+import qualified Data.Set as Set
 import Data.Maybe (fromMaybe, listToMaybe, mapMaybe)
 import qualified Data.Text as T
 import Text.Read (readMaybe)
@@ -139,7 +140,7 @@ fromDoc UrdfOptions{..} doc
   | not (null treeErrs) = Left treeErrs
   | otherwise = do
       tip <- maybe pickLeaf Right urdfTip
-      let known l = l `elem` allLinks
+      let known l = l `Set.member` linkSet
       if not (known tip) then Left ["tip link " ++ show tip ++ " is not a <link> of the robot (links: " ++ unwords (take 30 allLinks) ++ ")"] else pure ()
       base <- maybe (rootAbove tip) Right urdfBase
       if not (known base) then Left ["base link " ++ show base ++ " is not a <link> of the robot"] else pure ()
@@ -149,6 +150,8 @@ fromDoc UrdfOptions{..} doc
     cur = fromDocument doc
     robotName = maybe "urdf" T.unpack (listToMaybe (attribute "name" cur))
     allLinks = map T.unpack (concatMap (attribute "name") (cur $/ element "link"))
+    -- (sets and maps throughout: a chain of 10,000 joints took seconds by lists)
+    linkSet = Set.fromList allLinks
     parsed = map parseJoint (cur $/ element "joint")
     jointErrs = concat (lefts parsed)
     joints = rights parsed
@@ -157,13 +160,13 @@ fromDoc UrdfOptions{..} doc
     treeErrs =
       [ "link " ++ show l ++ " is the child of " ++ show (length js) ++ " joints (" ++ unwords (map (show . ujName) js)
         ++ "); in a URDF each link has one parent joint"
-      | l <- children, let js = [ j | j <- joints, ujChild j == l ], length js > 1 ]
+      | (l, js) <- Map.toList (Map.fromListWith (flip (++)) [ (ujChild j, [j]) | j <- joints ]), length js > 1 ]
       ++ [ "joint " ++ show (ujName j) ++ ": its " ++ role ++ " link " ++ show l ++ " is not a <link> of the robot"
-         | j <- joints, (role, l) <- [("parent", ujParent j), ("child", ujChild j)], l `notElem` allLinks ]
+         | j <- joints, (role, l) <- [("parent", ujParent j), ("child", ujChild j)], not (l `Set.member` linkSet) ]
       ++ [ "joint " ++ show (ujName j) ++ ": its parent and child are the same link " ++ show (ujChild j)
          | j <- joints, ujParent j == ujChild j ]
-    children = nub (map ujChild joints)
-    parents = nub (map ujParent joints)
+    children = Set.fromList (map ujChild joints)
+    parents = Set.fromList (map ujParent joints)
     -- the root of the tree the tip is in: links of other trees (a second robot, a link no joint
     -- touches) do not matter
     rootAbove tip = go tip (0 :: Int)
@@ -172,7 +175,7 @@ fromDoc UrdfOptions{..} doc
           | k > length joints = Left ["the joints form a loop above link " ++ show tip]
           | otherwise = maybe (Right l) (\j -> go (ujParent j) (k + 1)) (Map.lookup l byChild)
     -- the leaves of the joints' trees (a link no joint touches is none)
-    pickLeaf = case [l | l <- allLinks, l `notElem` parents, l `elem` children] of
+    pickLeaf = case [l | l <- allLinks, not (l `Set.member` parents), l `Set.member` children] of
       [l] -> Right l
       [] | null joints -> Left ["no <joint>: a robot's links must be joined by joints"]
          | otherwise -> Left ["cannot choose the tip link: every child link is also a parent, so the joints ("
@@ -223,7 +226,7 @@ buildChain name path
     resolve depth m
       | depth > 10 = Nothing
       | Just i <- Map.lookup m index = Just (i, 1, 0)
-      | Just j <- find ((== m) . ujName) path, Just (m', k, o) <- ujMimic j = do
+      | Just j <- Map.lookup m byName, Just (m', k, o) <- ujMimic j = do
           (i, k', o') <- resolve (depth + 1) m'
           pure (i, k * k', k * o' + o)
       | otherwise = Nothing
@@ -240,10 +243,12 @@ buildChain name path
       ("continuous", l) -> (-1 / 0, 1 / 0, l >>= \(_, _, v) -> v)
       (_, Just (l, h, v)) -> (fromMaybe 0 l, fromMaybe 0 h, v)
       _ -> (0, 0, Nothing)
+    byName = Map.fromListWith (\_ first -> first) [ (ujName j, j) | j <- path ]
     -- the mimic joints driven by actuated joint i: name, (multiplier, offset), own limits
-    mimicsOf i =
-      [ (ujName j, (k * k', k * o' + o), (ml, mh))
-      | j <- path, movable j, Just (m, k, o) <- [ujMimic j], Just (i', k', o') <- [resolve (0 :: Int) m], i' == i
+    mimicsOf i = Map.findWithDefault [] i mimics
+    mimics = Map.fromListWith (flip (++))
+      [ (i', [(ujName j, (k * k', k * o' + o), (ml, mh))])
+      | j <- path, movable j, Just (m, k, o) <- [ujMimic j], Just (i', k', o') <- [resolve (0 :: Int) m]
       , let (ml, mh, _) = ownLimits j ]
     mimicErrs =
       [ "joint " ++ show (ujName a) ++ ": no value within its limits keeps its mimic joints within theirs ("
