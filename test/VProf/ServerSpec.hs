@@ -12,6 +12,7 @@ import Data.ProtocolBuffers (getField, putField)
 import qualified Data.Text as T
 import Data.Word (Word64)
 import GHC.Clock (getMonotonicTime)
+import System.Timeout (timeout)
 import Test.Hspec
 
 import Support.Robustness
@@ -132,6 +133,19 @@ spec = do
       ids `shouldBe` [1 .. 5 :: Word64]
       recvFrame c `shouldReturn` EndOfInput
       waitServer s
+      closeClient c
+
+  describe "drain with a stalled client" $
+    it "closes a connection whose frame is still arriving --grace after the drain began, even without an idle timeout (it held the exit for as long as the client stalled)" $ do
+      s <- startServer quietConfig { cfgIdleTimeout = 0, cfgGrace = 0.3 } testHandler
+      c <- connectClient (serverPort s)
+      -- a length prefix of 100 and 3 of its bytes
+      sendRaw c (B.pack [100, 97, 98, 99])
+      threadDelay 150000
+      stopServer s
+      done <- timeout 30000000 (waitServer s)
+      done `shouldBe` Just ()
+      recvFrame c `shouldReturn` EndOfInput
       closeClient c
 
   describe "idle timeout" $

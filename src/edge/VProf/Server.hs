@@ -25,7 +25,9 @@
 -- * undecodable bodies are answered with MALFORMED and the connection stays usable;
 -- * idle connections are closed after 'cfgIdleTimeout' seconds;
 -- * 'stopServer' (SIGTERM / SIGINT in 'serve') stops accepting, lets every request whose
---   bytes have started to arrive finish and be answered, then returns.
+--   bytes have started to arrive finish and be answered, then returns; a frame still arriving
+--   or an answer the client does not read 'cfgGrace' seconds after the drain began closes
+--   its connection, so that no client holds the exit.
 module VProf.Server
   ( Handler (..)
   , ServerConfig (..)
@@ -278,6 +280,15 @@ connectionLoop env idleS src send = loop
     idle act | idleS > 0 = timeout (round (idleS * 1e6)) act
              | otherwise = Just <$> act
     connLog msg = envLog env ("vprof event=" <> msg)
+    -- after a drain began, a frame still arriving or an answer the client does not read gets
+    -- 'cfgGrace' more seconds, then the connection is closed (a client that stalled inside a
+    -- frame, or stopped reading, held the daemon's exit for as long as it liked; the handler's
+    -- work on a frame received whole is never cut)
+    bounded :: IO a -> IO (Maybe a)
+    bounded act = either (const Nothing) Just <$> race drainDeadline act
+    drainDeadline = do
+      atomically (readTVar (envDraining env) >>= check)
+      threadDelay (round (max 0 (cfgGrace cfg) * 1e6))
     reply rid code msg = void . try @SomeException . idle . send . frame . encodeBare $
                            errorResponse rid code "" msg
     loop = do
@@ -292,9 +303,9 @@ connectionLoop env idleS src send = loop
         Idle -> connLog "idle_timeout"
         Ready False -> pure ()
         Ready True -> do
-          fr <- idle (readFrame (cfgMaxFrameBytes cfg) src)
-          case fr of
-            Nothing -> connLog "idle_timeout_in_frame"
+          fr <- bounded (idle (readFrame (cfgMaxFrameBytes cfg) src))
+          case join fr of
+            Nothing -> connLog (maybe "drain_deadline_in_frame" (const "idle_timeout_in_frame") fr)
             Just EndOfInput -> pure ()
             Just (Truncated n) -> do
               connLog ("truncated_frame bytes=" <> tshow n)
@@ -309,9 +320,9 @@ connectionLoop env idleS src send = loop
                  <> tshow (cfgMaxFrameBytes cfg) <> "; closing")
             Just (Frame body n) -> do
               out <- processFrame env body n
-              sent <- idle (send (frame out))
-              case sent of
-                Nothing -> connLog "send_timeout"
+              sent <- bounded (idle (send (frame out)))
+              case join sent of
+                Nothing -> connLog (maybe "drain_deadline_in_send" (const "send_timeout") sent)
                 Just () -> loop
 
 ----------------------------------------------------------------------------- TCP
