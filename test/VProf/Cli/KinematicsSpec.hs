@@ -127,13 +127,17 @@ spec = describe "vprof robots / fk / ik" $ do
     code `shouldBe` ExitSuccess
     B.isInfixOf (BC.pack "\"condition_number\":null") txt `shouldBe` True
     B.isInfixOf (BC.pack "inf") txt `shouldBe` False
-  it "ik --deg names the units of its columns: (deg, m) for an arm with a prismatic joint (it said (deg) over the Cobra's quill in m)" $ do
+  it "ik --deg names the units of its columns: (deg, m) for an arm with a prismatic joint (it said (deg) over the Cobra's quill in m); the residual's angle in degrees" $ do
     (c1, cobra) <- captured ikCommand ["adept-cobra600", "--pose", "0.55822 0.193936 0.287 0 1 0 0", "--deg"]
     c1 `shouldBe` ExitSuccess
     BC.unpack cobra `shouldSatisfy` isInfixOf "first (deg, m)\n"
     (c2, ur5) <- captured ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0", "--deg"]
     c2 `shouldBe` ExitSuccess
     BC.unpack ur5 `shouldSatisfy` isInfixOf " (deg)\n"
+    -- the residual's angle too (it was in rad under --deg), and in rad without it
+    BC.unpack ur5 `shouldSatisfy` (\t -> " deg\n" `isInfixOf` t && not (" rad\n" `isInfixOf` t))
+    (_, ur5r) <- captured ikCommand ["ur5", "--pose", "0.4 0.1 0.3 0 1 0 0"]
+    BC.unpack ur5r `shouldSatisfy` isInfixOf " rad\n"
   it "inverse kinematics in the work cell: 0 clear of it, 1 when every solution hits it, 2 for a bad scene or clearance" $ do
     dir <- shared
     let cell = dir </> "data" </> "cell" </> "cell.obj"

@@ -126,6 +126,9 @@ spec = do
   describe "malformed URDF: clear errors, nothing thrown" $ do
     it "not XML, in words: the line and column or the tags, no Haskell records (were ParseError {errorContexts = …} and Name {nameLocalName = …})" $ do
       errs "<robot><link" `shouldSatisfy` any ("not well-formed XML" `isInfixOf`)
+      -- bytes that are not UTF-8 (a binary file): said so with the offset, not in the decoder library's words
+      errs "<robot>\231'#\212</robot>" `shouldSatisfy` (\es -> any ("not UTF-8 text (a byte that is not UTF-8 at offset " `isInfixOf`) es
+                                                          && not (any ("Data.Conduit" `isInfixOf`) es))
       let bad = [ "<robot name=\"x\"><link name=\"a\"></robot>", "<robot name=\"x\"><link name=\"a\"/>\n<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"</joint></robot>" ]
       mapM_ (\src -> errs src `shouldSatisfy` all (\e -> not ("Name {" `isInfixOf` e) && not ("ParseError" `isInfixOf` e) && not ("errorContexts" `isInfixOf` e))) bad
       errs (bad !! 0) `shouldSatisfy` any ("<link>" `isInfixOf`)

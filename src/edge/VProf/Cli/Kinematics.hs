@@ -409,6 +409,7 @@ runIk o = do
                       ++ (if ikDeg o then (if any ((== Prismatic) . jointKind) (robotJoints r) then " (deg, m)" else " (deg)") else " (rad, m)")
                     mapM_ (\s -> putStrLn ("  " ++ maybe "" (++ "  ") (solBranch s) ++ unwords (map (num 6) (jointsTo (ikDeg o) r (solJoints s)))
                                            ++ "   error " ++ showEFloat (Just 1) (solPositionError s) "" ++ " m, "
-                                           ++ showEFloat (Just 1) (solRotationError s) "" ++ " rad"
+                                           ++ (if ikDeg o then showEFloat (Just 1) (solRotationError s * 180 / pi) "" ++ " deg"
+                                               else showEFloat (Just 1) (solRotationError s) "" ++ " rad")
                                            ++ maybe "" (\c -> "   clearance " ++ num 1 (1000 * c) ++ " mm") (clearanceOf s))) shown
                 pure (if null sols then ExitFailure 1 else ExitSuccess)

@@ -47,6 +47,12 @@ spec = do
     fmap (si . rqRouteLength) (requestFromJson (withField "name" "\"a case\"")) `shouldBe` Right 10
     fmap (si . rqRouteLength) (requestFromJson (withField "note" "\"a note\"")) `shouldBe` Right 10
     fmap (fmap si . rqTimeStep) (requestFromJson (withField "timeStep" "0.01")) `shouldBe` Right (Just 0.01)
+  it "a file that is not JSON is said so with at most 20 characters of where the parser stopped, the bytes that are not printable escaped (a binary file's bytes went to the terminal)" $
+    property $ \bytes -> not (null bytes) ==>
+      let src = BLC.pack (map (toEnum . (`mod` 256)) (0xff : bytes :: [Int]))
+      in case requestFromJson src of
+           Left e -> counterexample e (all (\c -> c >= ' ' && c <= '~') e .&&. length e < 200)
+           Right _ -> property False
   it "accepts the lowerCamelCase name and an integer as a string" $ do
     fmap rqMaxIterations (requestFromJson (withField "maxIterations" "\"50\"")) `shouldBe` Right (Just 50)
   it "\"NaN\", \"Infinity\" and \"-Infinity\" parse; validation names the field and the value" $ do

@@ -116,8 +116,13 @@ xmlError msg
           (line, col) = break (== ':') pos
           what = concatMap (\c -> if c == ',' then ", " else [c]) [ c | c <- ctx, c `notElem` ("[]\"" :: String) ]
       in "line " ++ line ++ ", column " ++ drop 1 col ++ ": malformed XML (in: " ++ what ++ ")"
+  -- the text decoder's own words, with the bad bytes: the file is not UTF-8 text
+  | Just rest <- stripPrefix ("Data.Conduit.Text.decode: " :: String) msg =
+      let offset = takeWhile isDigit (snd (breakOn ("at offset " :: String) rest) `after` "at offset ")
+      in "not UTF-8 text" ++ (if null offset then "" else " (a byte that is not UTF-8 at offset " ++ offset ++ ")") ++ "; is it a URDF?"
   | otherwise = replace ("EventEndElement " :: String) "the end tag " (replace ("EventBeginElement " :: String) "the start tag " (names msg))
   where
+    after s' pat = drop (length (pat :: String)) s'
     posKey = "errorPosition = " :: String
     nameKey = "Name {nameLocalName = \"" :: String
     replace pat new s = case breakOn pat s of

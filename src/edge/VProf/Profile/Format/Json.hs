@@ -22,7 +22,7 @@ import Data.Aeson.Types (Parser, parseEither)
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Lazy as BL
 import Data.Char (isAlphaNum, toUpper)
-import Data.List (intercalate, stripPrefix)
+import Data.List (intercalate, isPrefixOf, stripPrefix)
 import Data.Scientific (floatingOrInteger, toRealFloat)
 import Data.Word (Word64)
 import qualified Data.Text as T
@@ -68,7 +68,23 @@ plainMessage e = case stripPrefix "Error in $" e of
                in case dropWhile (== '.') path of
                     "" -> msg'
                     p -> p ++ ": " ++ msg'
-  Nothing -> e
+  Nothing -> quotedContext e
+
+-- | The parser's "at '...'" context (the text where it stopped, up to the end of the file)
+-- cut to 20 characters, and those that are not printable ASCII escaped: a binary file's bytes
+-- were written to the terminal as they were.
+quotedContext :: String -> String
+quotedContext e = case breakOn " at '" e of
+  (pre, _ : rest) | not (null rest) ->
+    let ctx = drop 4 rest
+        body = if take 1 (reverse ctx) == "'" then init ctx else ctx
+        shown = take 20 body
+    in pre ++ " at " ++ show shown ++ (if length body > 20 then " ..." else "")
+  _ -> e
+  where
+    breakOn pat s = case [ i | i <- [0 .. length s - length pat], pat `isPrefixOf` drop i s ] of
+      i : _ -> splitAt i s
+      [] -> (s, "")
 
 -- | The request's @request_id@ (0 when absent), which a response echoes; an id that is not
 -- a uint64 is an error naming it.
