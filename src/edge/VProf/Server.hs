@@ -72,6 +72,7 @@ import VProf.Wire.Envelope
 import VProf.Wire.Framing
 import VProf.Wire.Messages
 import VProf.Version (versionString)
+import VProf.Wire.Packing (packRepeated)
 import VProf.Wire.Validate (MsgType (TRequest), validateWire)
 
 -- | What the server runs for one classified request body.
@@ -216,7 +217,7 @@ processFrame env body bytesIn = do
 -- | Decode and force every field (by re-encoding), so that no exception hides in a thunk.
 safeDecode :: B.ByteString -> IO (Either String RequestMsg)
 safeDecode body = do
-  r <- try $ case validateWire TRequest body >> decodeBare body of
+  r <- try $ case validateWire TRequest body >> decodeBare (packRepeated TRequest body) of
     Left e -> pure (Left e)
     Right req -> do
       _ <- evaluate (B.length (encodeBare req))

@@ -28,6 +28,7 @@ import VProf.Profile.Format.Json
 import VProf.Profile.Request
 import VProf.Wire.Messages
 import VProf.Wire.Profile
+import VProf.Wire.Packing (packRepeated)
 import VProf.Wire.Validate (MsgType (..), validateWire)
 
 -- | Read a request file; Left is a message for the user.
@@ -45,7 +46,7 @@ readRequestWithId path = do
           let lazy = BL.fromStrict bytes
           in either (\e -> Left (path ++ ": not a valid JSON ProfileRequest: " ++ e)) Right
                     ((,) <$> requestIdFromJson lazy <*> requestFromJson lazy)
-      | otherwise -> case validateWire TProfileRequest bytes >> decodeBare bytes of
+      | otherwise -> case validateWire TProfileRequest bytes >> decodeBare (packRepeated TProfileRequest bytes) of
           Left e -> Left (path ++ ": not a valid binary ProfileRequest: " ++ e)
           Right m -> Right (maybe 0 id (getField (prqRequestId m)), requestFromMsg m)
 
@@ -64,7 +65,7 @@ readProfile path = do
           Left e -> Left (path ++ ": " ++ e)
           Right (ProfileJson ts vs) -> sameLength ts vs >> fromColumns (zip ts vs)
         Right _ -> Left (path ++ ": expected a JSON object with time and velocity arrays")
-      _ -> case validateWire TProfileResponse bytes >> decodeBare bytes of
+      _ -> case validateWire TProfileResponse bytes >> decodeBare (packRepeated TProfileResponse bytes) of
         Left e -> Left (path ++ ": not a binary ProfileResponse: " ++ e)
         Right m -> let ts = getField (prsTime m); vs = getField (prsVelocity m)
                    in sameLength ts vs >> fromColumns (zip ts vs)
