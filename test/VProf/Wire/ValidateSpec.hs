@@ -31,9 +31,13 @@ spec = describe "validateWire" $ do
   it "rejects group wire types and field number 0" $ do
     bad TRequest (B.pack [0x0b])
     bad TRequest (B.pack [0x00, 0x01])
-  it "rejects a known field with the wrong wire type" $ do
+  it "rejects a known field with the wrong wire type, naming it by its path of field names and what the schema has" $ do
     bad TRequest (B.pack [0x10, 0x05])                      -- profile as a varint
     bad TRequest (B.pack [0x09] <> one)                     -- request_id as fixed64
+    validateWire TRequest (B.pack [0x12, 0x02, 0x10, 0x05])  -- profile.route_length as a varint
+      `shouldBe` Left "field profile.route_length: wire type 0 where the schema has a double (wire type 1)"
+    validateWire TRequest (B.pack [0x12, 0x04, 0x1a, 0x02, 0x08, 0x01])  -- profile.speed_limits[0].start_distance as a varint
+      `shouldBe` Left "field profile.speed_limits.start_distance: wire type 0 where the schema has a double (wire type 1)"
   it "rejects truncated varints and fixed64s" $ do
     bad TRequest (B.pack [0x08, 0x80])
     bad TRequest (B.pack [0x12, 0x03, 0x11, 0, 0])          -- profile.route_length cut short

@@ -35,7 +35,9 @@ validateWire = go (0 :: Int) ""
           let num = tag `shiftR` 3
               wt = tag .&. 7
               rest = B.drop used bs
-              here = path ++ "/" ++ show num
+              -- the field by its name, as a path from the top message (request.profile.route_length);
+              -- an unknown one by its number
+              here = (if null path then "" else path ++ ".") ++ maybe ("#" ++ show num) id (fieldName t num)
           if num == 0 || num > 536870911 then Left ("bad field number " ++ show num ++ " at " ++ place path) else Right ()
           (payload, rest') <- case wt of
             0 -> (\(_, u) -> (B.empty, B.drop u rest)) <$> varint here rest
@@ -62,15 +64,22 @@ validateWire = go (0 :: Int) ""
             (Just KStr, 2) -> either (const (Left ("field " ++ here ++ ": string is not valid UTF-8"))) (const (Right ()))
                                      (TE.decodeUtf8' payload)
             (Just (KMsg sub), 2) -> go (depth + 1) here sub payload
-            (Just _, _) -> Left ("field " ++ here ++ " of " ++ show t ++ ": wrong wire type " ++ show wt)
+            (Just k, _) -> Left ("field " ++ here ++ ": wire type " ++ show wt ++ " where the schema has " ++ kindWords k)
           go depth path t rest'
+    kindWords = \case
+      KVarint -> "a varint (wire type 0)"
+      KF64 -> "a double (wire type 1)"
+      KStr -> "a string (wire type 2)"
+      KMsg sub -> "a " ++ messageName sub ++ " message (wire type 2)"
+      KPackedF64 -> "repeated doubles (wire type 2, or 1 each)"
+      KPackedVarint -> "repeated integers (wire type 2, or 0 each)"
     varints path bs
       | B.null bs = Right ()
       | otherwise = varint path bs >>= \(_, u) -> varints path (B.drop u bs)
     varint path bs = case decodeVarint bs of
       VarintOk v u -> Right (v, u)
       VarintIncomplete -> Left ("truncated varint at " ++ place path)
-      VarintMalformed -> Left ("varint longer than 10 bytes at " ++ place path)
+      VarintMalformed -> Left ("varint of more than 10 bytes or beyond 64 bits at " ++ place path)
     place path = if null path then "the message's top level (a field tag)" else "field " ++ path
     fixed path n bs
       | B.length bs < n = Left ("field " ++ path ++ ": truncated fixed" ++ show (n * 8))
