@@ -86,6 +86,13 @@ spec = do
         e `shouldSatisfy` isInfixOf "--start[5] = 1.0e308 deg: is more than 1e6 degrees (is the unit right?)"
         parserMessage planCommand ["examples/plan-square.csv", "--robot", "ur5", "--environment", cell, "--clearance", "1e308"]
           `shouldSatisfy` maybe False (isInfixOf "--clearance 1e308 m: is more than 1e9 m (is the unit right?)")
+    it "a path too long for the sample cap because a waypoint lies far beyond the arm's reach names that waypoint (a waypoint 1000 km away was blamed on --speed alone)" $
+      withSystemTempDirectory "vprof-plan" $ \tmp -> do
+        let far = tmp </> "far.csv"
+        writeFile far "time,x,y,z,qw,qx,qy,qz\n0,0.4,0.1,0.3,0,1,0,0\n1,1000000,0.1,0.3,0,1,0,0\n"
+        (c, e) <- captureStderr (tmp </> "e.txt") (run [far, "--robot", "ur5"])
+        c `shouldBe` ExitFailure 2
+        e `shouldSatisfy` (\w -> "--speed" `isInfixOf` w && "waypoint 1 is 1000000.0 m from the robot's shoulder, beyond its reach" `isInfixOf` w)
     it "--start outside a joint's limits is exit 2 (degrees typed without --deg were taken as radians, silently another branch); inside them exit 0" $ do
       run ["examples/plan-square.csv", "--robot", "ur5", "--start", "0 -90 90 -90 -90 0"] `shouldReturn` ExitFailure 2
       run ["examples/plan-square.csv", "--robot", "ur5", "--start", "100 0 0 0 0 0"] `shouldReturn` ExitFailure 2

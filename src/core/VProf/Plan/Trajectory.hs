@@ -40,6 +40,9 @@ import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Kinematics.Ik (kinematicsFor)
+import VProf.Kinematics.Ik.Numeric (reachBound)
+import VProf.Kinematics.Transform (V3 (..), v3Norm, v3Sub)
+import qualified Linear as L
 import VProf.Kinematics.Model
 import VProf.Plan.Limits
 import VProf.Plan.Route
@@ -344,11 +347,20 @@ planPath rq@PlanRequest{..} = do
   let stops = 0 : rtStops route ++ [rtLength route]
       longest = maximum (zipWith (-) (drop 1 stops) stops)
       least = longest / si prSpeed / si prTimeStep
+      -- a waypoint beyond the arm's reach makes such a stretch more often than a slow speed:
+      -- the first is named (a waypoint 1000 km away was blamed on the speed alone)
+      (shoulder, reach) = reachBound (compile prRobot)
+      beyond = [ (k, d) | (k, w) <- zip [0 :: Int ..] prWaypoints
+                        , let L.V3 x y z = fmap si (wpPosition w); d = v3Norm (v3Sub (V3 x y z) shoulder), d > reach + 1e-9 ]
+      misplaced = case beyond of
+        (k, d) : _ -> "; waypoint " ++ show k ++ " is " ++ showNumber (roundSignificantTo 6 d) ++ " m from the robot's shoulder, beyond its reach of "
+                      ++ showNumber (roundSignificantTo 6 reach) ++ " m: is it misplaced, or in another unit?"
+        [] -> ""
   if least > fromIntegral maxSamples
     then Left (InvalidPlan [fieldError "speed" (si prSpeed) "m/s"
                  ("is too slow for this path: its longest stretch between stops, " ++ showNumber longest ++ " m, would take at least "
                   ++ (if least < 1e15 then show (ceiling least :: Integer) else showNumber least) ++ " samples at dt " ++ showNumber (si prTimeStep)
-                  ++ " s, above the cap of " ++ show maxSamples ++ " samples of one profile; raise the speed or dt")])
+                  ++ " s, above the cap of " ++ show maxSamples ++ " samples of one profile; raise the speed or dt" ++ misplaced)])
     else Right ()
   tracked <- either (Left . Stopped) Right (trackRoute prTrack (kinematicsFor prRobot) route prStart)
   let lo = limitOptionsFor rq
