@@ -148,6 +148,39 @@ spec = do
       recvFrame c `shouldReturn` EndOfInput
       closeClient c
 
+  describe "connection limit" $ do
+    it "at --max-connections the connection idle longest makes room for a new client, even without an idle timeout (a new client waited until one closed)" $ do
+      s <- startServer quietConfig { cfgIdleTimeout = 0, cfgMaxConnections = 2 } testHandler
+      c1 <- connectClient (serverPort s)
+      _ <- roundTrip c1 (pingMsg 1 "a")
+      threadDelay 50000
+      c2 <- connectClient (serverPort s)
+      _ <- roundTrip c2 (pingMsg 2 "b")
+      c3 <- connectClient (serverPort s)
+      r <- timeout 20000000 (roundTrip c3 (pingMsg 3 "c"))
+      fmap (orDefault . getField . rspRequestId) r `shouldBe` Just (3 :: Word64)
+      -- the first, idle longest, was closed; the second is served still
+      recvFrame c1 `shouldReturn` EndOfInput
+      r2 <- roundTrip c2 (pingMsg 4 "d")
+      orDefault (getField (rspRequestId r2)) `shouldBe` (4 :: Word64)
+      mapM_ closeClient [c1, c2, c3]
+      stopServer s >> waitServer s
+    it "a connection with a request in hand is not closed for a new client; the new one waits for it" $ do
+      s <- startServer quietConfig { cfgIdleTimeout = 0, cfgMaxConnections = 1 } testHandler
+      c1 <- connectClient (serverPort s)
+      sendRequest c1 (pingMsg 1 "sleep:0.6")
+      threadDelay 100000
+      c3 <- connectClient (serverPort s)
+      sendRequest c3 (pingMsg 3 "c")
+      -- the first is answered in full, then closed to make room (it waits for its next request)
+      r1 <- recvResponse c1
+      orDefault (getField (rspRequestId r1)) `shouldBe` (1 :: Word64)
+      r3 <- timeout 20000000 (recvResponse c3)
+      fmap (orDefault . getField . rspRequestId) r3 `shouldBe` Just (3 :: Word64)
+      recvFrame c1 `shouldReturn` EndOfInput
+      mapM_ closeClient [c1, c3]
+      stopServer s >> waitServer s
+
   describe "idle timeout" $
     it "closes an idle connection" $
       withServer quietConfig { cfgIdleTimeout = 0.3 } testHandler $ \s -> withClient (serverPort s) $ \c -> do
