@@ -22,7 +22,8 @@ import Data.Aeson.Types (Parser, parseEither)
 import qualified Data.ByteString.Builder as BB
 import qualified Data.ByteString.Lazy as BL
 import Data.Char (isAlphaNum, toUpper)
-import Data.List (intercalate, isPrefixOf, stripPrefix)
+import Data.List (intercalate, stripPrefix)
+import Data.Maybe (fromMaybe)
 import Data.Scientific (floatingOrInteger, toRealFloat)
 import Data.Word (Word64)
 import qualified Data.Text as T
@@ -74,17 +75,12 @@ plainMessage e = case stripPrefix "Error in $" e of
 -- cut to 20 characters, and those that are not printable ASCII escaped: a binary file's bytes
 -- were written to the terminal as they were.
 quotedContext :: String -> String
-quotedContext e = case breakOn " at '" e of
-  (pre, _ : rest) | not (null rest) ->
-    let ctx = drop 4 rest
-        body = if take 1 (reverse ctx) == "'" then init ctx else ctx
-        shown = take 20 body
-    in pre ++ " at " ++ show shown ++ (if length body > 20 then " ..." else "")
+quotedContext e = case T.breakOn " at '" (T.pack e) of
+  (pre, rest) | not (T.null rest) ->
+    let ctx = T.drop 5 rest
+        body = T.unpack (fromMaybe ctx (T.stripSuffix "'" ctx))
+    in T.unpack pre ++ " at " ++ show (take 20 body) ++ (if null (drop 20 body) then "" else " ...")
   _ -> e
-  where
-    breakOn pat s = case [ i | i <- [0 .. length s - length pat], pat `isPrefixOf` drop i s ] of
-      i : _ -> splitAt i s
-      [] -> (s, "")
 
 -- | The request's @request_id@ (0 when absent), which a response echoes; an id that is not
 -- a uint64 is an error naming it.
