@@ -109,6 +109,19 @@ class DaemonTest(unittest.TestCase):
         with Client.connect(self.host, self.port) as c:
             self.assertEqual(c.ping("x").payload, "x")
 
+    def test_call_too_large_returns_the_answer(self):
+        # a 5 MB request written whole by Client.call: the daemon reads and drops the body it
+        # refuses, so the write succeeds and call() returns FRAME_TOO_LARGE (request_id 0,
+        # the daemon never read the id) instead of raising ECONNRESET from sendall
+        with Client.connect(self.host, self.port) as c:
+            req = pb.Request(ping=pb.Ping(payload="x" * 5_000_000))
+            resp = c.call(req)
+            self.assertEqual(resp.WhichOneof("body"), "error")
+            self.assertEqual(resp.error.code, pb.ERROR_CODE_FRAME_TOO_LARGE)
+            self.assertEqual(resp.request_id, 0)
+        with Client.connect(self.host, self.port) as c:
+            self.assertEqual(c.ping("after").payload, "after")
+
     def test_malformed_then_usable(self):
         s = socket.create_connection((self.host, self.port))
         f = s.makefile("rb")

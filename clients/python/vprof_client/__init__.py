@@ -118,8 +118,24 @@ class Client:
         if request.request_id == 0:
             request.request_id = self._next_id
             self._next_id += 1
-        self.send(request)
-        resp = self.receive()
+        try:
+            self.send(request)
+        except (BrokenPipeError, ConnectionResetError):
+            # the daemon refused the frame (FRAME_TOO_LARGE) and closed while it was still
+            # being written: its answer may be waiting; without one the send error stands
+            try:
+                return self._answer_to(request, self.receive())
+            except Exception:
+                pass
+            raise
+        return self._answer_to(request, self.receive())
+
+    @staticmethod
+    def _answer_to(request, resp):
+        # an error about the frame itself (FRAME_TOO_LARGE, a bad length prefix) carries
+        # request_id 0: the daemon never read the request's id
+        if resp.request_id == 0 and resp.WhichOneof("body") == "error":
+            return resp
         if resp.request_id != request.request_id:
             raise RuntimeError("response request_id %d != request %d"
                                % (resp.request_id, request.request_id))

@@ -18,8 +18,9 @@
 -- * a handler exception (or a response that cannot be encoded) is answered with
 --   Error INTERNAL; the connection and the daemon live on;
 -- * a length prefix above 'cfgMaxFrameBytes' is answered with FRAME_TOO_LARGE and the
---   connection is closed without reading the body (a client that writes the whole frame
---   before it reads still gets the answer); a prefix longer than 10 bytes is
+--   connection is closed without decoding the body (the body is read and dropped for up to
+--   'cfgGrace' seconds, at most 5, so that a client that writes the whole frame before it
+--   reads gets the answer, not a reset connection); a prefix longer than 10 bytes is
 --   MALFORMED and closes too; at most 'cfgMaxConnections' connections are served at once,
 --   so memory stays bounded by about connections x max frame;
 -- * undecodable bodies are answered with MALFORMED and the connection stays usable;
@@ -287,9 +288,12 @@ data Gate = Gate
 noGate :: Gate
 noGate = Gate (pure ()) (pure ()) retry
 
+-- | What a connection left behind when it ended.
+data Ending = Done | InputUnread  -- ^ a frame's body (or more) was refused without being read
+
 -- | Serve one connection (or stdin/stdout) until end of input, idle timeout, a broken
 -- frame, a drain, or a request to make room for a new connection while it waits.
-connectionLoop :: ServerEnv -> Gate -> Double -> Source -> (B.ByteString -> IO ()) -> IO ()
+connectionLoop :: ServerEnv -> Gate -> Double -> Source -> (B.ByteString -> IO ()) -> IO Ending
 connectionLoop env gate idleS src send = loop
   where
     cfg = envCfg env
@@ -319,31 +323,31 @@ connectionLoop env gate idleS src send = loop
              gateBusy gate
              pure (either id (maybe Idle Ready) r)
       case w of
-        Drain -> pure ()
-        Evicted -> connLog "closed_for_a_new_connection"
-        Idle -> connLog "idle_timeout"
-        Ready False -> pure ()
+        Drain -> pure Done
+        Evicted -> Done <$ connLog "closed_for_a_new_connection"
+        Idle -> Done <$ connLog "idle_timeout"
+        Ready False -> pure Done
         Ready True -> do
           fr <- bounded (idle (readFrame (cfgMaxFrameBytes cfg) src))
           case join fr of
-            Nothing -> connLog (maybe "drain_deadline_in_frame" (const "idle_timeout_in_frame") fr)
-            Just EndOfInput -> pure ()
+            Nothing -> Done <$ connLog (maybe "drain_deadline_in_frame" (const "idle_timeout_in_frame") fr)
+            Just EndOfInput -> pure Done
             Just (Truncated n) -> do
               connLog ("truncated_frame bytes=" <> tshow n)
-              reply 0 ErrMalformed ("input ended inside a frame after " <> tshow n <> " bytes")
+              Done <$ reply 0 ErrMalformed ("input ended inside a frame after " <> tshow n <> " bytes")
             Just BadVarint -> do
               connLog "bad_length_prefix"
-              reply 0 ErrMalformed "length prefix is not a varint of at most 10 bytes; closing"
+              InputUnread <$ reply 0 ErrMalformed "length prefix is not a varint of at most 10 bytes; closing"
             Just (TooLarge n) -> do
               connLog ("frame_too_large bytes=" <> tshow n)
-              reply 0 ErrFrameTooLarge
+              InputUnread <$ reply 0 ErrFrameTooLarge
                 ("frame of " <> tshow n <> " bytes is above --max-frame-bytes "
                  <> tshow (cfgMaxFrameBytes cfg) <> "; closing")
             Just (Frame body n) -> do
               out <- processFrame env body n
               sent <- bounded (idle (send (frame out)))
               case join sent of
-                Nothing -> connLog (maybe "drain_deadline_in_send" (const "send_timeout") sent)
+                Nothing -> Done <$ connLog (maybe "drain_deadline_in_send" (const "send_timeout") sent)
                 Just () -> loop
 
 ----------------------------------------------------------------------------- TCP
@@ -417,7 +421,28 @@ serveConn :: ServerEnv -> Gate -> Socket -> IO ()
 serveConn env gate conn = do
   setSocketOption conn NoDelay 1
   src <- newSource (NSB.recv conn 65536)
-  connectionLoop env gate (cfgIdleTimeout (envCfg env)) src (NSB.sendAll conn)
+  ending <- connectionLoop env gate (cfgIdleTimeout (envCfg env)) src (NSB.sendAll conn)
+  case ending of
+    Done -> pure ()
+    InputUnread -> lingeringClose (lingerSeconds (envCfg env)) conn
+
+-- | How long a refused frame's body is read and dropped before its connection closes: the
+-- grace, at most 5 s.
+lingerSeconds :: ServerConfig -> Double
+lingerSeconds cfg = min 5 (max 0 (cfgGrace cfg))
+
+-- | Before closing a connection whose client may still be sending (a frame refused unread),
+-- send end-of-stream after the answer and read and drop what arrives, until the client closes
+-- or the time is up. Closing with unread bytes in the socket makes the kernel reset the
+-- connection, and a client still writing the frame got ECONNRESET from its write instead of
+-- the answer (the Python client's @sendall@ of a 5 MB request, every time here).
+lingeringClose :: Double -> Socket -> IO ()
+lingeringClose seconds conn = void . try @SomeException $ do
+  shutdown conn ShutdownSend
+  let dropAll = do
+        chunk <- NSB.recv conn 65536
+        unless (B.null chunk) dropAll
+  void (timeout (round (seconds * 1e6)) dropAll)
 
 -- | Stop accepting and ask every connection to finish after its in-flight request.
 stopServer :: Server -> IO ()
@@ -467,4 +492,4 @@ serveStdio cfg handler = do
   _ <- Sig.installHandler Sig.sigTERM onSignal Nothing
   _ <- Sig.installHandler Sig.sigINT onSignal Nothing
   src <- newSource (B.hGetSome stdin 65536)
-  connectionLoop env noGate (cfgIdleTimeout cfg) src (\bs -> B.hPut stdout bs >> hFlush stdout)
+  void (connectionLoop env noGate (cfgIdleTimeout cfg) src (\bs -> B.hPut stdout bs >> hFlush stdout))
