@@ -76,6 +76,15 @@ if [ "$stub" != 1 ]; then
   else
     echo "plan responses differ between the Python and the C++ client"; status=1
   fi
+  echo "== Path compression: Python and C++ examples, responses compared byte for byte"
+  rec="$shared/data/freiburg1_xyz-groundtruth.txt"
+  python3 "$here/python/compress_example.py" --port "$port" --recording "$rec" --out "$tmp/cmp-py.bin" || status=1
+  "$here/cpp/build/vprof_compress" --port "$port" --recording "$rec" --out "$tmp/cmp-cpp.bin" || status=1
+  if cmp -s "$tmp/cmp-py.bin" "$tmp/cmp-cpp.bin"; then
+    echo "compression responses identical ($(wc -c < "$tmp/cmp-py.bin") bytes)"
+  else
+    echo "compression responses differ between the Python and the C++ client"; status=1
+  fi
 fi
 echo "== C++ checker self test"
 "$here/cpp/build/vprof_check" --selftest >/dev/null || { echo "checker self test failed"; status=1; }

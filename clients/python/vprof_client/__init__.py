@@ -169,6 +169,10 @@ class Client:
             raise RuntimeError("expected a %s response, got %r" % (answer, kind))
         return getattr(resp, answer)
 
+    def compress(self, compress_request):
+        """Path compression: a CompressRequest in, its CompressedPath out (check .error)."""
+        return self._body("compress", compress_request, "compressed")
+
     def fk(self, fk_request):
         """Forward kinematics: an FkRequest in, its FkResponse out (check .error)."""
         return self._body("fk", fk_request, "fk")
