@@ -2,6 +2,8 @@
 -- Exit codes: 0 ok, 1 illegal, infeasible or not converged, 2 invalid input.
 module VProf.Cli
   ( main
+  , cliPrefs
+  , cliParser
   ) where
 
 import Control.Exception (IOException, try)
@@ -23,7 +25,7 @@ import VProf.Version (versionString)
 
 main :: IO ()
 main = do
-  action <- customExecParser (prefs showHelpOnEmpty) (info (commands <**> helper <**> versionFlag) desc)
+  action <- customExecParser cliPrefs cliParser
   -- the commands say what they could not read or write; an output that fails where a
   -- command does not look (standard output full or closed, most often) is said here, exit
   -- 2 as a bad output, never a raw exception or a silent exit 0 (the buffer flushed at exit).
@@ -42,6 +44,16 @@ main = do
             Nothing -> "the output"
       hPutStrLn stderr ("vprof: cannot write " ++ what ++ ": " ++ ioWriteReason e)
       exitWith (ExitFailure 2)
+
+-- | The parser's preferences. noBacktrack: an option a command does not know is reported with
+-- that command's usage, not handed back to the top level, whose usage named no command.
+cliPrefs :: ParserPrefs
+cliPrefs = prefs (showHelpOnEmpty <> noBacktrack)
+
+-- | Every command under one parser; a bare REQUEST is @generate@'s.
+cliParser :: ParserInfo (IO ExitCode)
+cliParser = info (commands <**> helper <**> versionFlag) desc
+  where
     versionFlag = infoOption versionString (long "version" <> help "print the version")
     desc = fullDesc
       <> failureCode 2

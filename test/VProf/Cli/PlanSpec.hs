@@ -86,6 +86,11 @@ spec = do
         e `shouldSatisfy` isInfixOf "--start[5] = 1.0e308 deg: is more than 1e6 degrees (is the unit right?)"
         parserMessage planCommand ["examples/plan-square.csv", "--robot", "ur5", "--environment", cell, "--clearance", "1e308"]
           `shouldSatisfy` maybe False (isInfixOf "--clearance 1e308 m: is more than 1e9 m (is the unit right?)")
+    it "--deg without --start is exit 2 naming what it needs (it was taken and went unused)" $
+      withSystemTempDirectory "vprof-plan" $ \tmp -> do
+        (c, e) <- captureStderr (tmp </> "e.txt") (run ["examples/plan-square.csv", "--robot", "ur5", "--deg"])
+        c `shouldBe` ExitFailure 2
+        e `shouldSatisfy` isInfixOf "--deg: needs --start"
     it "a path too long for the sample cap because a waypoint lies far beyond the arm's reach names that waypoint (a waypoint 1000 km away was blamed on --speed alone)" $
       withSystemTempDirectory "vprof-plan" $ \tmp -> do
         let far = tmp </> "far.csv"

@@ -79,7 +79,7 @@ compressOptions' :: Parser CompressOptions
 compressOptions' = CompressOptions
   <$> strArgument (metavar "RECORDING" <> help "recorded motion: TUM text, CSV with a header naming its columns (vprof's own, EuRoC, ROS), an OptiTrack Motive CSV export, a Qualisys 6D TSV export, a Vicon Nexus CSV export (Segments), KITTI poses (with --times), Polhemus CSV log or RAPID .mod")
   <*> optional (option (eitherReader inFmt) (long "input-format" <> metavar "tum|csv|kitti|log|mod"
-        <> help "format of RECORDING (default: an OptiTrack Motive, Qualisys 6D TSV or Vicon Nexus CSV export by its first lines, whatever the extension, read as csv; else from the extension; .csv is csv if its first line is a header, else a log; .log is a log, .mod RAPID; else csv when its first line that is not a # comment names its columns, KITTI when a line holds 12 numbers, or TUM)"))
+        <> help "format of RECORDING (default: an OptiTrack Motive, Qualisys 6D TSV or Vicon Nexus CSV export by its first lines, whatever the extension, read as csv; else from the extension; .csv is csv if its first line is a header, else a log; .log is a log, .mod RAPID; else csv when its first line that is not a # comment names its columns, KITTI when its first such line holds 12 numbers, or TUM)"))
   <*> optional (strOption (long "times" <> metavar "FILE"
         <> help "KITTI poses only: their times, one a line in s (KITTI's times.txt); default: RECORDING's name with _times before the extension, if that file exists"))
   <*> option (eitherReader weights) (long "weights" <> metavar "P,O,V" <> value (1, 1, 1)

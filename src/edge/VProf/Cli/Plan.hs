@@ -127,7 +127,7 @@ planCommand = runPlan <$> (PlanOpts
         <> help ("wall-clock budget of the planning, s (default " ++ showNumber defaultCliPlanBudget ++ ", at most 3600): a plan not done by then is exit 1"))
   <*> optional (option (eitherReader fmt) (long "format" <> metavar "summary|csv|json"
         <> help "what to write (default: summary; with -o, from the file's extension)"))
-  <*> optional (strOption (short 'o' <> long "output" <> metavar "FILE" <> help "write the trajectory here (.csv or .json); the summary goes to stdout"))
+  <*> optional (strOption (short 'o' <> long "output" <> metavar "FILE" <> help "write the trajectory here (.json: JSON, any other extension: CSV); the summary goes to stdout"))
   <*> optional (option (eitherReader (plotPath [".png", ".svg"])) (long "plot" <> metavar "FILE.png|.svg" <> help "plot the TCP speed and its limit over s, the joint speeds against their limits over t")))
   where
     numbers what k s = case mapM readD (words (map (\c -> if c == ',' then ' ' else c) s)) of
@@ -266,6 +266,8 @@ runPlan o = do
                 ++ [ "--ignore-body " ++ show b ++ ": needs an environment to leave the body out of (--environment FILE.obj, or a task file's)"
                    | b <- take 1 (poIgnore o), noScene ]
                 ++ degreesTooWide "--start" (poDeg o) r (concat (poStart o))
+                ++ [ "--deg: needs --start, the only values it puts in degrees (the output is in rad)"
+                   | poDeg o, isNothing (poStart o) ]
                 ++ [ "--scale " ++ showNumber sc ++ ": needs --environment FILE.obj, the scene it scales (a task file's meshes have their own scale)"
                    | Just sc <- [poEnvScale o], isNothing (poEnv o) ]
                 -- (a start of the wrong length, named as typed: in degrees with --deg)
