@@ -38,6 +38,7 @@ module Support.PlanChecker
 import qualified Data.Vector.Unboxed as U
 
 import Support.FkOracle
+import Support.LegalityOracle (Verdict (..), checkerAllowance, oracleVerdict, oracleViolations)
 import VProf.Kinematics.Model
 import VProf.Kinematics.Transform (toRows4)
 import VProf.Plan (LimitZone (..), Plan (..), Route (..), Trajectory (..), planZoneList)
@@ -219,3 +220,5 @@ checkTrajectory r wps zone acc jerk dt plan = concat
                in case validate rq' of
                     Left es -> ["part " ++ show i ++ ": its zones are not a valid request: " ++ show es]
                     Right pb -> [ "part " ++ show i ++ ": " ++ renderViolation v | v <- take 5 (check pb p) ]
+                                ++ [ "part " ++ show i ++ ": the independent oracle finds " ++ show (take 3 (oracleViolations checkerAllowance pb p))
+                                   | oracleVerdict pb p == SurelyIllegal ]

@@ -29,6 +29,8 @@ import VProf.Profile.Legality
 import VProf.Profile.Request
 import VProf.Profile.Sampled
 
+import Support.LegalityOracle (Verdict (..), oracleVerdict)
+
 -- | An independent proof that a start state cannot obey the limits: the velocity of any
 -- profile is, at every time, at least that of the hardest braking (jerk at its minimum
 -- until the acceleration is at its minimum, then held), which ignores that the
@@ -330,7 +332,10 @@ mirrored pb =
 -- a 1 cm tolerance (seed 7 of the coarse-step property).
 sound :: Request -> Result -> Bool
 sound rq r = case (validate rq, resOutcome r, resProfile r) of
-  (Right pb, Generated, Just p) -> null (check pb p) && abs (finalDistance p - pbLength pb) <= pbTol pb + 1e-9 * max 1 (pbLength pb) && resConverged r
+  -- legal by the product's checker (the generator's own test of done) and not illegal by the
+  -- independent oracle ("Support.LegalityOracle"; borderline at rounding is the checker's call)
+  (Right pb, Generated, Just p) -> null (check pb p) && oracleVerdict pb p /= SurelyIllegal
+                                   && abs (finalDistance p - pbLength pb) <= pbTol pb + 1e-9 * max 1 (pbLength pb) && resConverged r
   (Right pb, Failed (InfeasibleRequest f _), _) -> case f of
     "start_velocity" -> startInfeasibleProof pb || stateGapProof pb
     "start_acceleration" -> startAccProof pb

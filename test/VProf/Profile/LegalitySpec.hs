@@ -1,9 +1,17 @@
--- | The checker catches each rule on profiles built to break exactly that rule.
+-- | The checker catches each rule on profiles built to break exactly that rule, and agrees with
+-- an oracle written apart from it ("Support.LegalityOracle") on the generator's profiles for
+-- random requests and on those profiles broken by small and large changes.
 module VProf.Profile.LegalitySpec (spec) where
 
+import Data.List (nub, sort)
 import qualified Data.Vector.Unboxed as U
 import Test.Hspec
-import Test.QuickCheck
+import Test.QuickCheck hiding (generate, Result)
+
+import Support.Arbitrary (genRequest, problemOf)
+import Support.LegalityOracle
+import Support.Wide (logUniform)
+import VProf.Profile.Generate (Result (..), generate)
 
 import VProf.Profile.Legality
 import VProf.Profile.Sampled
@@ -144,3 +152,67 @@ spec = do
     property $ forAll (choose (4, 19)) $ \k -> forAll (choose (0.05, 2)) $ \d ->
       let vs = [ if i == k then x + d else x | (i, x) <- zip [0 :: Int ..] legalV ]
       in check problem (prof vs) /= []
+
+  describe "against the independent oracle (Support.LegalityOracle)" $ do
+    it "agrees on every hand-made case above" $
+      mapM_ (\(pb, vs, a0, aE) -> let p = Profile 0.5 (U.fromList vs) a0 aE
+                                   in (oracleVerdict pb p == SurelyLegal, nub (sort (map (ruleName . vRule) (check pb p))))
+                                        `shouldBe` (null (check pb p), nub (sort (map fst (oracleViolations checkerAllowance pb p)))))
+        [ (problem, legalV, 0, 0), (problem, [0, 0.25, 0.25, 0, -0.125, 0] ++ drop 6 legalV, 0, 0)
+        , (problem { pbAMin = -100, pbAMax = 100, pbJMin = -1000, pbJMax = 1000, pbLength = 6 }, [0, 2, 2, 2, 2, 2, 2, 0], 0, 0)
+        , (problem, [0, 0.25, 0.75, 1.5] ++ drop 4 legalV, 0, 0), (problem, [0, 0.625] ++ drop 2 legalV, 0, 0)
+        , (problem, legalV, -0.6, 0), (problem, legalV, 0, 0.6), (problem { pbV0 = 0.5 }, legalV, 0, 0)
+        , (problem, legalV ++ [0, 0, 0], 0, 0), (problem { pbLength = 10.001 }, legalV ++ [0.002, 0.002, 0], 0, 0)
+        , (problem { pbLength = 10.0625, pbVEnd = 0.75, pbTol = 0.4 }, take 22 legalV ++ [0.75], 0, 0.6)
+        , (problem { pbLength = 10.0625, pbVEnd = 0.75, pbTol = 0.4 }, take 22 legalV ++ [0.75], 0, 0) ]
+
+    it "property: on the generator's profiles for random requests, and on them changed by 1e-13 to 1e-3 relative or more, the checker's verdict is the oracle's wherever the oracle's is free of rounding, and the rules it names lie between the oracle's with a tighter and a looser allowance" $
+      withMaxSuccess 400 $ checkCoverage $ forAll genRequest $ \rq -> forAll genChange $ \change -> ioProperty $ do
+        r <- generate rq
+        let pb = problemOf rq
+        pure $ case resProfile r of
+          Nothing -> label "no profile" True
+          Just p0 ->
+            let p = applyChange change p0
+                verdict = oracleVerdict pb p
+                mine = nub (sort (map (ruleName . vRule) (check pb p)))
+                rulesAt al = nub (sort (map fst (oracleViolations al pb p)))
+                fewest = rulesAt (Allowance 1.01e-9 0.99e-9)
+                most = rulesAt (Allowance 0.99e-9 1.01e-9)
+            in cover 10 (verdict == SurelyLegal) "legal beyond rounding"
+               . cover 15 (verdict == SurelyIllegal) "illegal beyond rounding"
+               . tabulate "change" [changeName change]
+               . counterexample (show (verdict, mine, fewest, most))
+               $ (case verdict of
+                    SurelyLegal -> null mine
+                    SurelyIllegal -> not (null mine)
+                    Borderline -> True)
+                 && all (`elem` mine) fewest && all (`elem` most) mine
+
+-- | A change to a profile: none, one sample scaled, every sample scaled, a constant added,
+-- the last sample dropped or repeated, the start or end acceleration moved.
+data Change = Same | One Double Double | Every Double | Shift Double | DropLast | RepeatLast | StartAcc Double | EndAcc Double
+  deriving (Show)
+
+changeName :: Change -> String
+changeName = \case
+  Same -> "none"; One {} -> "one sample scaled"; Every _ -> "all scaled"; Shift _ -> "shifted"
+  DropLast -> "last dropped"; RepeatLast -> "last repeated"; StartAcc _ -> "start acceleration"; EndAcc _ -> "end acceleration"
+
+genChange :: Gen Change
+genChange = do
+  e <- (*) <$> elements [-1, 1] <*> logUniform 1e-13 1e-3
+  oneof [ pure Same, One <$> choose (0, 1) <*> pure e, pure (Every e), Shift <$> elements [e, 1e3 * e]
+        , pure DropLast, pure RepeatLast, StartAcc <$> pure (1e3 * e), EndAcc <$> pure (1e3 * e) ]
+
+applyChange :: Change -> Profile -> Profile
+applyChange c p@(Profile dt v a0 aE) = case c of
+  Same -> p
+  One u e -> let k = min (U.length v - 1) (floor (u * fromIntegral (U.length v)))
+             in p { prVelocities = v U.// [(k, (v U.! k) * (1 + e))] }
+  Every e -> p { prVelocities = U.map (* (1 + e)) v }
+  Shift e -> p { prVelocities = U.map (+ e) v }
+  DropLast -> if U.length v > 1 then p { prVelocities = U.init v } else p
+  RepeatLast -> p { prVelocities = U.snoc v (U.last v) }
+  StartAcc e -> Profile dt v (a0 + e) aE
+  EndAcc e -> Profile dt v a0 (aE + e)
