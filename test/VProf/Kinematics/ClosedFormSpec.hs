@@ -323,6 +323,30 @@ spec = do
           Right sols -> conjoin [ counterexample (show (solQ s)) (poseError (fkFix f (U.toList (solQ s))) target < 1e-9)
                                 | s <- sols ]
 
+  describe "out of reach is confirmed by the independent numerical IK (Support.NumericIk)" $
+    forM_ fixtures $ \f -> it (fxName f ++ ": no pose it calls out of reach is reached from 15 seeds (positions within the ball of radius Σ|a|+Σ|d|, any rotation)") $ do
+      let dh = fixtureDh f
+          Right solver = solverFor dh
+          reach = sum (map abs (fxA f)) + sum (map abs (fxD f))
+          inBall = suchThat ((,,) <$> choose (-reach, reach) <*> choose (-reach, reach) <*> choose (-reach, reach))
+                            (\(x, y, z) -> x * x + y * y + z * z <= reach * reach)
+          genPose = do
+            let unit = choose (-1, 1)
+            (w, x, y, z) <- (,,,) <$> unit <*> unit <*> unit <*> unit
+            (px, py, pz) <- inBall
+            let n = sqrt (w * w + x * x + y * y + z * z) `max` 1e-9
+                (a, b, c, d) = (w / n, x / n, y / n, z / n)
+            pure [ [1 - 2 * (c * c + d * d), 2 * (b * c - a * d), 2 * (b * d + a * c), px]
+                 , [2 * (b * c + a * d), 1 - 2 * (b * b + d * d), 2 * (c * d - a * b), py]
+                 , [2 * (b * d - a * c), 2 * (c * d + a * b), 1 - 2 * (b * b + c * c), pz]
+                 , [0, 0, 0, 1] ]
+      property $ withMaxSuccess 60 $ forAll genPose $ \target ->
+        case solvePrincipal solver (matToPose target) of
+          Left (OutOfReach _ _) -> let found = numericSolutions 15 (fixtureRows f) target
+                                   in label "out of reach" $ counterexample ("reached by " ++ show found) (null found)
+          Left e -> counterexample (show e) False
+          Right _ -> label "reached" True
+
   describe "failures say why" $ do
     it "a pose out of reach gives OutOfReach with the distance, never NaN" $
       forM_ fixtures $ \f -> do

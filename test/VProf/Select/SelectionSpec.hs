@@ -17,6 +17,8 @@ import Test.QuickCheck
 
 import Support.Arbitrary (shared)
 import Support.Gen (genQ)
+import Support.RobotOracle (oracleClearance, oracleTool, poseGap)
+import VProf.Geometry.Mesh (triangles)
 import VProf.Geometry.Bvh
 import VProf.Geometry.Format.Obj
 import VProf.Kinematics.Collision
@@ -69,6 +71,9 @@ spec = do
   dir <- runIO shared
   cellE <- runIO (readObj (dir </> "data" </> "cell" </> "cell.obj"))
   let bvh = buildBvh (either error id cellE)
+      tris = [ (pt a, pt b, pt c) | (a, b, c) <- triangles (either error id cellE) ]
+      pt (V3 x y z) = (x, y, z)
+      matFromTf t = let rows = toRows t in [take 4 rows, take 4 (drop 4 rows), take 4 (drop 8 rows), [0, 0, 0, 1]]
   describe "the filters and the counts (random robots, payloads and targets in the cell)" $ do
     it "a robot whose rated payload is below the task's gets no IK at all; the others are not rejected for payload" $
       withMaxSuccess 60 $ forAll (elements library) $ \(k, r) -> forAll (choose (0, 25)) $ \p ->
@@ -80,9 +85,11 @@ spec = do
                  Just c | c < p -> isJust (rrRejected res) && null (rrTargets res) && rrReached res == 0
                                    && isNothing (rrMinClearance res) && isNothing (rrCycleTime res)
                  _ -> isNothing (rrRejected res) && length (rrTargets res) == length poses
-    it "reached ≤ N; a target has joints exactly when it has no failure; the cycle time only when all are reached" $
+    it "reached ≤ N; a target has joints exactly when it has no failure; the cycle time only when all are reached; every reached target's joints reach it by the independent FK, within the limits, clear of the cell by brute force over every triangle" $
       withMaxSuccess 60 $ forAll (elements library) $ \(k, r) -> forAll (resize 4 (listOf1 genPose)) $ \poses ->
         let res = evaluateRobot defaultSelectOptions (task0 0 poses) bvh k r
+            cm = collisionModel defaultCollisionOptions { coSceneIgnore = [1] } r
+            reached = [ (U.toList q, target) | (t, target) <- zip (rrTargets res) poses, Just q <- [trJoints t] ]
         in counterexample (show (k, map trFailure (rrTargets res))) $ conjoin
              [ property (rrReached res <= rrTotal res)
              , rrTotal res === length poses
@@ -90,6 +97,11 @@ spec = do
              , conjoin [isJust (trJoints t) =/= isJust (trFailure t) | t <- rrTargets res]
              , isJust (rrCycleTime res) === (rrReached res == rrTotal res)
              , property (and [ maybe False (>= 0.01) (trClearance t) | t <- rrTargets res, isJust (trJoints t) ])
+             , conjoin [ counterexample ("joints " ++ show qs) $
+                           poseGap (oracleTool r qs) (matFromTf target) < 1e-6
+                           && and [ x >= lo - 1e-9 && x <= hi + 1e-9 | (j, x) <- zip (robotJoints r) qs, let Limits lo hi = jointLimits j ]
+                           && oracleClearance cm tris qs >= 0.01 - 1e-9
+                       | (qs, target) <- reached ]
              ]
     it "the reach filter fails a target beyond the stretched arm without IK, naming both distances" $ do
       let ur5 = either error id (lookupRobot "ur5")
