@@ -122,6 +122,20 @@ nearAxisTarget fam f eps q =
       p' = zipWith3 (\w z x -> w + d 5 * z + a 5 * x) w' (rcol 2) (rcol 0)
   in [take 3 (m !! i) ++ [p' !! i] | i <- [0 .. 2]] ++ [[0, 0, 0, 1]]
 
+
+-- | A pose of any rotation (a normalised random quaternion) at a position drawn by the given
+-- generator, as a 4×4 matrix.
+poseAt :: Gen (Double, Double, Double) -> Gen [[Double]]
+poseAt position = do
+  let unit = choose (-1, 1)
+  (w, x, y, z) <- (,,,) <$> unit <*> unit <*> unit <*> unit
+  (px, py, pz) <- position
+  let n = sqrt (w * w + x * x + y * y + z * z) `max` 1e-9
+      (a, b, c, d) = (w / n, x / n, y / n, z / n)
+  pure [ [1 - 2 * (c * c + d * d), 2 * (b * c - a * d), 2 * (b * d + a * c), px]
+       , [2 * (b * c + a * d), 1 - 2 * (b * b + d * d), 2 * (c * d - a * b), py]
+       , [2 * (b * d - a * c), 2 * (c * d + a * b), 1 - 2 * (b * b + c * c), pz]
+       , [0, 0, 0, 1] ]
 spec :: Spec
 spec = do
   describe "FK oracle (textbook standard DH, independent of the solver)" $
@@ -306,16 +320,8 @@ spec = do
       let dh = fixtureDh f
           Right solver = solverFor dh
           reach = sum (map abs (fxA f)) + sum (map abs (fxD f))
-          genPose = do
-            let unit = choose (-1, 1); coord = choose (-1.5 * reach, 1.5 * reach)
-            (w, x, y, z) <- (,,,) <$> unit <*> unit <*> unit <*> unit
-            (px, py, pz) <- (,,) <$> coord <*> coord <*> coord
-            let n = sqrt (w * w + x * x + y * y + z * z) `max` 1e-9
-                (a, b, c, d) = (w / n, x / n, y / n, z / n)
-            pure [ [1 - 2 * (c * c + d * d), 2 * (b * c - a * d), 2 * (b * d + a * c), px]
-                 , [2 * (b * c + a * d), 1 - 2 * (b * b + d * d), 2 * (c * d - a * b), py]
-                 , [2 * (b * d - a * c), 2 * (c * d + a * b), 1 - 2 * (b * b + c * c), pz]
-                 , [0, 0, 0, 1] ]
+          coord = choose (-1.5 * reach, 1.5 * reach)
+          genPose = poseAt ((,,) <$> coord <*> coord <*> coord)
       property $ withMaxSuccess 2000 $ forAll genPose $ \target ->
         case solvePrincipal solver (matToPose target) of
           Left (OutOfReach _ d) -> counterexample (show d) (d /= 0 && abs d < 3 * reach)
@@ -330,16 +336,7 @@ spec = do
           reach = sum (map abs (fxA f)) + sum (map abs (fxD f))
           inBall = suchThat ((,,) <$> choose (-reach, reach) <*> choose (-reach, reach) <*> choose (-reach, reach))
                             (\(x, y, z) -> x * x + y * y + z * z <= reach * reach)
-          genPose = do
-            let unit = choose (-1, 1)
-            (w, x, y, z) <- (,,,) <$> unit <*> unit <*> unit <*> unit
-            (px, py, pz) <- inBall
-            let n = sqrt (w * w + x * x + y * y + z * z) `max` 1e-9
-                (a, b, c, d) = (w / n, x / n, y / n, z / n)
-            pure [ [1 - 2 * (c * c + d * d), 2 * (b * c - a * d), 2 * (b * d + a * c), px]
-                 , [2 * (b * c + a * d), 1 - 2 * (b * b + d * d), 2 * (c * d - a * b), py]
-                 , [2 * (b * d - a * c), 2 * (c * d + a * b), 1 - 2 * (b * b + c * c), pz]
-                 , [0, 0, 0, 1] ]
+          genPose = poseAt inBall
       property $ withMaxSuccess 60 $ forAll genPose $ \target ->
         case solvePrincipal solver (matToPose target) of
           Left (OutOfReach _ _) -> let found = numericSolutions 15 (fixtureRows f) target
