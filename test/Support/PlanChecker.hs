@@ -23,9 +23,14 @@
 -- * the TCP stream itself, as a controller follows it across the parts' joins: accelerations
 --   and jerks from the velocity samples alone (at rest before the first and after the last)
 --   within the plan's ranges, and the acceleration column equal to those differences (to
---   'streamTolerance').
+--   'streamTolerance');
+-- * ('checkTcpSpeed') the TCP's own speed against the speed the plan was asked for, from the
+--   oracle's TCP positions alone (the distance between two samples over the time step, which a
+--   motion at most that fast cannot exceed), and every listed zone at most that speed: the
+--   checks above take the speed limit from the plan's own listing and columns.
 module Support.PlanChecker
   ( checkTrajectory
+  , checkTcpSpeed
   , checkWaypointPoses
   , oracleTcp
   , polylineDistance
@@ -134,6 +139,23 @@ polylineDistance ps p = minimum (zipWith seg ps (drop 1 ps))
           u = if l2 <= 0 then 0 else max 0 (min 1 (((px - ax) * dx + (py - ay) * dy + (pz - az) * dz) / l2))
           (cx, cy, cz) = (ax + u * dx - px, ay + u * dy - py, az + u * dz - pz)
       in sqrt (cx * cx + cy * cy + cz * cz)
+
+-- | The TCP's speed by the oracle's forward kinematics, sample to sample, and the listed zones,
+-- against the requested speed (m/s): every problem found.
+checkTcpSpeed :: Robot -> Double -> Double -> Plan -> [String]
+checkTcpSpeed r speed dt plan =
+  take 5 [ "step " ++ show k ++ ": the TCP moves " ++ show (d * 1000) ++ " mm in " ++ show dt ++ " s, "
+           ++ show (d / dt) ++ " m/s, above the requested " ++ show speed ++ " m/s"
+         | (k, (a, b)) <- zip [0 :: Int ..] (zip tcps (drop 1 tcps))
+         , let d = dist a b, d / dt > speed * (1 + speedTolerance) + 1e-9 ]
+  ++ take 1 [ "the listed zone from " ++ show (lzStart z) ++ " m allows " ++ show (lzSpeed z) ++ " m/s, above the requested "
+              ++ show speed ++ " m/s" | z <- planZoneList plan, lzSpeed z > speed * (1 + 1e-9) ]
+  where
+    tr = planTrajectory plan
+    n = trDof tr
+    m = U.length (trTime tr)
+    tcps = [ oracleTcp r [ trQ tr U.! (k * n + i) | i <- [0 .. n - 1] ] | k <- [0 .. m - 1] ]
+    dist (ax, ay, az) (bx, by, bz) = sqrt ((ax - bx) ^ (2 :: Int) + (ay - by) ^ (2 :: Int) + (az - bz) ^ (2 :: Int))
 
 -- | Every problem found (empty: the trajectory passes). The zone radius in m (0 for fine).
 checkTrajectory :: Robot -> [(Double, Double, Double)] -> Double -> Double -> Double -> Double -> Plan -> [String]

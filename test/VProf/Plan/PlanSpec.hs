@@ -98,6 +98,7 @@ planAndCheckWith acc jerk r wps zone v =
        Left f -> counterexample (describePlanFailure f) False
        Right plan ->
          let problems = checkTrajectory r (positions wps) (zoneRadius zone) acc jerk defaultTimeStep plan
+                        ++ checkTcpSpeed r v defaultTimeStep plan
          in counterexample (unlines problems) (null problems && planLegal plan && planDuration plan > 0)
 
 spec :: Spec
@@ -120,7 +121,7 @@ spec = describe "VProf.Plan" $ do
                   Left f -> counterexample (describePlanFailure f) False
                   Right plan ->
                     let problems = checkTrajectory r (positions wps) (zoneRadius zone) defaultAcceleration defaultJerk defaultTimeStep plan
-                                   ++ checkWaypointPoses r (poses wps) plan
+                                   ++ checkWaypointPoses r (poses wps) plan ++ checkTcpSpeed r v defaultTimeStep plan
                     in counterexample (unlines problems) (null problems && planLegal plan && planDuration plan > 0))
       ["ur5", "abb-irb140", "franka-panda"]
 
