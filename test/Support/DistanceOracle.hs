@@ -14,9 +14,14 @@ module Support.DistanceOracle
   , oSegmentSegment
   , oSegmentMesh
   , oSegmentMeshBounded
+  , OMesh
+  , oMesh
+  , oSegmentMeshNear
   ) where
 
 import Data.List (sortOn)
+import qualified Data.Vector as V
+import qualified Data.Vector.Unboxed as U
 
 type Pt = (Double, Double, Double)
 
@@ -109,3 +114,40 @@ oSegmentMeshBounded p q ts =
         | minimum [oPointTriangle (along p q (fromIntegral i / 8)) a b c | i <- [0 .. 8 :: Int]] - h / 8 > bd = go best rest
         | otherwise = go (min best (oSegmentTriangle p q a b c, k)) rest
   in go (1 / 0, -1) bounds
+
+-- | A mesh with every triangle's bounding sphere: its centroid and the largest distance from
+-- the centroid to a corner.
+data OMesh = OMesh (U.Vector (Double, Double, Double, Double)) (V.Vector (Pt, Pt, Pt))
+
+oMesh :: [(Pt, Pt, Pt)] -> OMesh
+oMesh ts = OMesh (U.fromList (map sphere ts)) (V.fromList ts)
+  where
+    sphere (a@(ax, ay, az), b@(bx, by, bz), c@(cx, cy, cz)) =
+      let o = ((ax + bx + cx) / 3, (ay + by + cy) / 3, (az + bz + cz) / 3)
+          (ox, oy, oz) = o
+      in (ox, oy, oz, maximum [len (minus a o), len (minus b o), len (minus c o)])
+
+-- | The minimum of 'oSegmentMeshBounded' over a mesh of many triangles, faster: a triangle
+-- lies in its bounding sphere, so the segment's distance to it is at least the segment's
+-- distance to the centre less the radius, and at most that plus twice the radius (the distance
+-- to a corner). The triangles are searched in increasing lower bound until it exceeds the best
+-- distance found, each first sampled at nine equally spaced points of the segment (their least
+-- distance less a sixteenth of the segment's length is again a lower bound) before the full
+-- search.
+oSegmentMeshNear :: Pt -> Pt -> OMesh -> (Double, Int)
+oSegmentMeshNear p q (OMesh spheres ts)
+  | U.null spheres = (1 / 0, -1)
+  | otherwise =
+      let lbs = U.map (\(ox, oy, oz, r) -> oPointSegment (ox, oy, oz) p q - r) spheres
+          ub = U.minimum (U.zipWith (\lb (_, _, _, r) -> lb + 2 * r) lbs spheres)
+          cands = sortOn fst [ (lbs U.! i, i) | i <- U.toList (U.findIndices (<= ub) lbs) ]
+          slack = len (minus q p) / 16
+          go best [] = best
+          go best@(bd, _) ((lb, i) : rest)
+            | lb > bd = best
+            | otherwise =
+                let (a, b, c) = ts V.! i
+                in if minimum [oPointTriangle (along p q (fromIntegral k / 8)) a b c | k <- [0 .. 8 :: Int]] - slack > bd
+                     then go best rest
+                     else go (min best (oSegmentTriangle p q a b c, i)) rest
+      in go (1 / 0, -1) cands

@@ -1,11 +1,13 @@
 -- | Forward kinematics and clearance of a whole robot by the test oracles, apart from the library's
 -- chain, frames and BVH: every body frame as a product of "Support.FkOracle"'s textbook 4×4
 -- matrices (read from the model's link table and drives), the collision parts placed in those
--- frames, and each part's distance to the scene by "Support.DistanceOracle" over every triangle.
+-- frames, each part's distance to the scene by "Support.DistanceOracle" over every triangle, and
+-- the distance of every pair of parts the model checks against each other.
 module Support.RobotOracle
   ( oracleFrames
   , oracleTool
   , oracleClearance
+  , oracleSelfClearance
   , poseGap
   ) where
 
@@ -50,12 +52,25 @@ poseGap = maxDiff
 
 -- | The least surface distance between the model's parts (but those of ignored bodies) and the
 -- triangles: every triangle, no hierarchy.
-oracleClearance :: CollisionModel -> [(Pt, Pt, Pt)] -> [Double] -> Double
+oracleClearance :: CollisionModel -> OMesh -> [Double] -> Double
 oracleClearance cm tris q =
+  minimum (1 / 0 : [fst (oSegmentMeshNear a e tris) - rad | (b, a, e, rad) <- oracleParts cm q, b `notElem` cmSceneIgnore cm])
+
+-- | The least surface distance between the pairs of parts the model checks against each other
+-- (its list of pairs, by part index), the parts placed by the oracle's frames; infinite when no
+-- pair is checked.
+oracleSelfClearance :: CollisionModel -> [Double] -> Double
+oracleSelfClearance cm q =
+  let ps = V.fromList (oracleParts cm q)
+      gap (_, a, e, ra) (_, b, f, rb) = oSegmentSegment a e b f - ra - rb
+  in minimum (1 / 0 : [gap (ps V.! i) (ps V.! j) | (i, j) <- cmSelfPairs cm])
+
+-- | Every part of the model as (body, one end, the other end, radius) in the world at q.
+oracleParts :: CollisionModel -> [Double] -> [(Int, Pt, Pt, Double)]
+oracleParts cm q =
   let fs = V.fromList (oracleFrames (cmRobot cm) q)
       point m (V3 x y z) = let [a, b, c] = map (\row -> sum (zipWith (*) row [x, y, z, 1])) (take 3 m) in (a, b, c)
       origin m = point m (V3 0 0 0)
       place (Attached b (Capsule a e rad)) = (b, point (fs V.! b) a, point (fs V.! b) e, rad)
       place (Bone b rad) = (b, origin (fs V.! (b - 1)), origin (fs V.! b), rad)
-      parts = [p | p@(b, _, _, _) <- map place (V.toList (cmParts cm)), b `notElem` cmSceneIgnore cm]
-  in minimum (1 / 0 : [fst (oSegmentMeshBounded a e tris) - rad | (_, a, e, rad) <- parts])
+  in map place (V.toList (cmParts cm))

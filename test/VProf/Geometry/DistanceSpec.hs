@@ -112,7 +112,7 @@ spec = do
       fmap hitDistance (minimumDistance bvh (Capsule (V3 0.2 0.2 (-1)) (V3 0.2 0.2 1) 0.1)) `shouldBe` Just (-0.1)
 
   describe "the BVH" $ do
-    it "minimumDistance agrees with the oracle over all triangles: distance, triangle and closest points (1e-8)" $
+    it "minimumDistance agrees with the oracle over all triangles: distance, triangle and closest points (1e-8); the oracle's pruned searches agree with its full scan" $
       withMaxSuccess 300 $ property $ forAll genScale $ \s -> forAll (genMesh s) $ \m ->
         forAll (genCapsule s m) $ \cap@(Capsule p q r) ->
           let bvh = buildBvh m
@@ -125,6 +125,9 @@ spec = do
                [ abs (hitAxisDistance h - od) <= tol
                , abs (hitDistance h - (hitAxisDistance h - r)) <= 1e-15 * s
                , abs (oSegmentTriangle (pt p) (pt q) ta tb tc - od) <= tol
+               -- the oracle's pruned searches find the full scan's distance
+               , abs (fst (oSegmentMeshBounded (pt p) (pt q) tris) - od) <= tol
+               , abs (fst (oSegmentMeshNear (pt p) (pt q) (oMesh tris)) - od) <= tol
                , abs (nrm (sub3 (hitOnAxis h) (hitOnMesh h)) - hitAxisDistance h) <= tol
                -- the foot point on a sliver is ill-conditioned across its width: 1e-8 of the scale
                , oPointTriangle (pt (hitOnMesh h)) ta tb tc <= 10 * tol

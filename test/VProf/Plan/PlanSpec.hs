@@ -14,6 +14,7 @@ import Test.QuickCheck
 import Support.Arbitrary (shared)
 import Support.Gen (turnedBy)
 import Support.PlanChecker
+import Support.DistanceOracle (oMesh)
 import Support.RobotOracle (oracleClearance)
 import Support.Recordings (loadTum)
 import VProf.Compress (Compressed (..), Path (..), Settings (..), Track (..), compress, defaultSettings)
@@ -98,7 +99,7 @@ planAndCheckWith acc jerk r wps zone v =
        Left f -> counterexample (describePlanFailure f) False
        Right plan ->
          let problems = checkTrajectory r (positions wps) (zoneRadius zone) acc jerk defaultTimeStep plan
-                        ++ checkTcpSpeed r v defaultTimeStep plan
+                        ++ checkTcpMotion r v acc defaultTimeStep plan
          in counterexample (unlines problems) (null problems && planLegal plan && planDuration plan > 0)
 
 spec :: Spec
@@ -121,7 +122,7 @@ spec = describe "VProf.Plan" $ do
                   Left f -> counterexample (describePlanFailure f) False
                   Right plan ->
                     let problems = checkTrajectory r (positions wps) (zoneRadius zone) defaultAcceleration defaultJerk defaultTimeStep plan
-                                   ++ checkWaypointPoses r (poses wps) plan ++ checkTcpSpeed r v defaultTimeStep plan
+                                   ++ checkWaypointPoses r (poses wps) plan ++ checkTcpMotion r v defaultAcceleration defaultTimeStep plan
                     in counterexample (unlines problems) (null problems && planLegal plan && planDuration plan > 0))
       ["ur5", "abb-irb140", "franka-panda"]
 
@@ -263,7 +264,7 @@ spec = describe "VProf.Plan" $ do
         r = r0 { robotTool = robotTool r0 `T.compose` T.fromRpy (V3 0 0 0.10) (V3 0 0 0) }
         cm = collisionModel defaultCollisionOptions { coTool = Just (Capsule (V3 0 0 (-0.10)) (V3 0 0 (-0.02)) 0.04), coSceneIgnore = [1] } r
         bvh = buildBvh mesh
-        tris = [ (pt a, pt b, pt c') | (a, b, c') <- triangles mesh ]
+        tris = oMesh [ (pt a, pt b, pt c') | (a, b, c') <- triangles mesh ]
         pt (V3 x y z) = (x, y, z)
         rq = (planRequest r wps) { prSpeed = 0.25 *~ mps, prTrack = defaultTrackOptions { toEnvironment = Just (Environment cm bvh 0.01) } }
         kin = kinematicsFor r

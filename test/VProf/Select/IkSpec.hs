@@ -7,17 +7,21 @@ module VProf.Select.IkSpec (spec) where
 import qualified Data.ByteString.Char8 as BC
 import qualified Data.ByteString.Lazy.Char8 as BLC
 import Data.List (isInfixOf, sort)
+import qualified Data.Map.Lazy as M
 import qualified Data.Vector.Unboxed as U
 import GHC.Clock (getMonotonicTimeNSec)
 import Test.Hspec
 import Test.QuickCheck
 
 import Support.Gen (genQ, snake)
+import Support.DistanceOracle (oMesh)
+import Support.RobotOracle (oracleClearance, oracleFrames, oracleSelfClearance)
 import VProf.Kinematics.Forward (forward)
 import VProf.Kinematics.Model (compile)
 
 import VProf.Geometry.Bvh
 import VProf.Geometry.Format.Obj
+import VProf.Geometry.Mesh (triangles)
 import VProf.Kinematics.Format.Urdf (defaultUrdfOptions, readUrdf)
 import VProf.Kinematics.Collision
 import VProf.Kinematics.Ik
@@ -29,6 +33,8 @@ spec :: Spec
 spec = do
   cell <- runIO (readObj "../shared/data/cell/cell.obj")
   let bvh = buildBvh (either error id cell)
+      pt (V3 x y z) = (x, y, z)
+      tris = oMesh [ (pt a, pt b, pt c) | (a, b, c) <- triangles (either error id cell) ]
       ur5 = either error id (lookupRobot "ur5")
       kin = kinematicsFor ur5
       -- the base column is always 0.04 m from the table's edge: left out, so that clearances rank
@@ -84,15 +90,16 @@ spec = do
       said 0.0081 `shouldSatisfy` ("the best one: clearance 8.1 mm (at least 10.0 mm asked) between link3 and scene triangle 63" `isInfixOf`)
       describeFixedCollision 0.01 (cl (-0.15)) `shouldSatisfy` ("whatever the joints are, overlapping by 150.0 mm (a clearance of at least 10.0 mm asked) with scene triangle 63" `isInfixOf`)
     -- the oracle: every solution's worse margin (scene clearance − d, nearest checked pair − the
-    -- self margin), each computed in full; the answer's best must have the largest
+    -- self margin), each computed in full by Support.RobotOracle (frames by textbook matrices,
+    -- every triangle of the cell, every checked pair); the answer's best must have the largest
     let marginOf m d selfM q =
-          min (maybe (1 / 0) (\cl -> clrDistance cl - d) (robotClearance m bvh q))
-              (maybe (1 / 0) (\sc -> scDistance sc - selfM) (selfClearance m q))
+          min (oracleClearance m tris (U.toList q) - d) (oracleSelfClearance m (U.toList q) - selfM)
+        marginsOf m d selfM = byPlacement m (marginOf m d selfM)
         bestAgainstOracle name k m restarts = forAll ((,,,) <$> choose (0.1, 0.8) <*> choose (-0.5, 0.5) <*> choose (-0.3, 0.6) <*> ((,) <$> elements [0, 0.02, 0.2] <*> elements [0, 0.03, 0.15])) $ \(x, y, z, (d, selfM)) ->
           let o = defaultSelectIkOptions {siIk = defaultIkOptions {ikMaxRestarts = restarts}, siClearance = d, siSelfMargin = selfM}
               target = down x y z
               Right sols = solveIk (siIk o) {ikAllSolutions = True} k target Nothing
-              margins = [marginOf m d selfM (solJoints s') | s' <- sols]
+              margins = marginsOf m d selfM (map solJoints sols)
           in case solveCollisionFree o k m bvh target Nothing of
                Left (AllInCollision n best) ->
                  let got = marginOf m d selfM (solJoints (cdSolution best)); want = maximum margins
@@ -101,7 +108,7 @@ spec = do
                         n == length sols && abs (got - want) <= 1e-9 * (1 + abs want)
                Left (IkFailed _) -> label "no IK solution" True
                Right cs -> label "some clear" $ counterexample name $
-                 all (\c -> marginOf m d selfM (solJoints (cdSolution c)) >= -1e-9) cs
+                 all (>= -1e-9) (marginsOf m d selfM (map (solJoints . cdSolution) cs))
     it "is the solution of the largest margin (UR5: every closed-form branch and turn)" $
       property $ withMaxSuccess 100 $ bestAgainstOracle "ur5" kin cm 200
     it "is the solution of the largest margin (LBR iiwa: the numerical solver's restarts)" $ do
@@ -116,19 +123,19 @@ spec = do
           m = collisionModel defaultCollisionOptions sn
           Right far = parseObj (BC.pack "v 5 5 5\nv 5.1 5 5\nv 5 5.1 5\nf 1 2 3\n")
           farBvh = buildBvh far
+          farTris = oMesh [ (pt a, pt b, pt c) | (a, b, c) <- triangles far ]
       property $ withMaxSuccess 40 $ forAll (genQ ch) $ \q -> forAll (elements [0, 0.005, 0.02]) $ \selfM ->
         let o = defaultSelectIkOptions {siIk = defaultIkOptions {ikMaxRestarts = 12}, siClearance = 0, siSelfMargin = selfM}
             target = forward ch q
-            margin q' = min (maybe (1 / 0) clrDistance (robotClearance m farBvh q'))
-                            (maybe (1 / 0) (\sc -> scDistance sc - selfM) (selfClearance m q'))
+            margin q' = min (oracleClearance m farTris (U.toList q')) (oracleSelfClearance m (U.toList q') - selfM)
         in case solveIk (siIk o) {ikAllSolutions = True} k target Nothing of
              Right sols@(_ : _) -> case solveCollisionFree o k m farBvh target Nothing of
                Left (AllInCollision n best) ->
-                 let got = margin (solJoints (cdSolution best)); want = maximum (map (margin . solJoints) sols)
+                 let got = margin (solJoints (cdSolution best)); want = maximum (byPlacement m margin (map solJoints sols))
                  in label "all self-collide" $ counterexample ("the best's margin " ++ show got ++ ", the largest " ++ show want) $
                       n == length sols && abs (got - want) <= 1e-9 * (1 + abs want)
                Left f -> counterexample (describeSelectIkFailure o f) False
-               Right cs -> label "some clear" $ all (\c -> margin (solJoints (cdSolution c)) >= -1e-9) cs
+               Right cs -> label "some clear" $ all (>= -1e-9) (byPlacement m margin (map (solJoints . cdSolution) cs))
              _ -> label "IK found nothing" True
 
   describe "solveCollisionFreeIO" $ do
@@ -170,3 +177,12 @@ spec = do
       t1 <- getMonotonicTimeNSec
       -- the checks after the search take about 2 s here (8 s allowed); before, 20 s and more
       (fromIntegral (t1 - t0) / 1e9 :: Double) `shouldSatisfy` (< 0.3 + 8)
+
+-- | A function of the robot's placement at each of several joint vectors, computed once a
+-- placement: solutions that differ by whole turns of a joint place every body alike (the
+-- oracle's frames equal to 1e-9), and the UR5's closed form gives up to 64 turns of each branch.
+byPlacement :: CollisionModel -> (U.Vector Double -> Double) -> [U.Vector Double] -> [Double]
+byPlacement m f qs = [ table M.! key q | q <- qs ]
+  where
+    key q = map (\x -> round (x * 1e9) :: Integer) (concat (concat (oracleFrames (cmRobot m) (U.toList q))))
+    table = M.fromList [ (key q, f q) | q <- qs ]

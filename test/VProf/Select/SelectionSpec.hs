@@ -17,6 +17,7 @@ import Test.QuickCheck
 
 import Support.Arbitrary (shared)
 import Support.Gen (genQ)
+import Support.DistanceOracle (oMesh)
 import Support.RobotOracle (oracleClearance, oracleTool, poseGap)
 import VProf.Geometry.Mesh (triangles)
 import VProf.Geometry.Bvh
@@ -71,7 +72,7 @@ spec = do
   dir <- runIO shared
   cellE <- runIO (readObj (dir </> "data" </> "cell" </> "cell.obj"))
   let bvh = buildBvh (either error id cellE)
-      tris = [ (pt a, pt b, pt c) | (a, b, c) <- triangles (either error id cellE) ]
+      tris = oMesh [ (pt a, pt b, pt c) | (a, b, c) <- triangles (either error id cellE) ]
       pt (V3 x y z) = (x, y, z)
       matFromTf t = let rows = toRows t in [take 4 rows, take 4 (drop 4 rows), take 4 (drop 8 rows), [0, 0, 0, 1]]
   describe "the filters and the counts (random robots, payloads and targets in the cell)" $ do

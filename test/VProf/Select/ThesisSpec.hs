@@ -16,7 +16,7 @@ import Test.QuickCheck.Gen (unGen)
 import Test.QuickCheck.Random (mkQCGen)
 
 import Support.Arbitrary (shared)
-import Support.DistanceOracle (Pt)
+import Support.DistanceOracle (Pt, oMesh)
 import Support.RobotOracle
 import VProf.Geometry.Bvh
 import VProf.Geometry.Format.Obj
@@ -59,7 +59,7 @@ spec = do
   cell <- runIO (readObj cellPath)
   let mesh = either error id cell :: Mesh
       bvh = buildBvh mesh
-      tris = [(pt a, pt b, pt c) | (a, b, c) <- triangles mesh]
+      tris = oMesh [(pt a, pt b, pt c) | (a, b, c) <- triangles mesh]
       size = 20
   describe "the thesis experiment in cell.obj (20 feasible targets a robot)" $
     forM_ ["ur5", "abb-irb140", "franka-panda"] $ \name -> do

@@ -26,7 +26,7 @@ import Test.QuickCheck (Gen, choose, vectorOf)
 import Test.QuickCheck.Gen (unGen)
 import Test.QuickCheck.Random (mkQCGen)
 
-import Support.DistanceOracle (Pt)
+import Support.DistanceOracle (Pt, oMesh)
 import Support.Envelope (viaEnvelope)
 import Support.RobotOracle (oracleClearance, oracleTool, poseGap)
 import VProf.Geometry.Bvh (Bvh, buildBvh)
@@ -251,7 +251,7 @@ spec = do
             forM_ (zip (robotJoints robot) qs) $ \(j, x) -> do
               let Limits lo hi = jointLimits j
               (x >= lo - 1e-9 && x <= hi + 1e-9) `shouldBe` True
-            let oc = oracleClearance cm oracleTriangles qs
+            let oc = oracleClearance cm (oMesh oracleTriangles) qs
             oc `shouldSatisfy` (>= clearanceM - 1e-9)
             abs (dbl (getField (stClearance t)) - oc) `shouldSatisfy` (< 1e-6)
             pure [()]
