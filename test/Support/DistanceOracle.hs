@@ -5,7 +5,8 @@
 -- the nearest edge), and the segment's
 -- distance as the minimum over the segment parameter t of the convex function
 -- t ↦ dist(p + t (q − p), triangle), found by golden-section search (plus both ends). Meshes are
--- scanned triangle by triangle, no pruning.
+-- scanned triangle by triangle ('oSegmentMesh'); the pruned scans ('oSegmentMeshBounded',
+-- 'oSegmentMeshNear') skip a triangle only by a lower bound of its distance, no hierarchy.
 module Support.DistanceOracle
   ( Pt
   , oPointSegment

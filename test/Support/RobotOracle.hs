@@ -51,7 +51,7 @@ poseGap :: Mat -> Mat -> Double
 poseGap = maxDiff
 
 -- | The least surface distance between the model's parts (but those of ignored bodies) and the
--- triangles: every triangle, no hierarchy.
+-- triangles: every triangle (skipped only by a lower bound of its distance), no hierarchy.
 oracleClearance :: CollisionModel -> OMesh -> [Double] -> Double
 oracleClearance cm tris q =
   minimum (1 / 0 : [fst (oSegmentMeshNear a e tris) - rad | (b, a, e, rad) <- oracleParts cm q, b `notElem` cmSceneIgnore cm])
