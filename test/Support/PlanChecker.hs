@@ -27,8 +27,8 @@
 -- * ('checkTcpMotion') the TCP's own motion against what the plan was asked for, from the
 --   oracle's TCP positions alone: its speed (the distance between two samples over the time
 --   step) within the requested speed and every listed zone at most that speed, its acceleration
---   along the path (differences of those speeds) within the requested one: the checks above
---   take the limits from the plan's own listing and columns.
+--   and jerk along the path (differences of those speeds) within the requested ones: the checks
+--   above take the limits from the plan's own listing and columns.
 module Support.PlanChecker
   ( checkTrajectory
   , checkTcpMotion
@@ -144,19 +144,17 @@ polylineDistance ps p = minimum (zipWith seg ps (drop 1 ps))
 -- | The TCP's motion by the oracle's forward kinematics alone, against what the plan was asked
 -- for: its speed (the distance between two samples over the time step, which a motion at most
 -- that fast cannot exceed) within the requested speed (m/s) and every listed zone at most that
--- speed; and its acceleration along the path, by the differences of those speeds (at rest
--- before the first sample and after the last), within the requested acceleration (m/s²), to
--- 'fkTolerance'. The length of a step along the path is the mean of its two samples' speeds
--- over the time step, so its differences keep the requested range; the chord between two
--- samples is shorter than the path where it bends: by at most φ²/6 of it, φ the larger of the
--- angles the TCP turns by at the step's two samples (an arc of angle θ is θ²/24 longer than its
--- chord, and a step turns by at most twice the angle at either end), and each difference gets
--- the bends of its two steps as an allowance; where the TCP runs straight it is nought. The
--- jerk is not checked this way: the joint path between the IK samples is a C¹ interpolation
--- whose second derivative steps at the samples, and the TCP's jerk by the joints exceeds the
--- requested jerk (README, known limits).
-checkTcpMotion :: Robot -> Double -> Double -> Double -> Plan -> [String]
-checkTcpMotion r speed acc dt plan =
+-- speed; and its acceleration and jerk along the path, by the first and second differences of
+-- those speeds (at rest before the first sample and after the last), within the requested
+-- acceleration (m/s²) and jerk (m/s³), to 'fkTolerance'. The length of a step along the path is
+-- the mean of its two samples' speeds over the time step, so its differences keep the requested
+-- ranges; the chord between two samples is shorter than the path where it bends: by at most
+-- φ²/6 of it, φ the larger of the angles the TCP turns by at the step's two samples (an arc of
+-- angle θ is θ²/24 longer than its chord, and a step turns by at most twice the angle at either
+-- end), and each difference gets the bends of the steps it takes as an allowance. Where the TCP
+-- runs straight that allowance is nought.
+checkTcpMotion :: Robot -> Double -> Double -> Double -> Double -> Plan -> [String]
+checkTcpMotion r speed acc jerk dt plan =
   take 5 [ "step " ++ show k ++ ": the TCP moves " ++ show (d * dt * 1000) ++ " mm in " ++ show dt ++ " s, "
            ++ show d ++ " m/s, above the requested " ++ show speed ++ " m/s"
          | (k, d) <- zip [0 :: Int ..] speeds, d > speed * (1 + speedTolerance) + 1e-9 ]
@@ -165,6 +163,9 @@ checkTcpMotion r speed acc dt plan =
   ++ take 5 [ "step " ++ show k ++ ": the TCP's acceleration along its path (oracle FK) is " ++ show a
               ++ " m/s², above the requested " ++ show acc ++ " (allowance for its bend " ++ show sl ++ ")"
             | (k, a, sl) <- zip3 [0 :: Int ..] accs accSlack, abs a > acc * (1 + fkTolerance) + sl + 1e-6 ]
+  ++ take 5 [ "sample " ++ show k ++ ": the TCP's jerk along its path (oracle FK) is " ++ show j
+              ++ " m/s³, above the requested " ++ show jerk ++ " (allowance for its bend " ++ show sl ++ ")"
+            | (k, j, sl) <- zip3 [0 :: Int ..] jerks jerkSlack, abs j > jerk * (1 + fkTolerance) + sl + 1e-6 ]
   where
     tr = planTrajectory plan
     n = trDof tr
@@ -175,15 +176,19 @@ checkTcpMotion r speed acc dt plan =
     -- the angle the TCP turns by at every sample (0 at the first and the last)
     turns = [0] ++ zipWith angle steps (drop 1 steps) ++ [0]
     bends = [ v * phi * phi / 6 | (v, phi) <- zip speeds (zipWith max turns (drop 1 turns)) ]
-    accs = zipWith (\x y -> (y - x) / dt) ([0] ++ speeds) (speeds ++ [0])
-    accSlack = zipWith (\x y -> (x + y) / dt) ([0] ++ bends) (bends ++ [0])
+    diffs xs = zipWith (\x y -> (y - x) / dt) xs (drop 1 xs)
+    sums xs = zipWith (\x y -> (x + y) / dt) xs (drop 1 xs)
+    accs = diffs ([0] ++ speeds ++ [0])
+    accSlack = sums ([0] ++ bends ++ [0])
+    jerks = diffs ([0] ++ accs ++ [0])
+    jerkSlack = sums ([0] ++ accSlack ++ [0])
     sub3 (ax, ay, az) (bx, by, bz) = (ax - bx, ay - by, az - bz)
     norm3 (x, y, z) = sqrt (x * x + y * y + z * z)
     angle u@(ux, uy, uz) w@(wx, wy, wz) =
       let nu = norm3 u; nw = norm3 w
       in if nu == 0 || nw == 0 then pi else acos (max (-1) (min 1 ((ux * wx + uy * wy + uz * wz) / (nu * nw))))
 
--- | The tolerance of the acceleration found from the oracle's TCP positions: 1 %.
+-- | The tolerance of the acceleration and jerk found from the oracle's TCP positions: 1 %.
 fkTolerance :: Double
 fkTolerance = 1e-2
 

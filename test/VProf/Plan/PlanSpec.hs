@@ -99,7 +99,7 @@ planAndCheckWith acc jerk r wps zone v =
        Left f -> counterexample (describePlanFailure f) False
        Right plan ->
          let problems = checkTrajectory r (positions wps) (zoneRadius zone) acc jerk defaultTimeStep plan
-                        ++ checkTcpMotion r v acc defaultTimeStep plan
+                        ++ checkTcpMotion r v acc jerk defaultTimeStep plan
          in counterexample (unlines problems) (null problems && planLegal plan && planDuration plan > 0)
 
 spec :: Spec
@@ -122,7 +122,7 @@ spec = describe "VProf.Plan" $ do
                   Left f -> counterexample (describePlanFailure f) False
                   Right plan ->
                     let problems = checkTrajectory r (positions wps) (zoneRadius zone) defaultAcceleration defaultJerk defaultTimeStep plan
-                                   ++ checkWaypointPoses r (poses wps) plan ++ checkTcpMotion r v defaultAcceleration defaultTimeStep plan
+                                   ++ checkWaypointPoses r (poses wps) plan ++ checkTcpMotion r v defaultAcceleration defaultJerk defaultTimeStep plan
                     in counterexample (unlines problems) (null problems && planLegal plan && planDuration plan > 0))
       ["ur5", "abb-irb140", "franka-panda"]
 

@@ -283,10 +283,13 @@ pieceAngle :: Piece -> Double
 pieceAngle p = qangle (pcQa p) (pcQb p)
 
 -- | The sample positions along the route: every piece cut into equal steps of at most
--- @ds@ (m) and @dAngle@ (rad) of rotation; piece ends are samples; 0 and L included.
+-- @ds@ (m), @dAngle@ (rad) of the tool's rotation and, on a blend, twice @dAngle@ of the path's
+-- turn (a blend of a fraction of a millimetre is sampled along its arc, not only at its two
+-- ends); piece ends are samples; 0 and L included.
 routeGrid :: Double -> Double -> Route -> U.Vector Double
 routeGrid ds dAngle rt = U.fromList (concatMap one (V.toList (rtPieces rt)) ++ [rtLength rt])
   where
+    turn p = if pcKind p == Arc && pcRadius p > 0 then pcLength p / pcRadius p else 0
     one p =
-      let k = maximum [1, ceiling (pcLength p / ds), ceiling (pieceAngle p / dAngle)] :: Int
+      let k = maximum [1, ceiling (pcLength p / ds), ceiling (pieceAngle p / dAngle), ceiling (turn p / (2 * dAngle))] :: Int
       in [ pcStart p + pcLength p * fromIntegral j / fromIntegral k | j <- [0 .. k - 1] ]

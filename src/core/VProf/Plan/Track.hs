@@ -22,6 +22,7 @@ module VProf.Plan.Track
   , trackedAt
   , JointPath (..)
   , jointPath
+  , lagrangeWeights
   , jointPathAt
   , withJointLimits
   , stepBounds
@@ -48,14 +49,17 @@ data TrackOptions = TrackOptions
   { toStepLength   :: !Double   -- ^ largest step between samples along the route (m)
   , toStepAngle    :: !Double   -- ^ largest rotation of the tool between samples (rad)
   , toMaxJointStep :: !Double   -- ^ a joint moving more than this between samples is a jump (rad or m)
+  , toFineJointStep :: !Double  -- ^ a joint moving more than this between samples gets a sample between
+                                --   them (rad or m), so that the joint path between samples is smooth
   , toMinSigma     :: !Double   -- ^ singular below this smallest singular value of the Jacobian
   , toEnvironment  :: !(Maybe Environment)
   }
 
--- | 1 mm, 0.5°, a jump above 0.25 rad (14°) between samples, singular below σ_min = 1e-3
--- (there a TCP speed of 1 mm/s asks about 1 rad/s of some joint).
+-- | 1 mm, 0.5°, a jump above 0.25 rad (14°) between samples, samples added between two whose
+-- joints move more than 0.01 rad (0.57°), singular below σ_min = 1e-3 (there a TCP speed of
+-- 1 mm/s asks about 1 rad/s of some joint).
 defaultTrackOptions :: TrackOptions
-defaultTrackOptions = TrackOptions 1e-3 (0.5 * pi / 180) 0.25 1e-3 Nothing
+defaultTrackOptions = TrackOptions 1e-3 (0.5 * pi / 180) 0.25 0.01 1e-3 Nothing
 
 -- | The scene the robot must keep clear of, with the least clearance (m).
 data Environment = Environment
@@ -131,10 +135,13 @@ trackedAt t s
 -- | The smooth joint path q(s) through the tracked samples: on every step the cubic Hermite
 -- interpolant of the two samples with slopes dq/ds there, so q(s) is continuous with a continuous
 -- slope (its second derivative only jumps, and stays bounded, at the samples). A sample's slope
--- is the derivative of the parabola through it and its two neighbours,
--- (h_{k−1}·d_k + h_k·d_{k−1}) / (h_{k−1} + h_k) for the steps' slopes d and lengths h; at the ends of
--- the route and at its stops (given as s, where the route may turn without a blend and the
--- profile is at rest) the slope is one-sided, so the path keeps its corner there.
+-- is the derivative there of the polynomial through it and its four nearest samples (two either
+-- side where there are; fewer where a stretch has fewer than five): right to O(h⁴) on steps of
+-- length h, where the parabola through three samples is right to O(h²) only, and one-sided at
+-- the ends to O(h), so that the cubics' second derivatives jumped by O(h) at the samples, which a
+-- controller sees as the TCP's acceleration stepping. At the ends of the route and at its stops
+-- (given as s, where the route may turn without a blend and the profile is at rest) the samples
+-- are taken from one side only, so the path keeps its corner there.
 data JointPath = JointPath
   { jpTracked :: !Tracked
   , jpLeft    :: !(U.Vector Double)   -- ^ (N+1)·n: the slope at each sample, seen from the step before it
@@ -149,21 +156,42 @@ withJointLimits :: U.Vector Double -> U.Vector Double -> JointPath -> JointPath
 withJointLimits lo hi jp = jp { jpLo = lo, jpHi = hi }
 
 jointPath :: [Double] -> Tracked -> JointPath
-jointPath stops tk = JointPath tk (U.generate (nS * n) (slopeAt fst)) (U.generate (nS * n) (slopeAt snd)) U.empty U.empty
+jointPath stops tk = JointPath tk (slopes True) (slopes False) U.empty U.empty
   where
     ss = tkS tk
     nS = U.length ss
     n = tkDof tk
-    h k = ss U.! (k + 1) - ss U.! k
-    d k i = let hk = h k in if hk > 0 then (tkQ tk U.! ((k + 1) * n + i) - tkQ tk U.! (k * n + i)) / hk else 0
-    isStop k = any (\x -> abs (x - ss U.! k) < 1e-9) stops
-    slopeAt side x =
-      let (k, i) = x `divMod` n
-      in if nS < 2 then 0
-         else if k == 0 then d 0 i
-         else if k == nS - 1 then d (k - 1) i
-         else if isStop k then side (d (k - 1) i, d k i)
-         else let a = h (k - 1); b = h k in (a * d k i + b * d (k - 1) i) / (a + b)
+    q k i = tkQ tk U.! (k * n + i)
+    -- the samples where the path may keep a corner: the ends and the stops, in order
+    bounds = U.fromList (0 : [ k | k <- [1 .. nS - 2], any (\x -> abs (x - ss U.! k) < 1e-9) stops ] ++ [nS - 1 | nS > 1])
+    -- the stretch [lo, hi] of samples a slope at k is taken from: at a stop, the one before it
+    -- (seen from the step before) or after it
+    stretch fromLeft k =
+      let before = U.filter (< k) bounds; after = U.filter (> k) bounds
+          lo0 = if U.null before then k else U.last before
+          hi0 = if U.null after then k else U.head after
+      in if U.elem k bounds then (if fromLeft then (lo0, k) else (k, hi0)) else (lo0, hi0)
+    -- the samples a slope at k is taken from, with their weights: the same for every joint
+    weightsAt fromLeft k =
+      let (lo0, hi0) = stretch fromLeft k
+          -- an end of the route seen from outside: its one stretch
+          (lo, hi) = if lo0 == hi0 then stretch (not fromLeft) k else (lo0, hi0)
+          first = max lo (min (k - 2) (hi - 4))
+          nodes = [first .. min hi (first + 4)]
+      in if nS < 2 || hi <= lo then [] else zip nodes (lagrangeWeights (map (ss U.!) nodes) (ss U.! k))
+    slopes fromLeft =
+      let ws = map (weightsAt fromLeft) [0 .. nS - 1]
+      in U.concat [ U.generate n (\i -> sum [ c * q j i | (j, c) <- w ]) | w <- ws ]
+
+-- | The weights of the derivative at x of the polynomial through points at the distinct xs (x
+-- one of them): the slope there is Σ_j w_j·y_j, w_j = ℓ_j'(x) for the Lagrange basis ℓ_j.
+lagrangeWeights :: [Double] -> Double -> [Double]
+lagrangeWeights xs x = map basis (zip [0 :: Int ..] xs)
+  where
+    others j = [ xm | (m, xm) <- zip [0 ..] xs, m /= j ]
+    basis (j, xj)
+      | xj == x = sum [ 1 / (x - xm) | xm <- others j ]
+      | otherwise = product [ x - xm | xm <- others j, xm /= x ] / product [ xj - xm | xm <- others j ]
 
 -- | The joint vector at s on the smooth path.
 jointPathAt :: JointPath -> Double -> U.Vector Double
@@ -220,13 +248,14 @@ trackRoute :: TrackOptions -> Kinematics -> Route -> Maybe (U.Vector Double) -> 
 trackRoute TrackOptions{..} kin rt start = do
   q0 <- solveAt 0 (pickStart <$> solveIk defaultIkOptions kin (routeTfAt rt 0) start) Nothing Nothing
   checkAt 0 q0
-  go 1 q0 Nothing [q0]
+  go 0 q0 Nothing [q0] [0] (drop 1 (U.toList grid))
   where
     ch = kinChain kin
     n = chainDof ch
     joints = robotJoints (chainRobot ch)
     grid = routeGrid toStepLength toStepAngle rt
-    nGrid = U.length grid
+    -- the shortest step the tracking halves down to
+    minFineStep = 1e-6
     contOpts = defaultIkOptions { ikMaxRestarts = 0 }
     posAt s = fst (routeAt rt s)
     stop :: Double -> StopReason -> Either PlanStop a
@@ -251,18 +280,21 @@ trackRoute TrackOptions{..} kin rt start = do
           d = (x - mid) / max 1e-9 half
       in d * d
 
-    go !k prev trend qs
-      | k >= nGrid = Right (Tracked grid (U.concat (reverse qs)) n)
-      | otherwise = do
-          let s = grid U.! k
-          q <- solveAt s (continueIk (routeTfAt rt s) prev) (Just prev) trend
-          let steps = U.zipWith (\a b -> abs (a - b)) q prev
-              j = U.maxIndex steps
-          if steps U.! j > toMaxJointStep
-            then stop s (maybe (Jump (jointName (joints !! j)) (jointKind (joints !! j)) (steps U.! j)) (\(nm, kd, l) -> JointLimit nm kd l) (nearLimit prev trend))
+    -- every grid sample in turn, and between two whose joints move more than toFineJointStep
+    -- (near a singularity the wrists turn fast) the sample halfway, down to 'minFineStep'
+    go !sPrev prev trend qs ss pending = case pending of
+      [] -> Right (Tracked (U.fromList (reverse ss)) (U.concat (reverse qs)) n)
+      s : rest -> do
+        q <- solveAt s (continueIk (routeTfAt rt s) prev) (Just prev) trend
+        let steps = U.zipWith (\a b -> abs (a - b)) q prev
+            j = U.maxIndex steps
+        if steps U.! j > toMaxJointStep
+          then stop s (maybe (Jump (jointName (joints !! j)) (jointKind (joints !! j)) (steps U.! j)) (\(nm, kd, l) -> JointLimit nm kd l) (nearLimit prev trend))
+          else if steps U.! j > toFineJointStep && s - sPrev > minFineStep
+            then go sPrev prev trend qs ss (0.5 * (sPrev + s) : s : rest)
             else do
               checkAt s q
-              go (k + 1) q (Just (U.zipWith (-) q prev)) (q : qs)
+              go s q (Just (U.zipWith (-) q prev)) (q : qs) (s : ss) rest
 
     -- the solution nearest the previous sample's: for the six-axis closed forms, each branch's
     -- principal solution with every joint turned by whole turns to lie nearest the previous
@@ -279,7 +311,11 @@ trackRoute TrackOptions{..} kin rt start = do
                           , let (pe, re) = residual (forward ch q) target
                           , pe <= ikTolPosition defaultIkOptions, re <= ikTolRotation defaultIkOptions ]
         -> Right sols
-      _ -> solveIk contOpts kin target (Just prev)
+      -- to 1e-10 m and rad where the solver gets there (its default 1e-6 leaves samples up to
+      -- a micrometre off the route, noise the TCP's jerk shows), else to the default
+      _ -> case solveIk contOpts { ikTolPosition = 1e-10, ikTolRotation = 1e-10 } kin target (Just prev) of
+             r@(Right (_ : _)) -> r
+             _ -> solveIk contOpts kin target (Just prev)
     nearestTurns prev q = fmap U.fromList $ sequence $ flip map [0 .. n - 1] $ \i ->
       let x = q U.! i; p = prev U.! i
           lo = chainLo ch U.! i; hi = chainHi ch U.! i
