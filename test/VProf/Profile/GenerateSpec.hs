@@ -350,6 +350,18 @@ spec = do
             certificateHolds pb (n + 1) y `shouldBe` False
           other -> expectationFailure ("no certificates: " ++ show (fmap fst other))
 
+  it "a 105 mm part from a 125 mm/s zone to 0.49999 m/s, just under its limit, at 4 ms (a plan's part): within the default 1 s budget, with and without the seed search, a sound profile that never stops and is within two steps of the fewest (91 steps; the exact join spent 1.5 s below any profile's step count and answered NOT_CONVERGED)" $ do
+    Right rq <- requestFromJson <$> BL.readFile "test/data/slow-zone-fast-end-105mm.json"
+    forM_ [rq, rq { rqSeedSearch = False }] $ \q -> do
+      -- the default budget of 1 s: spent, the answer would be NOT_CONVERGED
+      r <- generate q
+      resOutcome r `shouldBe` Generated
+      sound q r `shouldBe` True
+      let v = maybe U.empty prVelocities (resProfile r)
+      -- the corner's zone is the slowest point (0.125 m/s less the braking into it)
+      U.minimum v `shouldSatisfy` (> 0.1)
+      fmap duration (resProfile r) `shouldSatisfy` maybe False (<= (91 + 2) * 0.004 + 1e-9)
+
   describe "a slow zone before a fast moving end (0.953 m/s up to 1.19 m of 10.034 m, from rest with 0.746 m/s^2)" $ do
     -- Found by the random band property: ending at 4.9245 m/s, no plateau joined the passes
     -- (NOT_CONVERGED) and the exact join's caps, re-read at its solutions' positions, missed
