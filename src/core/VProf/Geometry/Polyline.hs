@@ -56,9 +56,11 @@ interpolateAt ts ps qs j t =
   in (p, q)
 {-# INLINE interpolateAt #-}
 
--- | Pose of a path at time t (clamped to its time span).
+-- | Pose of a path at time t (clamped to its time span; a path of one knot is that pose).
 polylineAt :: U.Vector Double -> V3s -> Qs -> Double -> (P3, Q4)
-polylineAt ts ps qs t = interpolateAt ts ps qs (segmentIndex ts t) t
+polylineAt ts ps qs t
+  | U.length ts < 2 = (pindex ps 0, pindex qs 0)
+  | otherwise = interpolateAt ts ps qs (segmentIndex ts t) t
 {-# INLINE polylineAt #-}
 
 -- | A path with its per-segment slerp constants computed once (sign-aligned end
