@@ -75,21 +75,23 @@ spec = do
         let t = leastTime (restToRest inf inf v) len
         in counterexample (show (t, len / v)) (t <= len / v && t >= 0.998 * len / v)
 
-  it "no legal profile the generator makes is shorter than the bound (the checker's verdict on each, and the independent oracle's)" $
-    withMaxSuccess (max 100 (cases `div` 5)) $ property $ forAll genBound $ \rq ->
-      case validate rq of
-        Left _ -> label "refused" True
+  it "no legal profile the generator makes is shorter than the bound (the checker's verdict on each, and the independent oracle's); at least 40 % of the requests generated (55.5 % at seed 42)" $
+    withMaxSuccess (max 100 (cases `div` 5)) $ checkCoverage $ forAll genBound $ \rq ->
+      -- the requests not generated pass: the share of those generated is a requirement
+      let passing why = cover 40 False "generated" (label why True)
+      in case validate rq of
+        Left _ -> passing "refused"
         Right pb
-          | problemLeastSamples pb > 20000 -> label "over 20,000 samples (left out)" True
+          | problemLeastSamples pb > 20000 -> passing "over 20,000 samples (left out)"
           | otherwise -> ioProperty $ do
               r <- generate rq
               pure $ case (resOutcome r, resProfile r) of
                 (Generated, Just p) ->
                   let n = fromIntegral (U.length (prVelocities p) - 1) :: Double
-                  in label "generated" $ counterexample (show (n, problemLeastSamples pb))
+                  in cover 40 True "generated" $ label "generated" $ counterexample (show (n, problemLeastSamples pb))
                        (null (check pb p) && oracleVerdict pb p /= SurelyIllegal && n >= problemLeastSamples pb)
-                (Failed f, _) -> label ("not generated: " ++ takeWhile (/= ' ') (show f)) True
-                _ -> label "not generated" True
+                (Failed f, _) -> passing ("not generated: " ++ takeWhile (/= ' ') (show f))
+                _ -> passing "not generated"
 
   it "a profile may stop short of the route end within its end tolerance, and the bound counts the route less it (a 9 m route whose last 3.1 m are at 0.95 mm/s: 5.0 mm short, 91 samples fewer than its zones at their limits over the whole route)" $ do
     Right rq <- requestFromJson <$> BL.readFile "test/data/slow-end-short-9m.json"
