@@ -261,9 +261,9 @@ exactJoin pb = withoutStanding pb <$> case firstWithin cheapWork (concatMap (tak
     (candidates, attempts) = joinPrograms pb
     lists = map attempts (take joinCandidates candidates)
 
--- | The programs of a step count the cheap pass of 'exactJoin' solves: the screening one
--- and the cautious caps within half the tolerance (a zone: the caps and the whole
--- tolerance).
+-- | The programs of a step count the cheap pass of 'exactJoin' solves: with several zones
+-- the screening one and the cautious caps within half the tolerance; with one zone, the
+-- cautious caps within half and within the whole tolerance (all its programs).
 cheapPrograms :: Int
 cheapPrograms = 2
 
