@@ -104,9 +104,11 @@ spec = describe "the landing pass's probe schedule (long brakings at a fine time
     seedIsLegal routeAbcd1ms
 
   it "planned a little below the jerk limit, the landing is legal whenever the full-jerk one is, and at most a sample longer" $
-    withMaxSuccess 25 $ forAll genLongBraking $ \pb ->
+    withMaxSuccess 25 $ checkCoverage $ forAll genLongBraking $ \pb ->
       case (landingPass True pb, landingPassWith True (jerkPlanMargin pb) pb) of
         (Just full, Just marg) ->
+          tabulate "the full-jerk landing" [if null (violations pb full) then "legal" else "breaks a rule"] $
+          cover 50 (null (violations pb full)) "the full-jerk landing legal (the legality claim checked)" $
           counterexample (show pb) $
             counterexample ("samples: full jerk " ++ show (U.length full) ++ ", with the margin " ++ show (U.length marg)) $
               U.length marg <= U.length full + 1
@@ -114,10 +116,10 @@ spec = describe "the landing pass's probe schedule (long brakings at a fine time
         _ -> property Discard
 
   it "lands within 1 % of the every-step pass's samples, and the seed is legal whenever the every-step pass is" $
-    withMaxSuccess 25 $ forAll genLongBraking closeToEveryStep
+    withMaxSuccess 25 $ checkCoverage $ forAll genLongBraking closeToEveryStep
 
   it "with a weak jerk (runs at the highest acceleration) too: within 1 % of the every-step pass, and legal whenever it is" $
-    withMaxSuccess 25 $ forAll genWeakJerk closeToEveryStep
+    withMaxSuccess 25 $ checkCoverage $ forAll genWeakJerk closeToEveryStep
 
 -- | The scheduled landing pass lands within 1 % (and two samples) of the every-step pass's
 -- samples, breaks no rule but the jerk rule's rounding where the every-step pass breaks
@@ -127,7 +129,9 @@ closeToEveryStep pb = case (landingPass False pb, landingPass True pb) of
   (Just full, Just sched) ->
     let legalFull = null (violations pb full)
         broken = [ x | x@(Violation r _ _ _) <- violations pb sched, r /= JerkRule ]
-    in counterexample (show pb) $
+    in tabulate "the every-step pass" [if legalFull then "legal" else "breaks a rule"] $
+       cover 50 legalFull "the every-step pass legal (the legality claims checked)" $
+       counterexample (show pb) $
          counterexample ("samples: every step " ++ show (U.length full) ++ ", scheduled " ++ show (U.length sched)) $
            fromIntegral (U.length sched) <= 1.01 * fromIntegral (U.length full) + (2 :: Double)
            .&&. (if not legalFull then property True
