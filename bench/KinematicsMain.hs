@@ -147,7 +147,7 @@ compareMode inp out = do
     r <- robotOrDie key
     let k = kinematicsFor r
         ch = kinChain k
-        numeric = Kinematics ch NumericLM
+        numeric = (prepareChain ch) {kinMethod = NumericLM}
         seed = midLimits ch
         solverM = sixAxisSolver ch
     hPutStrLn stderr ("vprof-kinematics-compare: " ++ key ++ ", " ++ show (length qss) ++ " poses")
@@ -215,7 +215,7 @@ numericMode inp out = do
   robots <- forM rqRobots $ \(key, qss) -> do
     r <- robotOrDie key
     let ch = compile r
-        k = Kinematics ch NumericLM
+        k = (prepareChain ch) {kinMethod = NumericLM}
         seed = midLimits ch
         m = chainLinks ch
         terms i = [ (chainTermJoint ch U.! t, chainTermCoeff ch U.! t)

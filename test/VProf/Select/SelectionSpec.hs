@@ -111,6 +111,16 @@ spec = do
         -- from the shoulder, (0, 0, 0.0892) m: the target is 2.5089 m from it
         [Just f] -> "beyond reach: 2.5089 m from the shoulder" `isInfixOf` f && "reaches at most 1.1034 m" `isInfixOf` f && "(1405.5 mm too far)" `isInfixOf` f
         _ -> False
+    it "the 7-axis arms fail the far end of examples/cell-task.yaml beyond the wrist's reach, without a search (they were 'not converged' after it, 166 and 177 mm short)" $ do
+      -- targets[4]: (0.95, -0.25, 0.20) m pointing down, the tool 0.12 m out of the flange
+      let far = (task0 1.5 [trans 0.95 (-0.25) 0.20 `compose` rotX pi]) {taskTool = trans 0 0 0.12}
+      forM_ [("kuka-lbr-iiwa14", "where the last 3 joint axes meet"), ("franka-panda", "on the last joint's axis")] $ \(k, how) -> do
+        let r = either error id (lookupRobot k)
+            res = evaluateRobot defaultSelectOptions far bvh k r
+        map trFailureKind (rrTargets res) `shouldBe` [Just FailReach]
+        map trFailure (rrTargets res) `shouldSatisfy` \case
+          [Just f] -> ("beyond reach: the wrist point (" ++ how) `isInfixOf` f
+          _ -> False
     it "a robot whose base column stands in the table fails every target without IK, naming the body and the point; left out, it does not" $ do
       let irb = either error id (lookupRobot "abb-irb6700-200-2.60")
           poses = [trans 1.2 0.3 1.0 `compose` rotX pi, trans 1.0 (-0.5) 1.4]

@@ -36,14 +36,15 @@ import VProf.Validation (finite)
 
 data Method = ClosedFormDobot DobotGeometry | ClosedFormSixAxis CF.Solver | NumericLM
 
--- | A robot ready for IK: its compiled chain and the solver chosen for it.
-data Kinematics = Kinematics {kinChain :: Chain, kinMethod :: Method}
+-- | A robot ready for IK: its compiled chain, the solver chosen for it, and what the numerical
+-- solver's checks before a descent need of the chain (worked out on first use).
+data Kinematics = Kinematics {kinChain :: Chain, kinMethod :: Method, kinNumeric :: Prepared}
 
 kinematicsFor :: Robot -> Kinematics
 kinematicsFor = prepareChain . compile
 
 prepareChain :: Chain -> Kinematics
-prepareChain ch = Kinematics ch method
+prepareChain ch = Kinematics ch method (prepareNumeric ch)
   where
     method = case robotClosedForm (chainRobot ch) of
       Just DobotLinkage | Right g <- dobotGeometry (chainRobot ch) -> ClosedFormDobot g
@@ -89,11 +90,11 @@ solveIk = solveWith solveSixAxis
 -- closed-form solver.
 solveWith :: (IkOptions -> Chain -> CF.Solver -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution])
           -> IkOptions -> Kinematics -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
-solveWith sixAxis opts (Kinematics ch m) target seed = case checkRequest ch target seed of
+solveWith sixAxis opts (Kinematics ch m prep) target seed = case checkRequest ch target seed of
   [] -> case m of
     ClosedFormDobot g -> solveDobot opts ch g target seed
     ClosedFormSixAxis solver -> sixAxis opts ch solver target seed
-    NumericLM -> solveNumeric opts ch target seed
+    NumericLM -> solveNumericWith prep opts ch target seed
   errs -> Left (InvalidRequest errs)
 
 -- | Every solution ('solveIk' with 'ikAllSolutions'), but of solutions that differ only by whole
@@ -106,11 +107,11 @@ solveIkDistinct opts = solveWith solveSixAxisDistinct opts {ikAllSolutions = Tru
 
 -- | Like 'solveIk' with a wall-time budget (seconds) for the numerical solver.
 solveIkIO :: Double -> IkOptions -> Kinematics -> Tf -> Maybe (U.Vector Double) -> IO (Either IkFailure [IkSolution])
-solveIkIO budget opts (Kinematics ch m) target seed = case checkRequest ch target seed of
+solveIkIO budget opts (Kinematics ch m prep) target seed = case checkRequest ch target seed of
   [] -> case m of
     ClosedFormDobot g -> pure (solveDobot opts ch g target seed)
     ClosedFormSixAxis solver -> pure (solveSixAxis opts ch solver target seed)
-    NumericLM -> solveNumericIO budget opts ch target seed
+    NumericLM -> solveNumericIOWith prep budget opts ch target seed
   errs -> pure (Left (InvalidRequest errs))
 
 -- | Solve for a pose (position, quaternion); a zero or non-finite quaternion is refused.

@@ -5,6 +5,7 @@
 module VProf.Kinematics.Ik.NumericSpec (spec) where
 
 import Control.Monad (forM_)
+import Data.List (isInfixOf)
 import qualified Data.Vector.Unboxed as U
 import GHC.Clock (getMonotonicTimeNSec)
 import qualified Numeric.LinearAlgebra as LA
@@ -13,7 +14,7 @@ import Test.QuickCheck
 
 import Support.Gen (genQ, libraryChains, planarSnake, snake)
 import VProf.Kinematics
-import VProf.Kinematics.Ik.Numeric (lmStepDual, lmStepPrimal, reachBound, solveNumericIO)
+import VProf.Kinematics.Ik.Numeric (Wrist (..), lmStepDual, lmStepPrimal, reachBound, solveNumericIO, wristCheck, wrists)
 
 -- | δ = V·diag(σ/(σ² + λ))·Uᵀ·e for J with its masked columns zeroed: the damped least-squares
 -- step from the singular values, independent of either normal-equation form; with it the
@@ -145,6 +146,61 @@ spec = do
       -- stretched straight up, the flange is exactly the bound away from the shoulder
       let up = forward iiwa (U.replicate 7 0)
       abs (v3Norm (v3Sub (translation up) (V3 x y z)) - bound) `shouldSatisfy` (< 1e-9)
+
+  describe "the wrist bound" $ do
+    -- every wrist point: moving any one of the links it claims (through that link's drive
+    -- offset, so couplings do not matter) leaves it where it is, and no configuration puts it
+    -- beyond its bound from the shoulder
+    let wristHolds ch q = conjoin
+          [ counterexample ("wrist " ++ show (wristInTool w) ++ " in the tool, " ++ show (wristAxes w) ++ " axes, bound " ++ show (wristBound w)) $
+              counterexample ("moved by its own links: " ++ show moves) (all (<= 1e-9 * (1 + v3Norm p)) moves)
+              .&&. counterexample ("distance " ++ show d) (d <= wristBound w * (1 + 1e-12) + 1e-12)
+          | w <- wrists ch
+          , let p = applyPoint (forward ch q) (wristInTool w)
+                d = v3Norm (v3Sub p (wristShoulder w))
+                off = chainOffset ch
+                moved k = applyPoint (forward ch {chainOffset = off U.// [(k, off U.! k + 0.7)]} q) (wristInTool w)
+                moves = [ v3Norm (v3Sub (moved k) p) | k <- [chainLinks ch - wristAxes w .. chainLinks ch - 1] ] ]
+        axesMeeting ch = let ws = wrists ch in if null ws then "none" else show (maximum (map wristAxes ws))
+    it "a random arm's wrist points stay put as their links move and within their bounds at 20 configurations (standard and modified DH, URDF, slides, couplings)" $
+      property $ withMaxSuccess 300 $ checkCoverage $ forAll genRobot $ \r ->
+        let ch = compile r
+        in tabulate "most axes meeting at a wrist point" [axesMeeting ch] $
+             cover 5 (any ((>= 2) . wristAxes) (wrists ch)) "two or more axes meet" $
+               forAll (vectorOf 20 (genQ ch)) (conjoin . map (wristHolds ch))
+    it "so do a library robot's" $
+      conjoin [ counterexample name (forAll (genQ ch) (wristHolds ch)) | (name, Right ch) <- libraryChains ]
+    it "finds the spherical wrists: three axes meet in the iiwa, the IRB 140 and 1600, the KR 5 and the PUMA 560" $
+      sequence_ [ (name, maximum (0 : map wristAxes (wrists ch))) `shouldSatisfy` ((>= 3) . snd)
+                | (name, Right ch) <- libraryChains, name `elem` ["kuka-lbr-iiwa14", "abb-irb140", "abb-irb1600-6-1.2", "kuka-kr5-arc", "puma560"] ]
+    it "is tight and allows the tolerances: the LBR iiwa stretched upright puts its wrist 0.82 m above the shoulder; 1 µm higher passes, 11.2 µm higher does not" $ do
+      let Just (Right iiwa) = lookup "kuka-lbr-iiwa14" libraryChains
+          up = forward iiwa (U.replicate 7 0)
+          raised h = trans 0 0 h `compose` up
+      [ wristBound w | w <- wrists iiwa, wristAxes w == 3 ] `shouldSatisfy` (\case [b] -> abs (b - 0.82) < 1e-9; _ -> False)
+      wristCheck defaultIkOptions iiwa up `shouldBe` Nothing
+      -- the default tolerances: 1 µm and 1 µrad, which moves the wrist point 0.126 m from the
+      -- flange by 0.126 µm more
+      wristCheck defaultIkOptions iiwa (raised 1e-6) `shouldBe` Nothing
+      wristCheck defaultIkOptions iiwa (raised 1.12e-6) `shouldBe` Nothing
+      case wristCheck defaultIkOptions iiwa (raised 11.2e-6) of
+        Just (Unreachable what excess) -> do
+          excess `shouldSatisfy` (\e -> abs (e - 11.2e-6) < 1e-9)
+          what `shouldSatisfy` ("where the last 3 joint axes meet" `isInfixOf`)
+        other -> expectationFailure (show other)
+    it "a target tipped over at arm's length: within the tool's reach, beyond the wrist's, refused without a descent" $ do
+      let Just (Right iiwa) = lookup "kuka-lbr-iiwa14" libraryChains
+          -- 0.9 m out at the shoulder's height, pointing away: the flange within 0.946 m, the
+          -- wrist point 0.126 m behind it at 0.9 - 0.126 = 0.774 m: reachable; pointing back at
+          -- the robot, the wrist point 1.026 m out: not
+          away = trans 0.9 0 0.36 `compose` rotY (pi / 2)
+          back = trans 0.9 0 0.36 `compose` rotY (negate (pi / 2))
+      wristCheck defaultIkOptions iiwa away `shouldBe` Nothing
+      case solveIk defaultIkOptions (prepareChain iiwa) back Nothing of
+        Left (Unreachable what excess) -> do
+          excess `shouldSatisfy` (\e -> abs (e - (1.026 - 0.82)) < 1e-9)
+          what `shouldSatisfy` ("the wrist point" `isInfixOf`)
+        other -> expectationFailure (show other)
 
   describe "a chain of a thousand joints" $ do
     let ch = compile (snake 1000 3)

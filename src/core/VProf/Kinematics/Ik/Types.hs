@@ -65,7 +65,8 @@ data IkFailure
   | NotConverged {failPositionResidual :: Double, failRotationResidual :: Double}
     -- ^ the best residual found within the budget (m, rad)
   | Unreachable String Double
-    -- ^ what the closed form cannot reach, and by how much (m): positive too far, negative too close
+    -- ^ what cannot be reached (a closed form's test, or the numerical solver's wrist bound), and
+    -- by how much (m): positive too far, negative too close
   | InvalidRequest [String]
   deriving (Eq, Show)
 
