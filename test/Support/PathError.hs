@@ -10,6 +10,7 @@ module Support.PathError
   , positionErrorsOf
   , orientationErrorsOf
   , withinBudget
+  , quatProduct
   ) where
 
 import qualified Data.Vector.Unboxed as U
@@ -78,9 +79,14 @@ pathPosesAt path times0
               in mul u0 (Q4 c (s * x) (s * y) (s * z))
     unit q@(Q4 w x y z) = let n = sqrt (w * w + x * x + y * y + z * z) in if n == 0 then q else Q4 (w / n) (x / n) (y / n) (z / n)
     conj (Q4 w x y z) = Q4 w (negate x) (negate y) (negate z)
-    mul (Q4 a1 b1 c1 d1) (Q4 a2 b2 c2 d2) =
-      Q4 (a1 * a2 - b1 * b2 - c1 * c2 - d1 * d2) (a1 * b2 + b1 * a2 + c1 * d2 - d1 * c2)
-         (a1 * c2 - b1 * d2 + c1 * a2 + d1 * b2) (a1 * d2 + b1 * c2 - c1 * b2 + d1 * a2)
+    mul = quatProduct
+
+-- | The Hamilton product of two quaternions (w, x, y, z), written here rather than taken from
+-- the library: the composition of the rotations, the right one first.
+quatProduct :: Q4 -> Q4 -> Q4
+quatProduct (Q4 a1 b1 c1 d1) (Q4 a2 b2 c2 d2) =
+  Q4 (a1 * a2 - b1 * b2 - c1 * c2 - d1 * d2) (a1 * b2 + b1 * a2 + c1 * d2 - d1 * c2)
+     (a1 * c2 - b1 * d2 + c1 * a2 + d1 * b2) (a1 * d2 + b1 * c2 - c1 * b2 + d1 * a2)
 
 -- | What the knot fit's budgeted last steps promise of a path @pa@ made from @pa0@: its
 -- position sum of squares (measured here) and its position-and-velocity objective within

@@ -8,7 +8,7 @@ import qualified Data.Vector.Unboxed as U
 import Test.Hspec
 import Test.QuickCheck
 
-import Support.PathError (pathPoseAt)
+import Support.PathError (pathPoseAt, quatProduct)
 import VProf.Compress.Types (Track (..))
 import VProf.Geometry.Polyline (polylineAt)
 import VProf.Geometry.Vec
@@ -33,15 +33,10 @@ genNext q = do
          let Q4 _ ax ay az = axis
              n = sqrt (ax * ax + ay * ay + az * az)
              s = sin (th / 2) / max 1e-12 n
-         pure (mul q (Q4 (cos (th / 2)) (s * ax) (s * ay) (s * az)))
+         pure (quatProduct q (Q4 (cos (th / 2)) (s * ax) (s * ay) (s * az)))
     ]
   let n = sqrt (a * a + b * b + c * c + d * d)
   pure (Q4 (sg * a / n) (sg * b / n) (sg * c / n) (sg * d / n))
-
-mul :: Q4 -> Q4 -> Q4
-mul (Q4 a1 b1 c1 d1) (Q4 a2 b2 c2 d2) =
-  Q4 (a1 * a2 - b1 * b2 - c1 * c2 - d1 * d2) (a1 * b2 + b1 * a2 + c1 * d2 - d1 * c2)
-     (a1 * c2 - b1 * d2 + c1 * a2 + d1 * b2) (a1 * d2 + b1 * c2 - c1 * b2 + d1 * a2)
 
 -- | The rotation angle between two quaternions (either sign), normalised first: four times
 -- the angle whose tangent is |q − q'| / |q + q'| with q' on q's side (acos of their dot would

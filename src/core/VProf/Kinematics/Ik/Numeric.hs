@@ -322,9 +322,10 @@ cholesky n a = outer 0
 -- beyond it has no solution at any joint values; measured from the shoulder rather than the base
 -- it leaves out the column, which points nowhere but up.
 reachBound :: Chain -> (V3, Double)
-reachBound ch = (translation (frames !! s), reachTo ch s (chainLinks ch))
-  where
-    Shoulder s frames = shoulderOf ch
+reachBound ch = reachFrom ch (shoulderOf ch)
+
+reachFrom :: Chain -> Shoulder -> (V3, Double)
+reachFrom ch (Shoulder s frames) = (translation (frames !! s), reachTo ch s (chainLinks ch))
 
 -- | The shoulder's depth (see 'reachBound') and the link frames at zero joint values: frames !! k
 -- is base · M₀ · C₁ · … · C_k, the frame in which link k turns (or slides) about z; the last is
@@ -381,11 +382,13 @@ reachTo Chain{..} a b =
 data Wrist = Wrist {wristInTool :: !V3, wristShoulder :: !V3, wristBound :: !Double, wristAxes :: !Int}
 
 wrists :: Chain -> [Wrist]
-wrists ch@Chain{..}
+wrists ch = wristsFrom ch (shoulderOf ch)
+
+wristsFrom :: Chain -> Shoulder -> [Wrist]
+wristsFrom ch@Chain{..} (Shoulder s frames)
   | chainLinks < 2 || chainPrismatic U.! (chainLinks - 1) = []
   | otherwise = [ w | p <- candidates, Just w <- [follow p] ]
   where
-    Shoulder s frames = shoulderOf ch
     tool = frames !! chainLinks
     origin k = translation (frames !! k)
     axis k = rotationColumn 2 (frames !! k)
@@ -477,28 +480,29 @@ orientationCheck opts ch target = case orientationTilt ch target of
 
 -- | A target farther from the shoulder than the chain reaches ('reachBound') by more than the
 -- position tolerance fails at once, without a descent.
-reachCheck :: IkOptions -> Chain -> Tf -> Maybe IkFailure
-reachCheck opts ch target
+reachCheck :: IkOptions -> (V3, Double) -> Tf -> Maybe IkFailure
+reachCheck opts (origin, bound) target
   | dist > bound + ikTolPosition opts * 1.0001 = Just (BeyondReach dist bound)
   | otherwise = Nothing
   where
-    (origin, bound) = reachBound ch
     dist = v3Norm (v3Sub (translation target) origin)
 
 -- | What the checks before any descent need of a chain, worked out once per chain
--- ('prepareNumeric'; 'VProf.Kinematics.Ik.prepareChain' keeps it with the chain): its wrist
--- points (about a microsecond a solve for a seven-axis arm otherwise, a tenth of a solve).
-newtype Prepared = Prepared [Wrist]
+-- ('prepareNumeric'; 'VProf.Kinematics.Ik.prepareChain' keeps it with the chain): the
+-- shoulder and the tool's reach from it ('reachBound'), and the wrist points (about a
+-- microsecond a solve for a seven-axis arm otherwise, a tenth of a solve). Both come from one
+-- pass over the chain's frames at zero.
+data Prepared = Prepared (V3, Double) [Wrist]
 
 prepareNumeric :: Chain -> Prepared
-prepareNumeric = Prepared . wrists
+prepareNumeric ch = let sh = shoulderOf ch in Prepared (reachFrom ch sh) (wristsFrom ch sh)
 
 -- | The failures known before any descent: an orientation the tool cannot take, a target out of
 -- reach, a wrist point out of reach at the target's orientation.
 precheck :: Prepared -> IkOptions -> Chain -> Tf -> Maybe IkFailure
-precheck (Prepared ws) opts ch target = case orientationCheck opts ch target of
+precheck (Prepared reach ws) opts ch target = case orientationCheck opts ch target of
   Just f -> Just f
-  Nothing -> case reachCheck opts ch target of
+  Nothing -> case reachCheck opts reach target of
     Just f -> Just f
     Nothing -> wristCheckOf ws opts target
 
@@ -515,7 +519,7 @@ solveNumeric opts ch = solveNumericWith (prepareNumeric ch) opts ch
 solveNumericWith :: Prepared -> IkOptions -> Chain -> Tf -> Maybe (U.Vector Double) -> Either IkFailure [IkSolution]
 solveNumericWith prep opts ch target seedM
   | Just f <- precheck prep opts ch target = Left f
-  | otherwise = finish opts ch target seed (take (1 + ikMaxRestarts opts) (attempts opts True ch target seed)) probe
+  | otherwise = finish prep opts ch target seed (take (1 + ikMaxRestarts opts) (attempts opts True ch target seed)) probe
   where
     seed = maybe (midLimits ch) id seedM
     probe = take probeStarts (attempts opts {ikMaxIterations = probeIterations} False ch target seed)
@@ -530,7 +534,7 @@ solveNumericIO budget opts ch = solveNumericIOWith (prepareNumeric ch) budget op
 solveNumericIOWith :: Prepared -> Double -> IkOptions -> Chain -> Tf -> Maybe (U.Vector Double) -> IO (Either IkFailure [IkSolution])
 solveNumericIOWith prep _ opts ch target _
   | Just f <- precheck prep opts ch target = pure (Left f)
-solveNumericIOWith _ budget opts ch target seedM = do
+solveNumericIOWith prep budget opts ch target seedM = do
   t0 <- getMonotonicTimeNSec
   let deadline = t0 + round (max 0 budget * 1e9)
       -- the descents in turn until one ends that stops the run, or the deadline cuts one
@@ -544,19 +548,19 @@ solveNumericIOWith _ budget opts ch target seedM = do
       follow _ acc [] = pure (reverse acc)
       descents o limited = map (descent o limited ch target) (starts (ikRandomSeed opts) ch seed)
   as <- follow (\a -> attConverged a && not (ikAllSolutions opts)) [] (take (1 + ikMaxRestarts opts) (descents opts True))
-  case finish opts ch target seed as [] of
+  case finish prep opts ch target seed as [] of
     Right sols -> pure (Right sols)
     Left _ -> do
       -- no solution: the diagnosis's descents without limits, in what is left of the budget
       probe <- follow (const False) [] (take probeStarts (descents opts {ikMaxIterations = probeIterations} False))
-      pure (finish opts ch target seed as probe)
+      pure (finish prep opts ch target seed as probe)
   where
     seed = maybe (midLimits ch) id seedM
 
 -- | The solutions among the descents, or the diagnosis of none: beyond reach, outside the limits
 -- (a descent without limits, of the probe, converged outside them), or not converged.
-finish :: IkOptions -> Chain -> Tf -> U.Vector Double -> [Attempt] -> [Attempt] -> Either IkFailure [IkSolution]
-finish opts ch target seed as probe =
+finish :: Prepared -> IkOptions -> Chain -> Tf -> U.Vector Double -> [Attempt] -> [Attempt] -> Either IkFailure [IkSolution]
+finish (Prepared (origin, bound) _) opts ch target seed as probe =
   case found of
     [] -> Left diagnose
     sols -> Right (sortBySeed (dedupe sols))
@@ -570,7 +574,6 @@ finish opts ch target seed as probe =
       , pe <= ikTolPosition opts * 1.0001 && re <= ikTolRotation opts * 1.0001 ]
     dedupe [] = []
     dedupe (s : rest) = s : dedupe [r | r <- rest, seedDistance (solJoints r) (solJoints s) > 1e-4]
-    (origin, bound) = reachBound ch
     dist = v3Norm (v3Sub (translation target) origin)
     names = map jointName (robotJoints (chainRobot ch))
     diagnose
