@@ -197,6 +197,7 @@ project lo hi x
 -- 'primalJoints' joints by the n×n system; beyond, by the same step in its 6×6 form
 -- δ = Jᵀ(JJᵀ + λI)⁻¹e (the two are equal for λ > 0: Jᵀ(JJᵀ + λI) = (JᵀJ + λI)Jᵀ), whose cost grows
 -- linearly in n, not as n³: one step on a chain of 2000 joints took over a second the n×n way.
+-- λ is at least 'lambdaFloor' of the trace of JᵀJ (see 'damped').
 lmStep :: Int -> Jacobian -> (Double, Double, Double, Double, Double, Double) -> Double -> U.Vector Bool -> U.Vector Double
 lmStep n j e lam mask
   | n <= primalJoints = lmStepPrimal n j e lam mask
@@ -207,9 +208,29 @@ lmStep n j e lam mask
 primalJoints :: Int
 primalJoints = 12
 
+-- | The damped system solved with λ, at least 'lambdaFloor' of the trace of JᵀJ (the sum of the
+-- squares of J's unmasked entries). Near a solution λ = μ·E is tiny, and where J has less than
+-- full rank (a redundant arm, a singular configuration) JᵀJ + λI is then singular to rounding:
+-- the factorisation's rounding, about n·ε of the trace, outweighs λ, and its step solves another
+-- system, one that can be long and raise the linear model's error |J·δ − e| above |e| (or not be
+-- finite). The floor keeps the matrix's condition number within 10¹³. Should the
+-- factorisation still break down (a pivot at or under 'pivotFloor' of its diagonal entry, or a
+-- step not finite), λ is raised tenfold until it holds; a zero step if it never does (a
+-- Jacobian or error that is not finite).
+damped :: (Double -> Maybe (U.Vector Double)) -> Int -> Jacobian -> U.Vector Bool -> Double -> U.Vector Double
+damped attempt n j mask lam0 = go (0 :: Int) (max lam0 (lambdaFloor * trace))
+  where
+    trace = U.sum (U.imap (\i x -> if U.unsafeIndex mask (i `quot` 6) then 0 else x * x) (U.take (6 * n) j))
+    go !tries lam = case attempt lam of
+      Just d | U.all (\x -> not (isNaN x || isInfinite x)) d -> d
+      _ | tries >= 40 -> U.replicate n 0
+        | otherwise -> go (tries + 1) (max (10 * lam) (1e-15 * trace))
+
 -- | The 6×6 form of 'lmStep'.
 lmStepDual :: Int -> Jacobian -> (Double, Double, Double, Double, Double, Double) -> Double -> U.Vector Bool -> U.Vector Double
-lmStepDual n j (e0, e1, e2, e3, e4, e5) lam mask = runST $ do
+lmStepDual n j (e0, e1, e2, e3, e4, e5) lam0 mask = damped attempt n j mask lam0
+ where
+ attempt lam = runST $ do
   a <- M.replicate 36 0
   let col k r = if U.unsafeIndex mask k then 0 else U.unsafeIndex j (6 * k + r)
       accumulate !k
@@ -223,15 +244,18 @@ lmStepDual n j (e0, e1, e2, e3, e4, e5) lam mask = runST $ do
             accumulate (k + 1)
   accumulate 0
   mapM_ (\r -> M.unsafeModify a (+ lam) (r * 6 + r)) [0 .. 5]
-  cholesky 6 a
-  y <- U.thaw (U.fromListN 6 [e0, e1, e2, e3, e4, e5])
-  solveFactored 6 a y
-  yv <- U.unsafeFreeze y
-  pure (U.generate n (\k -> U.sum (U.imap (\r yr -> col k r * yr) yv)))
+  ok <- cholesky 6 a
+  if not ok then pure Nothing else do
+    y <- U.thaw (U.fromListN 6 [e0, e1, e2, e3, e4, e5])
+    solveFactored 6 a y
+    yv <- U.unsafeFreeze y
+    pure (Just (U.generate n (\k -> U.sum (U.imap (\r yr -> col k r * yr) yv))))
 
 -- | The n×n form of 'lmStep', by Cholesky.
 lmStepPrimal :: Int -> Jacobian -> (Double, Double, Double, Double, Double, Double) -> Double -> U.Vector Bool -> U.Vector Double
-lmStepPrimal n j (e0, e1, e2, e3, e4, e5) lam mask = runST $ do
+lmStepPrimal n j (e0, e1, e2, e3, e4, e5) lam0 mask = damped attempt n j mask lam0
+ where
+ attempt lam = runST $ do
   a <- M.new (n * n)
   x <- M.unsafeNew n
   let col k r = if U.unsafeIndex mask k then 0 else U.unsafeIndex j (6 * k + r)
@@ -250,9 +274,10 @@ lmStepPrimal n j (e0, e1, e2, e3, e4, e5) lam mask = runST $ do
             M.unsafeWrite a (r * n + c) v
             fill r (c + 1)
   fill 0 0
-  cholesky n a
-  solveFactored n a x
-  U.unsafeFreeze x
+  ok <- cholesky n a
+  if not ok then pure Nothing else do
+    solveFactored n a x
+    Just <$> U.unsafeFreeze x
 
 -- | Solve L·Lᵀ·x = b in place (b in x on entry) with the lower Cholesky factor of 'cholesky' in
 -- the n×n row-major a: forward L·y = b, then back Lᵀ·x = y.
@@ -292,26 +317,35 @@ sumFrom k0 m f = go k0 0
       | otherwise = f k >>= \v -> go (k + 1) (acc + v)
 {-# INLINE sumFrom #-}
 
--- | In-place lower Cholesky factor of a symmetric positive definite matrix (lower triangle used).
-cholesky :: Int -> M.MVector s Double -> ST s ()
+-- | In-place lower Cholesky factor of a symmetric positive definite matrix (lower triangle used);
+-- False, part-way, at a pivot not above 'pivotFloor' of its diagonal entry: there the matrix is
+-- singular to rounding (the pivot is a difference of nearly equal numbers, and the factor built
+-- on it solves a system that is not the one asked).
+cholesky :: Int -> M.MVector s Double -> ST s Bool
 cholesky n a = outer 0
   where
     outer !c
-      | c >= n = pure ()
+      | c >= n = pure True
       | otherwise = do
           s <- sumTo c (\k -> (\v -> v * v) <$> M.unsafeRead a (c * n + k))
           d0 <- M.unsafeRead a (c * n + c)
-          let d = sqrt (max 1e-300 (d0 - s))
-          M.unsafeWrite a (c * n + c) d
-          let rows !r
+          let p = d0 - s
+              d = sqrt p
+              rows !r
                 | r >= n = pure ()
                 | otherwise = do
                     s' <- sumTo c (\k -> (*) <$> M.unsafeRead a (r * n + k) <*> M.unsafeRead a (c * n + k))
                     v <- M.unsafeRead a (r * n + c)
                     M.unsafeWrite a (r * n + c) ((v - s') / d)
                     rows (r + 1)
-          rows (c + 1)
-          outer (c + 1)
+          if not (p > pivotFloor * d0) || isInfinite p
+            then pure False
+            else M.unsafeWrite a (c * n + c) d >> rows (c + 1) >> outer (c + 1)
+
+-- | See 'damped'.
+pivotFloor, lambdaFloor :: Double
+pivotFloor = 1e-12
+lambdaFloor = 1e-13
 
 -- | A point the arm cannot move and an upper bound of the distance from it to the tool origin
 -- (m). The point is the origin of the deepest link frame that no joint moves: the base, then,
