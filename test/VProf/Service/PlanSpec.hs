@@ -33,7 +33,7 @@ import VProf.Kinematics
 import VProf.Kinematics.Collision (collisionModel, defaultCollisionOptions)
 import VProf.Kinematics.Library (lookupRobot)
 import VProf.Plan
-import VProf.Service.Plan (servePlan)
+import VProf.Service.Plan (planTimeLimit, servePlan)
 import VProf.Units
 import VProf.Wire.Envelope
 import VProf.Wire.Kinematics (poseToMsg)
@@ -236,6 +236,12 @@ spec = do
           describeStop st `shouldSatisfy` isInfixOf "mm from the environment (at least 5.00 mm asked)"
         Left f -> expectationFailure ("the core stopped otherwise: " ++ describePlanFailure f)
         Right _ -> expectationFailure "the core planned through the plate"
+
+    it "without time_budget (or with 0) a plan gets the contract's default budget, 60 s, as vprof plan does" $ do
+      defaultPlanBudget `shouldBe` 60
+      planTimeLimit (squareReq rows) `shouldBe` 60 + 30
+      planTimeLimit (squareReq rows) { plqTimeBudget = putField (Just 0) } `shouldBe` 60 + 30
+      planTimeLimit (squareReq rows) { plqTimeBudget = putField (Just 5) } `shouldBe` 5 + 30
 
     it "a time budget that runs out: NOT_CONVERGED naming time_budget" $ do
       p <- servePlan (squareReq rows) { plqTimeBudget = putField (Just 1e-9) }

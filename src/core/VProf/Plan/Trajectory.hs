@@ -19,7 +19,6 @@ module VProf.Plan.Trajectory
   , defaultJerk
   , defaultEndTolerance
   , defaultPlanBudget
-  , defaultCliPlanBudget
   , Trajectory (..)
   , trajectoryCount
   , trajectoryQ
@@ -78,15 +77,12 @@ defaultEndTolerance = 1e-6  -- m: the parts of a stretch cut at its corners meet
                             -- their stretch factors, so the speeds where they meet, agree to
                             -- about this over the part's length
 
--- | Seconds a plan may take in the daemon when the request leaves @time_budget@ at 0.
+-- | Seconds a plan may take without a budget of its own (@vprof plan@ without @--time-budget@,
+-- a 'PlanRequest' with @time_budget@ 0): the same on the command line and in the daemon, so
+-- that both answer alike. A long route takes seconds (the README's 9 m recording about 9 s at
+-- the defaults on a 2-core VM), a 0.6 m square at a time step of 0.25 ms about 45 s.
 defaultPlanBudget :: Double
-defaultPlanBudget = 10
-
--- | Seconds a plan may take on the command line without @--time-budget@: a long route takes
--- seconds (the README's 9 m recording at v3000 about 11 s), a 0.6 m square at a time step of
--- 0.25 ms about 45 s.
-defaultCliPlanBudget :: Double
-defaultCliPlanBudget = 60
+defaultPlanBudget = 60
 
 -- | A request with the defaults: v500 (500 mm/s), z10 (10 mm), 2 m/s², 20 m/s³, 4 ms.
 planRequest :: Robot -> [Waypoint] -> PlanRequest

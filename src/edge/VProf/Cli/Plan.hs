@@ -123,8 +123,8 @@ planCommand = runPlan <$> (PlanOpts
         <> help "with --environment: the least distance between the robot's capsules and the scene, m (default: the task's, else 0.01)"))
   <*> many (option (eitherReader bodyNumber) (long "ignore-body" <> metavar "N"
         <> help "with --environment: leave body N out of the scene check (1 = the first link); repeatable"))
-  <*> option (eitherReader budgetR) (long "time-budget" <> metavar "S" <> value defaultCliPlanBudget
-        <> help ("wall-clock budget of the planning, s (default " ++ showNumber defaultCliPlanBudget ++ ", at most 3600): a plan not done by then is exit 1"))
+  <*> option (eitherReader budgetR) (long "time-budget" <> metavar "S" <> value defaultPlanBudget
+        <> help ("wall-clock budget of the planning, s (default " ++ showNumber defaultPlanBudget ++ ", at most 3600): a plan not done by then is exit 1"))
   <*> optional (option (eitherReader fmt) (long "format" <> metavar "summary|csv|json"
         <> help "what to write (default: summary; with -o, from the file's extension)"))
   <*> optional (strOption (short 'o' <> long "output" <> metavar "FILE" <> help "write the trajectory here (.json: JSON, any other extension: CSV); the summary goes to stdout"))
