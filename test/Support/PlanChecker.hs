@@ -278,11 +278,11 @@ checkTrajectory r wps zone acc jerk dt plan = concat
              Just p ->
                let vs = colVelocity (columns p)
                    asked tol = (rq tol) { rqStartVelocity = U.head vs *~ mps, rqEndVelocity = U.last vs *~ mps }
-                   pbs = [ pb | Right pb <- map (validate . asked) tols ]
-               in case validate (asked (head tols)) of
-                    Left es -> ["part " ++ show i ++ ": its zones are not a valid request: " ++ show es]
-                    Right pb0 ->
-                      let pb = head ([ q | q <- pbs, null (check q p) ] ++ [pb0])
+               in case map (validate . asked) tols of
+                    Left es : _ -> ["part " ++ show i ++ ": its zones are not a valid request: " ++ show es]
+                    vs' ->
+                      let pbs = [ q | Right q <- vs' ]
+                          pb = head ([ q | q <- pbs, null (check q p) ] ++ pbs)
                       in [ "part " ++ show i ++ ": " ++ renderViolation v | v <- take 5 (check pb p) ]
                          ++ [ "part " ++ show i ++ ": the independent oracle finds " ++ show (take 3 (oracleViolations checkerAllowance pb p))
                             | oracleVerdict pb p == SurelyIllegal ]

@@ -224,7 +224,7 @@ damped attempt n j mask lam0 = go (0 :: Int) (max lam0 (lambdaFloor * trace))
     go !tries lam = case attempt lam of
       Just d | U.all (\x -> not (isNaN x || isInfinite x)) d -> d
       _ | tries >= 40 -> U.replicate n 0
-        | otherwise -> go (tries + 1) (max (10 * lam) (1e-15 * trace))
+        | otherwise -> go (tries + 1) (10 * lam)
 
 -- | The 6×6 form of 'lmStep'.
 lmStepDual :: Int -> Jacobian -> (Double, Double, Double, Double, Double, Double) -> Double -> U.Vector Bool -> U.Vector Double
