@@ -12,8 +12,8 @@ import Test.QuickCheck
 
 import Support.Gen (turnedBy)
 import Support.PlanChecker (polylineDistance)
-import VProf.Geometry.Quaternion (qangle)
-import VProf.Geometry.Vec (Q4 (..))
+import VProf.Geometry.Quaternion (qangle, qconj, qlog, qmul)
+import VProf.Geometry.Vec (P3 (..), Q4 (..))
 import VProf.Kinematics.Transform (V3 (..), v3Dot, v3Norm, v3Sub)
 import VProf.Plan
 import VProf.Units
@@ -76,6 +76,28 @@ routeOf (Case wps z) =
 tup :: V3 -> (Double, Double, Double)
 tup (V3 x y z) = (x, y, z)
 
+-- | The step of the finite differences of the orientation's rate (m).
+rateStep :: Double
+rateStep = 1e-7
+
+-- | The tool's body rate of turning (rad/m) just before and just after s, by the rotation
+-- between orientations 'rateStep' apart, and how much each side's changes over the next step
+-- (what the two may differ by when the rate is continuous but bends at s).
+ratesAround :: Route -> Double -> ([Double], [Double], Double)
+ratesAround rt s = (l1, r1, gap l1 l2 + gap r1 r2)
+  where
+    h = rateStep
+    qAt = snd . routeAt rt
+    rate a b = let P3 x y z = qlog (qmul (qconj (qAt a)) (qAt b)) in map (/ (b - a)) [x, y, z]
+    l1 = rate (s - h) s; l2 = rate (s - 2 * h) (s - h)
+    r1 = rate s (s + h); r2 = rate (s + h) (s + 2 * h)
+
+gap :: [Double] -> [Double] -> Double
+gap u v = sqrt (sum (zipWith (\x y -> (x - y) ^ (2 :: Int)) u v))
+
+mag :: [Double] -> Double
+mag = sqrt . sum . map (^ (2 :: Int))
+
 spec :: Spec
 spec = describe "VProf.Plan.Route" $ do
   it "has the length of its pieces, at most the polyline's, and equal to it with fine" $
@@ -127,6 +149,24 @@ spec = describe "VProf.Plan.Route" $ do
                      dist (tup p) pos < 1e-9 && qangle o (Q4 w x y zq) < 1e-6
                  | (i, (pos, (w, x, y, zq))) <- zip [0 :: Int ..] wps
                  , let (p, o) = routeAt rt (rtWaypointS rt U.! i) ]
+  it "turns the orientation at a rate continuous along s but at stops (finite differences on either side of every seam)" $
+    property $ forAll (oneof [genCase, genTurnCase]) $ \cs ->
+      let rt = routeOf cs
+          isStop s = any (\x -> abs (x - s) < 1e-9) (rtStops rt)
+      in conjoin [ counterexample ("seam at s = " ++ show s ++ ": rate " ++ show lr ++ " then " ++ show rr) $
+                     gap lr rr <= 2 * drift + 1e-6 * (1 + mag lr)
+                 | s <- routeSeams rt, s > 3 * rateStep, s < routeLength rt - 3 * rateStep, not (isStop s)
+                 , let (lr, rr, drift) = ratesAround rt s ]
+  it "with fine, turns along each segment at its own steady rate (the rotation between its waypoints over its length), which steps at the waypoint" $
+    property $ forAll genCase $ \(Case wps _) ->
+      let rt = routeOf (Case wps 0)
+          toQ (w, x, y, zq) = Q4 w x y zq
+          segRate i = let (pa, qa) = wps !! i; (pb, qb) = wps !! (i + 1)
+                          P3 x y z = qlog (qmul (qconj (toQ qa)) (toQ qb))
+                      in map (/ dist pa pb) [x, y, z]
+      in conjoin [ counterexample ("waypoint " ++ show i ++ ": " ++ show (lr, rr) ++ " against " ++ show (segRate (i - 1), segRate i)) $
+                     gap lr (segRate (i - 1)) <= drift + 1e-6 * (1 + mag lr) && gap rr (segRate i) <= drift + 1e-6 * (1 + mag rr)
+                 | i <- [1 .. length wps - 2], let (lr, rr, drift) = ratesAround rt (rtWaypointS rt U.! i) ]
   it "turns the orientation continuously along s (no step above the grid's 0.5°)" $
     property $ forAll genCase $ \cs ->
       let rt = routeOf cs

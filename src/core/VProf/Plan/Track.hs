@@ -30,7 +30,7 @@ module VProf.Plan.Track
   , smallestSingularValue
   ) where
 
-import Data.List (minimumBy, sortOn)
+import Data.List (minimumBy, sort, sortOn)
 import Data.Ord (comparing)
 import qualified Data.Vector.Unboxed as U
 import Numeric (showFFloat)
@@ -163,14 +163,26 @@ jointPath stops tk = JointPath tk (slopes True) (slopes False) U.empty U.empty
     n = tkDof tk
     q k i = tkQ tk U.! (k * n + i)
     -- the samples where the path may keep a corner: the ends and the stops, in order
-    bounds = U.fromList (0 : [ k | k <- [1 .. nS - 2], any (\x -> abs (x - ss U.! k) < 1e-9) stops ] ++ [nS - 1 | nS > 1])
+    bounds = U.fromList (0 : marked (sort stops) 1 ++ [nS - 1 | nS > 1])
+    marked xs@(x : rest) k
+      | k > nS - 2 = []
+      | x < ss U.! k - 1e-9 = marked rest k
+      | x < ss U.! k + 1e-9 = k : marked xs (k + 1)
+      | otherwise = marked xs (k + 1)
+    marked [] _ = []
     -- the stretch [lo, hi] of samples a slope at k is taken from: at a stop, the one before it
     -- (seen from the step before) or after it
     stretch fromLeft k =
-      let before = U.filter (< k) bounds; after = U.filter (> k) bounds
-          lo0 = if U.null before then k else U.last before
-          hi0 = if U.null after then k else U.head after
-      in if U.elem k bounds then (if fromLeft then (lo0, k) else (k, hi0)) else (lo0, hi0)
+      let j = lastBound k  -- bounds ! j <= k < bounds ! (j + 1), or k the last sample
+          atBound = bounds U.! j == k
+          lo0 = if atBound then (if j > 0 then bounds U.! (j - 1) else k) else bounds U.! j
+          hi0 = if j + 1 < U.length bounds then bounds U.! (j + 1) else k
+      in if atBound then (if fromLeft then (lo0, k) else (k, hi0)) else (lo0, hi0)
+    -- the last bound at or before sample k (bounds start at 0)
+    lastBound k = go 0 (U.length bounds - 1)
+      where go lo hi | lo >= hi = lo
+                     | otherwise = let mid = (lo + hi + 1) `div` 2
+                                   in if bounds U.! mid <= k then go mid hi else go lo (mid - 1)
     -- the samples a slope at k is taken from, with their weights: the same for every joint
     weightsAt fromLeft k =
       let (lo0, hi0) = stretch fromLeft k

@@ -361,7 +361,7 @@ planPath rq@PlanRequest{..} = do
   tracked <- either (Left . Stopped) Right (trackRoute prTrack (kinematicsFor prRobot) route prStart)
   let lo = limitOptionsFor rq
       ch = compile prRobot
-      jp = withJointLimits (chainLo ch) (chainHi ch) (jointPath (rtStops route) tracked)
+      jp = withJointLimits (chainLo ch) (chainHi ch) (jointPath (rtStops route ++ routeSeams route) tracked)
       pb = pathBounds jp
       cuts = 0 : rtStops route ++ [rtLength route]
       top = si prSpeed
