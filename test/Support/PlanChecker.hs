@@ -34,6 +34,7 @@ module Support.PlanChecker
   , checkTcpMotion
   , checkWaypointPoses
   , oracleTcp
+  , oracleTcpMatrix
   , polylineDistance
   , speedTolerance
   , accelerationTolerance

@@ -100,13 +100,37 @@ planAndCheckWith acc jerk r wps zone v =
        Right plan ->
          let problems = checkTrajectory r (positions wps) (zoneRadius zone) acc jerk defaultTimeStep plan
                         ++ checkTcpMotion r v acc jerk defaultTimeStep plan
+                        ++ offRoute r plan
          in counterexample (unlines problems) (null problems && planLegal plan && planDuration plan > 0)
+
+-- | The samples whose TCP (the textbook matrices) is further from the route's position at the
+-- sample's s than 1 nm when the plan says its joint values are projected onto the route, else
+-- than 10 µm (the joint path's interpolation error; at most 5 named).
+offRoute :: Robot -> Plan -> [String]
+offRoute r plan =
+  take 5 [ "sample " ++ show k ++ ": the TCP is " ++ show (d * 1e9) ++ " nm from the route at s = " ++ show s
+             ++ (if planOnRoute plan then " (projected onto it)" else " (not projected)")
+         | k <- [0 .. U.length (trS tr) - 1]
+         , let s = trS tr U.! k
+               (x, y, z) = oracleTcp r [ trQ tr U.! (k * n + i) | i <- [0 .. n - 1] ]
+               V3 px py pz = fst (routeAt (planRoute plan) s)
+               d = sqrt ((x - px) ^ (2 :: Int) + (y - py) ^ (2 :: Int) + (z - pz) ^ (2 :: Int))
+         , d > (if planOnRoute plan then 1e-9 else 1e-5) ]
+  where
+    tr = planTrajectory plan
+    n = trDof tr
 
 spec :: Spec
 spec = describe "VProf.Plan" $ do
   describe "random short paths pass the independent checker" $
     mapM_ (\name -> it name $ withMaxSuccess 20 $ forAll (genPlan name) $ \(wps, zone, v) -> planAndCheck (robot name) wps zone v)
       ["ur5", "abb-irb140", "franka-panda"]
+
+  it "projects most random short paths' trajectories onto the route (at least 15 of 20 on a UR5; the rest keep the joint path's values, where projected they broke a joint limit)" $
+    property $ withMaxSuccess 3 $ forAll (vectorOf 20 (genPlan "ur5")) $ \cases ->
+      let rs = [ planOnRoute plan | (wps, zone, v) <- cases
+               , Right plan <- [planPath ((planRequest (robot "ur5") wps) { prZone = zone, prSpeed = v *~ mps })] ]
+      in counterexample (show (length (filter id rs)) ++ " of " ++ show (length rs) ++ " projected") (length (filter id rs) >= 15)
 
   -- at 3 m/s, 20 m/s² and 400 m/s³ the joints' speed and acceleration limits bind, not the TCP's
   describe "random fast paths keep every joint's speed and acceleration (the checker's second differences)" $

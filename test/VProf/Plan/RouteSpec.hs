@@ -155,7 +155,7 @@ spec = describe "VProf.Plan.Route" $ do
           isStop s = any (\x -> abs (x - s) < 1e-9) (rtStops rt)
       in conjoin [ counterexample ("seam at s = " ++ show s ++ ": rate " ++ show lr ++ " then " ++ show rr) $
                      gap lr rr <= 2 * drift + 1e-6 * (1 + mag lr)
-                 | s <- routeSeams rt, s > 3 * rateStep, s < routeLength rt - 3 * rateStep, not (isStop s)
+                 | s <- U.toList (rtStarts rt) ++ U.toList (rtSpinStarts rt), s > 3 * rateStep, s < routeLength rt - 3 * rateStep, not (isStop s)
                  , let (lr, rr, drift) = ratesAround rt s ]
   it "with fine, turns along each segment at its own steady rate (the rotation between its waypoints over its length), which steps at the waypoint" $
     property $ forAll genCase $ \(Case wps _) ->

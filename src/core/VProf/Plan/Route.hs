@@ -26,7 +26,6 @@ module VProf.Plan.Route
   , routeTangentAt
   , routeRadiusAt
   , routeGrid
-  , routeSeams
   , Spin (..)
   , Turning (..)
   , spinAt
@@ -37,7 +36,7 @@ module VProf.Plan.Route
   , reversalAngle
   ) where
 
-import Data.List (intercalate, sort)
+import Data.List (intercalate)
 import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
 import qualified Linear as L
@@ -124,21 +123,6 @@ data Route = Route
 
 routeLength :: Route -> Double
 routeLength = rtLength
-
--- | The s inside the route where one piece or orientation stretch meets the next: the path's
--- curvature or the orientation's second derivative steps there, so the joints' second
--- derivatives d²q/ds² do, while their slopes do not (the position's tangent and the
--- orientation's rate are continuous but at stops).
-routeSeams :: Route -> [Double]
-routeSeams rt = drop 1 (routeCuts rt)
-
--- | 0, every piece's and stretch's start (one within 1e-12 m of another counted once), and not L.
-routeCuts :: Route -> [Double]
-routeCuts rt = spaced (sort (U.toList (rtStarts rt) ++ U.toList (rtSpinStarts rt)))
-  where
-    spaced (a : b : rest) | b - a <= 1e-12 = spaced (a : rest)
-                          | otherwise = a : spaced (b : rest)
-    spaced xs = filter (< rtLength rt - 1e-12) xs
 
 -- | Consecutive waypoints closer than this (m) are a turn in place, or refused when their
 -- orientations differ by less than 'minTurnAngle' (s would not advance).
@@ -340,11 +324,10 @@ spinAt Spin{..} s =
        Steady qa qb -> slerpShort qa qb f
        Eased qa w1 w2 w3 -> qmul (qmul (qmul qa (turnBy (1 - g * g * g) w1)) (turnBy (f * f * (3 - 2 * f)) w2)) (turnBy (f * f * f) w3)
 
--- | How many times as densely an eased stretch of the orientation is sampled: its rate of
--- turning changes within a few millimetres, and the joint path, cubic between samples, follows
--- it with an error whose third derivative shows in the TCP's jerk by forward kinematics (at the
--- plain density 20.30 m/s³ against a profile's 20 on an IRB 140's 1.5 mm blend; 20.00 at four
--- times).
+-- | How many times as densely in its rotation an eased stretch of the orientation is sampled:
+-- its rate of turning changes within a few millimetres, and the joint path, cubic between
+-- samples, follows it with an error whose third derivative shows in the TCP's jerk by forward
+-- kinematics (docs/plan.md, section 2).
 easedDensity :: Int
 easedDensity = 4
 
@@ -380,23 +363,24 @@ routeTangentAt rt s0 =
 routeRadiusAt :: Route -> Double -> Double
 routeRadiusAt rt s = let p = rtPieces rt V.! pieceAt rt s in if pcKind p == Arc then pcRadius p else 1 / 0
 
--- | The sample positions along the route: the stretches between seams (piece and orientation
--- stretch ends) cut into equal steps of at most @ds@ (m), @dAngle@ (rad) of the tool's rotation
--- at its fastest and, on a blend, twice @dAngle@ of the path's turn (a blend of a fraction of a
--- millimetre is sampled along its arc, not only at its two ends), and 'easedDensity' times as
--- many on an eased stretch; seams are samples; 0 and L included.
+-- | The sample positions along the route: every piece cut into equal steps of at most @ds@
+-- (m), @dAngle@ (rad) of the tool's rotation at its fastest on the piece ('easedDensity' times
+-- as many on an eased stretch) and, on a blend, twice @dAngle@ of the path's turn (a blend of a
+-- fraction of a millimetre is sampled along its arc, not only at its two ends); piece ends are
+-- samples; 0 and L included.
 routeGrid :: Double -> Double -> Route -> U.Vector Double
-routeGrid ds dAngle rt = U.fromList (concatMap one (zip cuts (drop 1 cuts)) ++ [rtLength rt])
+routeGrid ds dAngle rt = U.fromList (concatMap one (V.toList (rtPieces rt)) ++ [rtLength rt])
   where
-    cuts = routeCuts rt ++ [rtLength rt]
     turn p = if pcKind p == Arc && pcRadius p > 0 then pcLength p / pcRadius p else 0
-    share len a b = if len > 0 then (b - a) / len else 0
-    one (a, b) =
-      let m = 0.5 * (a + b)
-          p = rtPieces rt V.! pieceAt rt m
-          sp = rtSpins rt V.! spinIndexAt rt m
-          dense = case spTurning sp of { Eased{} -> easedDensity; _ -> 1 }
-          k = dense * maximum [ 1, ceiling ((b - a) / ds)
-                      , ceiling (spinRate sp * share (spLength sp) a b / dAngle)
-                      , ceiling (turn p * share (pcLength p) a b / (2 * dAngle)) ] :: Int
-      in [ a + (b - a) * fromIntegral j / fromIntegral k | j <- [0 .. k - 1] ]
+    -- the fastest rotation (rad/m, the eased stretches' times their density) of the
+    -- orientation's stretches that overlap [a, b]
+    fastest a b =
+      maximum (0 : [ dense sp * spinRate sp / spLength sp
+                   | sp <- V.toList (V.slice i0 (i1 - i0 + 1) (rtSpins rt)), spLength sp > 0 ])
+      where i0 = spinIndexAt rt a; i1 = max i0 (spinIndexAt rt (b - 1e-12))
+    dense sp = case spTurning sp of { Eased{} -> fromIntegral easedDensity; _ -> 1 }
+    one p =
+      let a = pcStart p; l = pcLength p
+          k = maximum [ 1, ceiling (l / ds), ceiling (fastest a (a + l) * l / dAngle)
+                      , ceiling (turn p / (2 * dAngle)) ] :: Int
+      in [ a + l * fromIntegral j / fromIntegral k | j <- [0 .. k - 1] ]

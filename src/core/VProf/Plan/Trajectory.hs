@@ -39,7 +39,7 @@ import qualified Data.Vector as V
 import qualified Data.Vector.Unboxed as U
 
 import VProf.Kinematics.Ik (kinematicsFor)
-import VProf.Kinematics.Ik.Numeric (reachBound)
+import VProf.Kinematics.Ik.Numeric (reachBound, refineOnto)
 import VProf.Kinematics.Transform (V3 (..), v3Norm, v3Sub)
 import qualified Linear as L
 import VProf.Kinematics.Model
@@ -125,6 +125,11 @@ data Plan = Plan
   , planProfiles   :: ![Result]              -- ^ per part
   , planTrajectory :: !Trajectory
   , planLegal      :: !Bool                  -- ^ every part's profile legal by the checker
+  , planOnRoute    :: !Bool                  -- ^ the trajectory's joint values projected onto the
+                                             --   route (its TCP there to rounding); False: the
+                                             --   joint path's own, whose TCP is off the route by
+                                             --   its interpolation error (projected, they broke
+                                             --   a joint's speed or acceleration limit)
   }
 
 planDuration :: Plan -> Double
@@ -212,14 +217,15 @@ jointsKeepLimits lo jp dt restEnds ss = null (jointViolations lo jp dt restEnds 
 -- | The samples (indices into ss) at which the sampled joint motion breaks a limit as
 -- 'jointsKeepLimits' measures it, in order (lazy: the first costs only the samples before it).
 jointViolations :: LimitOptions -> JointPath -> Double -> Bool -> U.Vector Double -> [Int]
-jointViolations LimitOptions{..} jp dt restEnds ss
+jointViolations lo jp dt restEnds ss = sampledViolations lo dt restEnds (U.length ss) (tkDof (jpTracked jp)) (\k i -> qs V.! k U.! i)
+  where qs = V.generate (U.length ss) (\k -> jointPathAt jp (ss U.! k))
+
+-- | 'jointViolations' of m samples of n joint values each, given as q k i.
+sampledViolations :: LimitOptions -> Double -> Bool -> Int -> Int -> (Int -> Int -> Double) -> [Int]
+sampledViolations LimitOptions{..} dt restEnds m n q
   | m < 2 = []
   | otherwise = [ k | k <- [0 .. m - 1], not (speedOk k && accOk k && endsOk k) ]
   where
-    m = U.length ss
-    n = tkDof (jpTracked jp)
-    qs = V.generate m (\k -> jointPathAt jp (ss U.! k))
-    q k i = qs V.! k U.! i
     speedOk k = k > m - 2 || and [ abs (q (k + 1) i - q k i) <= loJointSpeed U.! i * dt | i <- [0 .. n - 1] ]
     accOk k = k < 1 || k > m - 2 || and [ abs (q (k + 1) i - 2 * q k i + q (k - 1) i) <= loJointAcceleration U.! i * dt * dt | i <- [0 .. n - 1] ]
     endsOk k
@@ -361,7 +367,7 @@ planPath rq@PlanRequest{..} = do
   tracked <- either (Left . Stopped) Right (trackRoute prTrack (kinematicsFor prRobot) route prStart)
   let lo = limitOptionsFor rq
       ch = compile prRobot
-      jp = withJointLimits (chainLo ch) (chainHi ch) (jointPath (rtStops route ++ routeSeams route) tracked)
+      jp = withJointLimits (chainLo ch) (chainHi ch) (jointPath (rtStops route) tracked)
       pb = pathBounds jp
       cuts = 0 : rtStops route ++ [rtLength route]
       top = si prSpeed
@@ -803,8 +809,8 @@ planPath rq@PlanRequest{..} = do
                                                    Failed f -> renderFailure f
                                                    Generated -> "the profile is not legal"))
     [] -> Right ()
-  let (traj, maps) = assemble jp (zip stretches results)
-  pure (Plan route tracked steps stretches zoness maps accs results traj True)
+  let (traj, maps, onRoute) = assemble lo ch route jp (zip stretches results)
+  pure (Plan route tracked steps stretches zoness maps accs results traj True onRoute)
   where
     -- the stretches' grids joined (each begins where the previous one ends)
     joinSteps sts = StepLimits (U.concat (take 1 (map slS sts) ++ map (U.drop 1 . slS) (drop 1 sts)))
@@ -860,7 +866,7 @@ planPath rq@PlanRequest{..} = do
     -- range (joined without it, the step from braking to speeding up doubled the jerk); a part
     -- after a cut at speed that starts one time step past it keeps its first row too (see
     -- 'timeParts').
-    assemble jp parts =
+    assemble lo ch route jp parts =
       let cols = [ ((a, b), columns p) | ((a, b), r) <- parts, Just p <- [resProfile r] ]
           nParts = length cols
           nextStarts = map (fst . fst) (drop 1 cols) ++ [1 / 0]
@@ -900,7 +906,18 @@ planPath rq@PlanRequest{..} = do
           as = U.concat [ x | (_, _, x, _, _) <- gs ]
           js = U.concat [ x | (_, _, _, x, _) <- gs ]
           n = tkDof (jpTracked jp)
-          qs = U.concat [ jointPathAt jp (ss U.! k) | k <- [0 .. m - 1] ]
+          -- each sample's joint values projected onto the route's pose at its s: the joint path
+          -- is cubic between IK samples, and its error there (up to micrometres of the TCP),
+          -- small as it is, shows in the TCP's jerk by third differences at dt; kept when the
+          -- projected joint motion still keeps the joints' limits as the search checked the
+          -- path's (the projection follows the route's steps of curvature more sharply),
+          -- else the path's own values
+          onPath = U.concat [ jointPathAt jp (ss U.! k) | k <- [0 .. m - 1] ]
+          projected = U.concat [ ontoRoute (ss U.! k) (U.slice (k * n) n onPath) | k <- [0 .. m - 1] ]
+          ontoRoute x q = U.izipWith (\i a b -> max a (min (chainHi ch U.! i) b)) (chainLo ch)
+                                     (refineOnto ch (routeTfAt route x) q)
+          onRoute = null (sampledViolations lo dt True m n (\k i -> projected U.! (k * n + i)))
+          qs = if onRoute then projected else onPath
           qAt k i = qs U.! (k * n + i)
           qd k i
             | m < 2 = 0
@@ -908,5 +925,5 @@ planPath rq@PlanRequest{..} = do
             | k == m - 1 = (qAt k i - qAt (k - 1) i) / dt
             | otherwise = (qAt (k + 1) i - qAt (k - 1) i) / (2 * dt)
           qds = U.generate (m * n) (\x -> let (k, i) = x `divMod` n in qd k i)
-      in (Trajectory ts ss vs as js qs qds n, concat [ x | (_, _, _, _, x) <- gs ])
+      in (Trajectory ts ss vs as js qs qds n, concat [ x | (_, _, _, _, x) <- gs ], onRoute)
 

@@ -14,7 +14,9 @@ import Test.QuickCheck
 
 import Support.Gen (genQ, libraryChains, planarSnake, snake)
 import VProf.Kinematics
-import VProf.Kinematics.Ik.Numeric (Wrist (..), lmStepDual, lmStepPrimal, reachBound, solveNumericIO, wristCheck, wrists)
+import VProf.Kinematics.Ik.Numeric (Wrist (..), lmStepDual, lmStepPrimal, reachBound, refineOnto, solveNumericIO, wristCheck, wrists)
+import Support.PlanChecker (oracleTcpMatrix)
+import VProf.Kinematics.Library (libraryRobots)
 
 -- | δ = V·diag(σ/(σ² + λ))·Uᵀ·e for J with its masked columns zeroed: the damped least-squares
 -- step from the singular values, independent of either normal-equation form; with it the
@@ -169,6 +171,34 @@ spec = do
       property $ withMaxSuccess 500 $ forAll genDeficient $ \c@(Case n j e lam mask) ->
         conjoin [sound c (lmStepDual n j (asTuple e) lam mask), sound c (lmStepPrimal n j (asTuple e) lam mask)]
 
+  describe "refineOnto (a joint path's sample projected onto its pose)" $ do
+    let -- the distance (m) and the angle (rad) between the tool poses of two configurations, by
+        -- the textbook matrices
+        apart r a b =
+          let ma = oracleTcpMatrix r (U.toList a); mb = oracleTcpMatrix r (U.toList b)
+              d = sqrt (sum [ (ma !! i !! 3 - mb !! i !! 3) ^ (2 :: Int) | i <- [0 .. 2] ])
+              -- |R_a − R_b| (Frobenius) = 2√2·sin(θ/2): the angle without acos's loss near 1
+              f = sqrt (sum [ (ma !! i !! j - mb !! i !! j) ^ (2 :: Int) | i <- [0 .. 2], j <- [0 .. 2] ])
+          in (d, 2 * asin (min 1 (f / (2 * sqrt 2))))
+    it "lands a library robot's configuration 1 µrad to 1 mrad off on the target pose where the arm is not near a singularity, and never moves it further off" $
+      conjoin
+        [ counterexample name $ forAll (genQ ch) $ \q ->
+            forAll (elements [1e-6, 1e-4, 1e-3]) $ \off ->
+            forAll (U.fromList <$> vectorOf (chainDof ch) (choose (-off, off))) $ \dq ->
+              let q0 = U.zipWith (+) q dq
+                  q1 = refineOnto ch (forward ch q) q0
+                  (d0, a0) = apart r q q0
+                  (d1, a1) = apart r q q1
+                  sigma = minimum (1 : singularValues (chainDof ch) (snd (jacobian ch q)))
+              in counterexample ("before " ++ show (d0, a0) ++ ", after " ++ show (d1, a1) ++ ", smallest singular value " ++ show sigma) $
+                   (d1 + a1 <= d0 + a0 + 1e-14)
+                   .&&. (sigma < 1e-2 || off > 1e-4 || (d1 < 1e-11 && a1 < 1e-11))
+        | (name, Right r) <- libraryRobots, let ch = compile r, chainDof ch >= 6 ]
+    it "keeps a configuration already on its pose" $
+      conjoin [ counterexample name $ forAll (genQ ch) $ \q ->
+                  let q1 = refineOnto ch (forward ch q) q
+                  in counterexample (show (U.toList (U.zipWith (-) q1 q))) (U.maximum (U.map abs (U.zipWith (-) q1 q)) < 1e-12)
+              | (name, Right ch) <- libraryChains ]
   describe "the reach bound" $ do
     let holds ch q =
           let (centre, bound) = reachBound ch

@@ -28,6 +28,7 @@ module VProf.Kinematics.Ik.Numeric
   , outcome
   , followUntil
   , lmStep
+  , refineOnto
   , lmStepPrimal
   , lmStepDual
   , reachBound
@@ -170,6 +171,25 @@ descent IkOptions{..} limited ch target q0 = loop 0 (1 / 0) 0 (clampQ q0)
       let w = 1e-9 * (1 + abs x)
           wraps = U.unsafeIndex rev i && hi i - lo i >= 2 * pi
       in not wraps && ((x >= hi i - w && d > 0) || (x <= lo i + w && d < 0))
+
+-- | Joint values near q whose tool pose is the target's to rounding: Gauss–Newton steps (the
+-- Levenberg–Marquardt step at its floor damping, 'lmStep' with λ = 0) from q, at most three,
+-- each kept only while it lowers the pose error |e|² (metres and radians); q itself when the
+-- first does not. Meant for a q already close to the target, such as a joint path interpolated
+-- between exact IK samples (the error there is of the interpolation's size, micrometres), where
+-- each step squares the error's relative size.
+refineOnto :: Chain -> Tf -> U.Vector Double -> U.Vector Double
+refineOnto ch target q0 = go (3 :: Int) q0 (jacobian ch q0)
+  where
+    n = chainDof ch
+    noMask = U.replicate n False
+    size (a, b, c, d, e, f) = a * a + b * b + c * c + d * d + e * e + f * f
+    go k q (t, j) =
+      let e = poseError target t
+          q' = U.zipWith (+) q (lmStep n j e 0 noMask)
+          next@(t', _) = jacobian ch q'
+          better = U.all (\x -> not (isNaN x || isInfinite x)) q' && size (poseError target t') < size e
+      in if k == 0 || size e == 0 || not better then q else go (k - 1) q' next
 
 -- | A descent followed until it ends or the clock passes the deadline (ns, checked before each
 -- iteration after the first); Left the last iterate reached when the deadline cut it.
