@@ -1,4 +1,6 @@
--- | The route: arc length, continuity of position and tangent through blends, deviation from
+-- | The route: arc length, continuity of position and tangent through blends, of the
+-- orientation's rate of turning at every seam but stops (finite differences), each segment's
+-- steady rate with @fine@, deviation from
 -- the waypoint polyline within the zone, and exact passage through the waypoints of @fine@,
 -- over random waypoints and zones; turns in place (two waypoints at one position): the position
 -- held, the orientation turned from one waypoint's to the next, 0.1 m of s per rad, a stop on
